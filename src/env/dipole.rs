@@ -1,0 +1,1 @@
+//! Tilted-dipole geomagnetic field.

@@ -1,0 +1,6 @@
+//! Environment models: the Sun, eclipses and the geomagnetic field.
+
+pub mod dipole;
+pub mod eclipse;
+pub mod igrf;
+pub mod sun;

@@ -1,0 +1,1 @@
+//! Sun direction models.

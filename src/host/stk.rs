@@ -1,0 +1,1 @@
+//! STK ephemeris files (`.e`, `EphemerisTimePosVel`): reader and writer.

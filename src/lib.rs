@@ -1,0 +1,42 @@
+//! # acs: attitude determination and control for the AraMiS modular satellite
+//!
+//! A `no_std`, allocation-free, f32 flight library for MSP430-class cores (16-bit, no FPU), built
+//! from the AraMiS ACS thesis (seed 000) and its companions (seeds 001–004), with a host tool and
+//! simulator behind the `host` feature.
+//!
+//! ## Conventions (kept everywhere)
+//! - Inertial frame: TEME of date (SGP4's). Earth-fixed: TEME rotated by GMST (IAU-82).
+//!   J2000 only as an output conversion ([`frames`]).
+//! - Attitude: DCM `A` with `v_body = A · v_ref`; quaternions scalar-first with Shuster/Wertz's
+//!   passive `A(q)`; see [`attitude`].
+//! - Units: km and km/s for orbits, nT for magnetic fields, rad and rad/s inside, N·m, A·m²,
+//!   kg·m²/s; degrees only at the edges. Units and frames are in names (`r_teme_km`).
+//! - Time: split-precision [`time::Epoch`] with its scale in the type; never an f32 Julian date.
+//! - Precision: f32 for flight results, each with a measured error bound in its docs.
+#![cfg_attr(not(feature = "std"), no_std)]
+#![deny(missing_docs)]
+#![deny(
+    clippy::unwrap_used,
+    clippy::expect_used,
+    clippy::panic,
+    clippy::indexing_slicing,
+    clippy::unreachable,
+    clippy::todo,
+    clippy::unimplemented
+)]
+#![forbid(unsafe_code)]
+
+pub mod attitude;
+pub mod control;
+pub mod determination;
+pub mod env;
+pub mod fmath;
+pub mod frames;
+pub mod linalg;
+pub mod orbit;
+pub mod tiles;
+pub mod time;
+pub mod tle;
+
+#[cfg(feature = "host")]
+pub mod host;

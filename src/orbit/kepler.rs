@@ -1,0 +1,1 @@
+//! Two-body Kepler propagator (seed 000 §4.1).

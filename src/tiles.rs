@@ -1,0 +1,1 @@
+//! Tile geometry and raw sensor formats.
