@@ -105,6 +105,57 @@ impl Dcm {
         Self(next.0 * self.0)
     }
 
+    /// The unit quaternion of this attitude (eqs. 5.19–5.20), with the largest-pivot branch: of
+    /// `4q0² = 1 + A11 + A22 + A33`, `4q1² = 1 + A11 − A22 − A33`, … the largest is taken as the
+    /// square root and the other components come from the off-diagonal sums and differences,
+    /// so no division by a small number occurs. The sign is chosen so that the pivot component
+    /// is positive; the result is normalised. Convention: [module docs](self).
+    pub fn to_quaternion(&self) -> Quaternion {
+        let a = &self.0;
+        let t0 = 1.0 + a.m11 + a.m22 + a.m33;
+        let t1 = 1.0 + a.m11 - a.m22 - a.m33;
+        let t2 = 1.0 - a.m11 + a.m22 - a.m33;
+        let t3 = 1.0 - a.m11 - a.m22 + a.m33;
+        let q = if t0 >= t1 && t0 >= t2 && t0 >= t3 {
+            let q0 = 0.5 * fmath::sqrt(t0);
+            let k = 0.25 / q0;
+            Quaternion {
+                q0,
+                q1: (a.m23 - a.m32) * k,
+                q2: (a.m31 - a.m13) * k,
+                q3: (a.m12 - a.m21) * k,
+            }
+        } else if t1 >= t2 && t1 >= t3 {
+            let q1 = 0.5 * fmath::sqrt(t1);
+            let k = 0.25 / q1;
+            Quaternion {
+                q0: (a.m23 - a.m32) * k,
+                q1,
+                q2: (a.m12 + a.m21) * k,
+                q3: (a.m13 + a.m31) * k,
+            }
+        } else if t2 >= t3 {
+            let q2 = 0.5 * fmath::sqrt(t2);
+            let k = 0.25 / q2;
+            Quaternion {
+                q0: (a.m31 - a.m13) * k,
+                q1: (a.m12 + a.m21) * k,
+                q2,
+                q3: (a.m23 + a.m32) * k,
+            }
+        } else {
+            let q3 = 0.5 * fmath::sqrt(t3);
+            let k = 0.25 / q3;
+            Quaternion {
+                q0: (a.m12 - a.m21) * k,
+                q1: (a.m13 + a.m31) * k,
+                q2: (a.m23 + a.m32) * k,
+                q3,
+            }
+        };
+        Quaternion::new_normalize(q.q0, q.q1, q.q2, q.q3).unwrap_or(Quaternion::IDENTITY)
+    }
+
     /// Elementary frame rotation about axis 1 (x) by `phi_rad`, `A1(Φ)` (eq. 5.9).
     pub fn a1(phi_rad: f32) -> Self {
         let (s, c) = fmath::sincos(phi_rad);

@@ -1,1 +1,8 @@
-//! Attitude control.
+//! Attitude control: principal axes, the thesis's open-loop slew planner, wheel allocation,
+//! closed-loop laws, and sizing.
+//!
+//! Attitudes follow [`crate::attitude`]: `v_body = A · v_ref`, quaternions scalar-first.
+
+pub mod principal_axes;
+pub mod slew;
+pub mod wheels;

@@ -1,0 +1,167 @@
+//! Reaction-wheel allocation: a body angular momentum (or torque) to individual wheels by the
+//! minimum-norm pseudoinverse over the axes of the working wheels, with per-wheel saturation
+//! that keeps the direction of the command (seed 000 §10.2.3, eq. 10.30; note 000 §3.10
+//! "Wheel allocation" and §7.11–7.12).
+//!
+//! # Equations
+//! With `W` the 3×n matrix whose columns are the unit spin axes `ẑ_m` of the working wheels
+//! (body UVW) and `L` the body momentum a manoeuvre needs, the wheels take the opposite
+//! momentum (conservation of angular momentum, eqs. 10.1–10.6):
+//! ```text
+//! W h = −L,   h = −Wᵀ (W Wᵀ)⁺ L        (minimum ‖h‖ among all exact solutions)
+//! ```
+//! `(W Wᵀ)⁺` is the pseudoinverse of the symmetric 3×3 matrix `W Wᵀ` by its eigen-decomposition
+//! ([`symmetric_eigen`]) with eigenvalues below [`RANK_TOLERANCE`]·λ_max dropped: when the working
+//! wheels do not span the space, the result is the least-squares allocation and
+//! [`WheelAllocation::unrealised`] says what part of `L` no wheel can produce.
+//!
+//! For the thesis's cube (one wheel per face) this gives each axis's component to the wheels on
+//! that axis, split equally between the `+` and `−` faces: `h_m = −(L·ẑ_m)/n_axis`, the thesis's
+//! rule. For the hexagonal prism it differs from eq. 10.30 (see `tests/control.rs`): the thesis
+//! drives only the two faces adjacent to U with `(L_u/2)/cos 30°` each (0.577 for `L_u = 1`); the
+//! minimum-norm solution spreads `L_u` over all four side wheels with a U component,
+//! `L_u/(4 cos 30°)` each (0.289), with half the total ‖h‖² and the same net momentum.
+//!
+//! # Saturation
+//! If any wheel would exceed its limit, the whole vector `h` is scaled by
+//! `min_m(h_max,m / |h_m|)`: the body momentum keeps its direction and shrinks
+//! ([`WheelAllocation::scale`] < 1).
+//!
+//! The same functions allocate a torque (N·m) when given torques and torque limits.
+
+use core::fmt;
+
+use crate::control::principal_axes::symmetric_eigen;
+use crate::linalg::{Mat3, Vec3};
+
+/// Relative eigenvalue threshold of the pseudoinverse of `W Wᵀ`.
+pub const RANK_TOLERANCE: f32 = 1e-5;
+
+/// One reaction wheel.
+#[derive(Copy, Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Wheel {
+    /// Unit spin axis in body UVW (the tile's `ẑ`, row 3 of its orientation matrix).
+    pub axis_body: Vec3,
+    /// Largest angular momentum magnitude, kg·m²/s (or torque, N·m, when allocating torque).
+    pub limit: f32,
+    /// False if the wheel has failed or is switched off: it gets zero.
+    pub working: bool,
+}
+
+/// Errors of the allocation.
+#[derive(Copy, Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum WheelError {
+    /// The command, an axis or a limit is NaN or infinite.
+    NotFinite,
+    /// A working wheel has a zero axis or a non-positive limit (its index).
+    InvalidWheel(u8),
+    /// No working wheel.
+    NoWorkingWheel,
+}
+
+impl fmt::Display for WheelError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::NotFinite => write!(f, "wheel command or geometry is NaN or infinite"),
+            Self::InvalidWheel(i) => write!(f, "wheel {i} has a zero axis or a non-positive limit"),
+            Self::NoWorkingWheel => write!(f, "no working reaction wheel"),
+        }
+    }
+}
+
+/// The result of an allocation over `N` wheels.
+#[derive(Copy, Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct WheelAllocation<const N: usize> {
+    /// Command of each wheel along its own axis (momentum kg·m²/s or torque N·m), after
+    /// saturation; zero for failed wheels.
+    pub wheel: [f32; N],
+    /// The factor (0..=1) the whole allocation was scaled by to respect the limits.
+    pub scale: f32,
+    /// The part of the requested body vector no combination of working wheels can produce
+    /// (zero when they span the space), before saturation; same unit as the request.
+    pub unrealised: Vec3,
+    /// Number of independent directions the working wheels span (0..=3).
+    pub rank: u8,
+}
+
+/// Allocates the body vector `l_body` (the momentum or torque the body must receive) to the
+/// wheels: each wheel gets the opposite (see the [module docs](self)).
+pub fn allocate<const N: usize>(
+    wheels: &[Wheel; N],
+    l_body: &Vec3,
+) -> Result<WheelAllocation<N>, WheelError> {
+    if l_body.iter().any(|x| !x.is_finite()) {
+        return Err(WheelError::NotFinite);
+    }
+    let mut gram = Mat3::zeros();
+    let mut any = false;
+    for (i, w) in wheels.iter().enumerate() {
+        if !w.working {
+            continue;
+        }
+        if w.axis_body.iter().any(|x| !x.is_finite()) || !w.limit.is_finite() {
+            return Err(WheelError::NotFinite);
+        }
+        if w.axis_body.norm_squared() == 0.0 || w.limit <= 0.0 {
+            return Err(WheelError::InvalidWheel(i as u8));
+        }
+        gram += w.axis_body * w.axis_body.transpose();
+        any = true;
+    }
+    if !any {
+        return Err(WheelError::NoWorkingWheel);
+    }
+    // (W Wᵀ)⁺ by eigen-decomposition with a relative threshold
+    let (values, vectors) = symmetric_eigen(&gram).map_err(|_| WheelError::NotFinite)?;
+    let lambda_max = values.iter().fold(0.0f32, |a, v| a.max(*v));
+    let mut pinv = Mat3::zeros();
+    let mut rank = 0u8;
+    for (k, lambda) in values.iter().enumerate() {
+        if *lambda > RANK_TOLERANCE * lambda_max {
+            let v = vectors.column(k);
+            pinv += v * v.transpose() / *lambda;
+            rank += 1;
+        }
+    }
+    // y = (W Wᵀ)⁺ L; each wheel h_m = −ẑ_m · y
+    let y = pinv * l_body;
+    let realised = gram * y;
+    let mut wheel = [0.0f32; N];
+    for (h, w) in wheel.iter_mut().zip(wheels.iter()) {
+        if w.working {
+            *h = -w.axis_body.dot(&y);
+        }
+    }
+    // saturation keeping the direction
+    let mut scale = 1.0f32;
+    for (h, w) in wheel.iter().zip(wheels.iter()) {
+        let mag = if *h < 0.0 { -*h } else { *h };
+        if w.working && mag > w.limit {
+            scale = scale.min(w.limit / mag);
+        }
+    }
+    if scale < 1.0 {
+        for h in wheel.iter_mut() {
+            *h *= scale;
+        }
+    }
+    Ok(WheelAllocation {
+        wheel,
+        scale,
+        unrealised: l_body - realised,
+        rank,
+    })
+}
+
+/// The body vector the wheels produce on the body, `−Σ h_m ẑ_m` (the inverse of [`allocate`]).
+pub fn body_vector<const N: usize>(wheels: &[Wheel; N], wheel_values: &[f32; N]) -> Vec3 {
+    wheels
+        .iter()
+        .zip(wheel_values.iter())
+        .filter(|(w, _)| w.working)
+        .fold(Vec3::zeros(), |acc, (w, h)| acc - w.axis_body * *h)
+}
