@@ -1,0 +1,383 @@
+//! Singular value decomposition of a tall m×3 matrix (m ≤ [`MAX_ROWS`]) by one-sided Jacobi
+//! rotations, its pseudoinverse, and the nearest rotation to a 3×3 matrix.
+//!
+//! # Method
+//! One-sided Jacobi (Hestenes 1958; Demmel and Veselić, *Jacobi's method is more accurate than
+//! QR*, SIAM J. Matrix Anal. Appl. 13(4), 1992, Algorithm 4.1): plane rotations `J` applied to
+//! the columns of `M` until they are mutually orthogonal, `M·V = W`, `V = J₁J₂…` orthogonal.
+//! Then `σⱼ = |wⱼ|` and `uⱼ = wⱼ/σⱼ`, so `M = U·Σ·Vᵀ` (the thin SVD). For a pair of columns
+//! `(p, q)` with `α = |w_p|²`, `β = |w_q|²`, `γ = w_p·w_q`:
+//! ```text
+//! ζ = (β − α)/(2γ),  t = sign(ζ)/(|ζ| + √(1 + ζ²)),  c = 1/√(1 + t²),  s = c·t
+//! w_p ← c·w_p − s·w_q,   w_q ← s·w_p + c·w_q          (and the same on the columns of V)
+//! ```
+//! makes `w_p·w_q = 0`. Sweeps over the pairs (1,2), (1,3), (2,3) stop when no pair has
+//! `|γ| > 4ε·√(αβ)` (ε = `f32::EPSILON`) or after [`MAX_SWEEPS`] sweeps (three columns converge
+//! quadratically, in 3–6 sweeps; at the cap the columns are orthogonal to rounding anyway, so the
+//! result is returned, not an error).
+//!
+//! One-sided Jacobi never forms `MᵀM`, so small singular values keep their relative accuracy
+//! (the error of a least-squares solution grows like `ε·κ`, not `ε·κ²` as with the normal
+//! equations).
+//!
+//! # Pseudoinverse (seed 000 eqs. 8.17–8.18)
+//! `M⁺ = V·Σ⁺·Uᵀ`, where `Σ⁺` inverts the singular values above `rel_tol·σ_max` and zeroes the
+//! others. It is applied without storing `U`: `M⁺·y = Σⱼ vⱼ (wⱼ·y)/σⱼ²`.
+//!
+//! # Cost
+//! Allocation-free; the working copy of the matrix is 3 × [`MAX_ROWS`] f32 on the stack (144 B)
+//! plus `V`. No recursion; every loop is bounded by [`MAX_ROWS`] and [`MAX_SWEEPS`].
+
+use crate::fmath;
+use crate::linalg::{Mat3, Vec3};
+
+/// The largest number of rows [`ThinSvd::new`] accepts (12 tiles or 12 two-axis rows).
+pub const MAX_ROWS: usize = 12;
+
+/// Iteration cap of the Jacobi sweeps.
+pub const MAX_SWEEPS: u8 = 12;
+
+/// Orthogonality tolerance of the sweeps, in units of `f32::EPSILON`.
+const ORTHO_TOL: f32 = 4.0 * f32::EPSILON;
+
+/// Why a decomposition or a solve was refused.
+#[derive(Copy, Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum SvdError {
+    /// More rows than [`MAX_ROWS`].
+    TooManyRows {
+        /// Rows given.
+        rows: usize,
+    },
+    /// An entry of the matrix or of the right-hand side is NaN or infinite.
+    NonFinite,
+    /// The right-hand side does not have one entry (or row) per row of the matrix.
+    RhsLength {
+        /// Rows of the matrix.
+        rows: usize,
+        /// Entries of the right-hand side.
+        rhs: usize,
+    },
+    /// The matrix has fewer significant singular values than the operation needs.
+    RankDeficient {
+        /// Singular values above the threshold.
+        rank: u8,
+        /// The ratio `σ_min/σ_max` of the singular value that fell below the threshold.
+        ratio: f32,
+    },
+}
+
+impl core::fmt::Display for SvdError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            Self::TooManyRows { rows } => {
+                write!(f, "{rows} rows, at most {MAX_ROWS} are supported")
+            }
+            Self::NonFinite => write!(f, "NaN or infinite entry"),
+            Self::RhsLength { rows, rhs } => {
+                write!(f, "matrix has {rows} rows but the right-hand side {rhs}")
+            }
+            Self::RankDeficient { rank, ratio } => write!(
+                f,
+                "rank {rank}: singular value ratio {ratio:e} below the threshold"
+            ),
+        }
+    }
+}
+
+type Column = [f32; MAX_ROWS];
+
+/// The thin SVD `M = U·Σ·Vᵀ` of an m×3 matrix, m ≤ [`MAX_ROWS`], singular values in
+/// descending order. `U` is kept as `W = M·V = U·Σ` (see the [module docs](self)).
+#[derive(Clone, Debug)]
+pub struct ThinSvd {
+    w: [Column; 3],
+    v: [Vec3; 3],
+    sigma: [f32; 3],
+    rows: usize,
+}
+
+fn dot(a: &Column, b: &Column) -> f32 {
+    a.iter().zip(b.iter()).map(|(x, y)| x * y).sum()
+}
+
+/// One Jacobi rotation of the column pair `(wp, wq)` and of `(vp, vq)`. Returns whether it
+/// rotated.
+fn rotate(wp: &mut Column, wq: &mut Column, vp: &mut Vec3, vq: &mut Vec3) -> bool {
+    let alpha = dot(wp, wp);
+    let beta = dot(wq, wq);
+    let gamma = dot(wp, wq);
+    let threshold = ORTHO_TOL * fmath::sqrt(alpha * beta);
+    if fmath::abs(gamma).partial_cmp(&threshold) != Some(core::cmp::Ordering::Greater) {
+        return false;
+    }
+    // ζ = (β − α)/(2γ), t = sign(ζ)/(|ζ| + √(1 + ζ²)) (t = 1/(2ζ) where ζ² would overflow).
+    let zeta = (beta - alpha) / (2.0 * gamma);
+    let abs_zeta = fmath::abs(zeta);
+    let t_abs = if abs_zeta > 1.0e15 {
+        0.5 / abs_zeta
+    } else {
+        1.0 / (abs_zeta + fmath::sqrt(1.0 + zeta * zeta))
+    };
+    let t = if zeta < 0.0 { -t_abs } else { t_abs };
+    let c = 1.0 / fmath::sqrt(1.0 + t * t);
+    let s = c * t;
+    for (p, q) in wp.iter_mut().zip(wq.iter_mut()) {
+        let (a, b) = (*p, *q);
+        *p = c * a - s * b;
+        *q = s * a + c * b;
+    }
+    let (a, b) = (*vp, *vq);
+    *vp = a * c - b * s;
+    *vq = a * s + b * c;
+    true
+}
+
+impl ThinSvd {
+    /// Decomposes the matrix whose rows are `rows` (at most [`MAX_ROWS`]).
+    pub fn new(rows: &[Vec3]) -> Result<Self, SvdError> {
+        if rows.len() > MAX_ROWS {
+            return Err(SvdError::TooManyRows { rows: rows.len() });
+        }
+        if rows.iter().any(|r| !r.iter().all(|x| x.is_finite())) {
+            return Err(SvdError::NonFinite);
+        }
+        let mut w0: Column = [0.0; MAX_ROWS];
+        let mut w1: Column = [0.0; MAX_ROWS];
+        let mut w2: Column = [0.0; MAX_ROWS];
+        for (r, (a, (b, c))) in rows
+            .iter()
+            .zip(w0.iter_mut().zip(w1.iter_mut().zip(w2.iter_mut())))
+        {
+            *a = r.x;
+            *b = r.y;
+            *c = r.z;
+        }
+        let mut v0 = Vec3::x();
+        let mut v1 = Vec3::y();
+        let mut v2 = Vec3::z();
+        for _ in 0..MAX_SWEEPS {
+            let r01 = rotate(&mut w0, &mut w1, &mut v0, &mut v1);
+            let r02 = rotate(&mut w0, &mut w2, &mut v0, &mut v2);
+            let r12 = rotate(&mut w1, &mut w2, &mut v1, &mut v2);
+            if !(r01 || r02 || r12) {
+                break;
+            }
+        }
+        let mut s = [
+            fmath::sqrt(dot(&w0, &w0)),
+            fmath::sqrt(dot(&w1, &w1)),
+            fmath::sqrt(dot(&w2, &w2)),
+        ];
+        // Sort descending (three compare-and-swaps).
+        let mut w = [w0, w1, w2];
+        let mut v = [v0, v1, v2];
+        for (i, j) in [(0usize, 1usize), (1, 2), (0, 1)] {
+            let (si, sj) = match (s.get(i), s.get(j)) {
+                (Some(a), Some(b)) => (*a, *b),
+                _ => continue,
+            };
+            if si < sj {
+                s.swap(i, j);
+                w.swap(i, j);
+                v.swap(i, j);
+            }
+        }
+        if !s.iter().all(|x| x.is_finite()) {
+            return Err(SvdError::NonFinite);
+        }
+        Ok(Self {
+            w,
+            v,
+            sigma: s,
+            rows: rows.len(),
+        })
+    }
+
+    /// The singular values `(σ₁ ≥ σ₂ ≥ σ₃)`.
+    pub fn singular_values(&self) -> Vec3 {
+        let [a, b, c] = self.sigma;
+        Vec3::new(a, b, c)
+    }
+
+    /// The right singular vectors as the columns of `V` (a proper or improper orthogonal matrix).
+    pub fn v(&self) -> Mat3 {
+        let [a, b, c] = self.v;
+        Mat3::from_columns(&[a, b, c])
+    }
+
+    /// Number of singular values above `rel_tol · σ₁` (0 for the zero matrix).
+    pub fn rank(&self, rel_tol: f32) -> u8 {
+        let [s1, _, _] = self.sigma;
+        let threshold = rel_tol * s1;
+        self.sigma.iter().filter(|&&s| s > threshold).count() as u8
+    }
+
+    /// Checks that the rank is at least `needed` with the relative threshold `rel_tol`.
+    pub fn require_rank(&self, needed: u8, rel_tol: f32) -> Result<(), SvdError> {
+        let rank = self.rank(rel_tol);
+        if rank >= needed {
+            return Ok(());
+        }
+        let [s1, _, _] = self.sigma;
+        let sk = self
+            .sigma
+            .get(usize::from(rank))
+            .copied()
+            .unwrap_or_default();
+        let ratio = if s1 > 0.0 { sk / s1 } else { 0.0 };
+        Err(SvdError::RankDeficient { rank, ratio })
+    }
+
+    /// The least-squares, minimum-norm solution `x = M⁺·y` (eq. 8.16), singular values below
+    /// `rel_tol · σ₁` treated as zero.
+    pub fn solve(&self, y: &[f32], rel_tol: f32) -> Result<Vec3, SvdError> {
+        if y.len() != self.rows {
+            return Err(SvdError::RhsLength {
+                rows: self.rows,
+                rhs: y.len(),
+            });
+        }
+        if !y.iter().all(|x| x.is_finite()) {
+            return Err(SvdError::NonFinite);
+        }
+        let [s1, _, _] = self.sigma;
+        let threshold = rel_tol * s1;
+        let mut x = Vec3::zeros();
+        for ((wj, vj), sj) in self.w.iter().zip(self.v.iter()).zip(self.sigma.iter()) {
+            if *sj > threshold {
+                // (wⱼ·y)/σⱼ² = (uⱼ·y)/σⱼ
+                let wy: f32 = wj.iter().zip(y.iter()).map(|(a, b)| a * b).sum();
+                x += vj * (wy / (sj * sj));
+            }
+        }
+        Ok(x)
+    }
+
+    /// `M⁺·F` for a right-hand side with one row `fᵢ` per row of `M` (the 3×3 product of the
+    /// thesis's generalised solver, eq. 8.28), singular values below `rel_tol · σ₁` treated as
+    /// zero.
+    pub fn solve_rows(&self, f: &[Vec3], rel_tol: f32) -> Result<Mat3, SvdError> {
+        if f.len() != self.rows {
+            return Err(SvdError::RhsLength {
+                rows: self.rows,
+                rhs: f.len(),
+            });
+        }
+        if f.iter().any(|r| !r.iter().all(|x| x.is_finite())) {
+            return Err(SvdError::NonFinite);
+        }
+        let [s1, _, _] = self.sigma;
+        let threshold = rel_tol * s1;
+        let mut x = Mat3::zeros();
+        for ((wj, vj), sj) in self.w.iter().zip(self.v.iter()).zip(self.sigma.iter()) {
+            if *sj > threshold {
+                // wⱼᵀ·F = Σᵢ wᵢⱼ fᵢᵀ
+                let wf: Vec3 = wj
+                    .iter()
+                    .zip(f.iter())
+                    .fold(Vec3::zeros(), |acc, (a, fi)| acc + fi * *a);
+                x += vj * wf.transpose() / (sj * sj);
+            }
+        }
+        Ok(x)
+    }
+
+    /// The left singular vector `uⱼ` (j = 0, 1, 2) of a matrix with 3 rows, or `None` for a
+    /// zero singular value, a bad index or a matrix with more rows.
+    fn left3(&self, j: usize) -> Option<Vec3> {
+        let wj = self.w.get(j)?;
+        let sj = *self.sigma.get(j)?;
+        if self.rows != 3 || sj.is_nan() || sj <= 0.0 {
+            return None;
+        }
+        Some(Vec3::new(wj[0], wj[1], wj[2]) / sj)
+    }
+}
+
+/// The rotation `R` that maximises `tr(Rᵀ·B)`: the solution of Wahba's problem for the attitude
+/// profile matrix `B` (Markley 1988, `R = U·diag(1, 1, det U·det V)·Vᵀ`), and equally the proper
+/// rotation nearest to `B` in the Frobenius norm (the orthogonal polar factor, with the sign of
+/// the smallest singular direction flipped if `det B < 0`).
+///
+/// Returns `R` and the singular values `(σ₁, σ₂, σ₃)` of `B`. Needs rank ≥ 2:
+/// `σ₂ > min_ratio · σ₁`, else [`SvdError::RankDeficient`]. The third left singular vector is
+/// taken as `u₁ × u₂`, so a rank-2 `B` (two observations) is handled exactly.
+pub fn nearest_rotation(b: &Mat3, min_ratio: f32) -> Result<(Mat3, Vec3), SvdError> {
+    let rows = [
+        Vec3::new(b.m11, b.m12, b.m13),
+        Vec3::new(b.m21, b.m22, b.m23),
+        Vec3::new(b.m31, b.m32, b.m33),
+    ];
+    let svd = ThinSvd::new(&rows)?;
+    svd.require_rank(2, min_ratio)?;
+    let (u1, u2) = match (svd.left3(0), svd.left3(1)) {
+        (Some(a), Some(b)) => (a, b),
+        _ => {
+            return Err(SvdError::RankDeficient {
+                rank: 0,
+                ratio: 0.0,
+            })
+        }
+    };
+    // Re-orthogonalise u₂ against u₁ (Gram–Schmidt, one step) and complete right-handed.
+    let u1 = u1.normalize();
+    let u2 = (u2 - u1 * u1.dot(&u2)).normalize();
+    let u3 = u1.cross(&u2);
+    let [v1, v2, v3] = svd.v;
+    let det_v = v1.cross(&v2).dot(&v3);
+    let d = if det_v < 0.0 { -1.0 } else { 1.0 };
+    let r = u1 * v1.transpose() + u2 * v2.transpose() + u3 * v3.transpose() * d;
+    Ok((r, svd.singular_values()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reconstructs_and_orders() {
+        let rows = [
+            Vec3::new(1.0, 2.0, 3.0),
+            Vec3::new(-1.0, 0.5, 2.0),
+            Vec3::new(0.3, -0.7, 0.1),
+            Vec3::new(4.0, 1.0, -2.0),
+        ];
+        let svd = ThinSvd::new(&rows).unwrap();
+        let s = svd.singular_values();
+        assert!(s.x >= s.y && s.y >= s.z && s.z > 0.0);
+        // M⁺ M = I for full column rank.
+        for e in [Vec3::x(), Vec3::y(), Vec3::z()] {
+            let y: Vec<f32> = rows.iter().map(|r| r.dot(&e)).collect();
+            let x = svd.solve(&y, 1e-6).unwrap();
+            assert!((x - e).norm() < 1e-5, "{x:?} vs {e:?}");
+        }
+        let v = svd.v();
+        assert!((v.transpose() * v - Mat3::identity()).norm() < 1e-6);
+    }
+
+    #[test]
+    fn rank_deficient() {
+        let rows = [Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0)];
+        let svd = ThinSvd::new(&rows).unwrap();
+        assert_eq!(svd.rank(1e-6), 2);
+        assert!(matches!(
+            svd.require_rank(3, 1e-6),
+            Err(SvdError::RankDeficient { rank: 2, .. })
+        ));
+        let x = svd.solve(&[2.0, 3.0], 1e-6).unwrap();
+        assert!((x - Vec3::new(2.0, 3.0, 0.0)).norm() < 1e-6);
+    }
+
+    #[test]
+    fn refuses_bad_input() {
+        let rows = [Vec3::new(f32::NAN, 0.0, 0.0)];
+        assert_eq!(ThinSvd::new(&rows).unwrap_err(), SvdError::NonFinite);
+        let many = [Vec3::x(); 13];
+        assert!(matches!(
+            ThinSvd::new(&many),
+            Err(SvdError::TooManyRows { rows: 13 })
+        ));
+    }
+}
