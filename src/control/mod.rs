@@ -3,6 +3,10 @@
 //!
 //! Attitudes follow [`crate::attitude`]: `v_body = A · v_ref`, quaternions scalar-first.
 
+pub mod bdot;
+pub mod magnetorquer;
 pub mod principal_axes;
 pub mod slew;
+pub mod sun_safe;
+pub mod tracking;
 pub mod wheels;

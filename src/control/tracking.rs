@@ -1,0 +1,137 @@
+//! Quaternion-feedback tracking control with reaction wheels (Wie, Weiss & Arapostathis 1989,
+//! "Quaternion feedback regulator for spacecraft eigenaxis rotations", JGCD 12(3); Wie,
+//! *Space Vehicle Dynamics and Control*, §7.3). The thesis left closed-loop tracking as future
+//! work (note 000 §1.1).
+//!
+//! Attitudes follow [`crate::attitude`]: `A(q)` maps reference to body; the body attitude obeys
+//! `q̇ = ½ q ⊗ (0, ω)` with ω in body axes.
+//!
+//! # Law
+//! ```text
+//! q_e = q_t* ⊗ q                      (A(q_e) = A(q) A(q_t)ᵀ: target body → actual body)
+//! ω_e = ω − A(q_e) ω_t
+//! τ   = −K_p sign(q_e0) q_e,vec − K_d ω_e + ω × (I ω + h_w)
+//! ```
+//! `τ` is the torque the body must receive (N·m, body axes); the wheels produce it by
+//! `ḣ_w = −τ` (allocate with [`super::wheels::allocate`]). The gyroscopic term cancels the
+//! coupling `ω × (Iω + h_w)` of `I ω̇ = τ_ext − ω × (Iω + h_w) − ḣ_w`.
+//!
+//! # Stability
+//! With positive-definite diagonal `K_p`, `K_d` and the gyroscopic compensation, the closed loop
+//! is globally asymptotically stable about `q_e = ±1` (Lyapunov function
+//! `V = ½ ω_eᵀ I ω_e + k (1 − |q_e0|)` for `K_p = k I`, Wie et al. 1989); `sign(q_e0)` takes the
+//! shorter way round (no unwinding). [`TrackingGains::from_bandwidth`] sets
+//! `K_p = 2 ω_n² I`, `K_d = 2 ζ ω_n I` (per axis, small-angle natural frequency `ω_n` in rad/s
+//! and damping `ζ`), because `q_e,vec ≈ θ/2` for small errors.
+
+use core::fmt;
+
+use crate::attitude::Quaternion;
+use crate::linalg::{Mat3, Vec3};
+
+/// Gains of the law, per body axis.
+#[derive(Copy, Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct TrackingGains {
+    /// `K_p`, N·m per unit of quaternion vector part.
+    pub kp_nm: Vec3,
+    /// `K_d`, N·m·s/rad.
+    pub kd_nms: Vec3,
+}
+
+/// Errors of the tracking law.
+#[derive(Copy, Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum TrackingError {
+    /// An input is NaN or infinite.
+    NotFinite,
+    /// A gain is negative.
+    NegativeGain,
+}
+
+impl fmt::Display for TrackingError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::NotFinite => write!(f, "tracking input is NaN or infinite"),
+            Self::NegativeGain => write!(f, "tracking gain is negative"),
+        }
+    }
+}
+
+impl TrackingGains {
+    /// `K_p = 2 ω_n² I_kk`, `K_d = 2 ζ ω_n I_kk` from the diagonal of the body inertia
+    /// (kg·m²), the natural frequency `omega_n_radps` and the damping ratio `zeta`.
+    pub fn from_bandwidth(inertia_body: &Mat3, omega_n_radps: f32, zeta: f32) -> Self {
+        let diag = inertia_body.diagonal();
+        Self {
+            kp_nm: diag * (2.0 * omega_n_radps * omega_n_radps),
+            kd_nms: diag * (2.0 * zeta * omega_n_radps),
+        }
+    }
+}
+
+/// The attitude error `q_e = q_t* ⊗ q`, sign chosen so that `q_e0 ≥ 0` (the shorter way).
+pub fn attitude_error(q: &Quaternion, q_target: &Quaternion) -> Quaternion {
+    let e = q_target.conjugate().mul(q);
+    if e.q0 < 0.0 {
+        Quaternion {
+            q0: -e.q0,
+            q1: -e.q1,
+            q2: -e.q2,
+            q3: -e.q3,
+        }
+    } else {
+        e
+    }
+}
+
+/// The body torque (N·m, body axes) of the quaternion-feedback law (see the [module
+/// docs](self)). `omega_target_radps` is the target's rate in the target body frame,
+/// `h_wheels` the wheels' total momentum in body axes (kg·m²/s).
+pub fn tracking_torque(
+    gains: &TrackingGains,
+    inertia_body: &Mat3,
+    q: &Quaternion,
+    omega_body_radps: &Vec3,
+    q_target: &Quaternion,
+    omega_target_radps: &Vec3,
+    h_wheels: &Vec3,
+) -> Result<Vec3, TrackingError> {
+    let scalars = [
+        q.q0,
+        q.q1,
+        q.q2,
+        q.q3,
+        q_target.q0,
+        q_target.q1,
+        q_target.q2,
+        q_target.q3,
+    ];
+    let vectors = [
+        omega_body_radps,
+        omega_target_radps,
+        h_wheels,
+        &gains.kp_nm,
+        &gains.kd_nms,
+    ];
+    if !scalars.iter().all(|x| x.is_finite())
+        || !vectors.iter().all(|v| v.iter().all(|x| x.is_finite()))
+        || !inertia_body.iter().all(|x| x.is_finite())
+    {
+        return Err(TrackingError::NotFinite);
+    }
+    if gains
+        .kp_nm
+        .iter()
+        .chain(gains.kd_nms.iter())
+        .any(|k| *k < 0.0)
+    {
+        return Err(TrackingError::NegativeGain);
+    }
+    let e = attitude_error(q, q_target);
+    let e_vec = Vec3::new(e.q1, e.q2, e.q3);
+    let omega_e = omega_body_radps - e.to_dcm().to_body(omega_target_radps);
+    let gyroscopic = omega_body_radps.cross(&(inertia_body * omega_body_radps + h_wheels));
+    Ok(-gains.kp_nm.component_mul(&e_vec) - gains.kd_nms.component_mul(&omega_e) + gyroscopic)
+}
