@@ -6,7 +6,7 @@
 use std::path::PathBuf;
 
 use acs::env::sun::{precise, thesis, SunError};
-use acs::time::{Calendar, Epoch, Tt, Utc};
+use acs::time::{Calendar, Epoch, TimeError, Tt, Utc};
 
 /// `../shared/` beside the crate (CI) or `/work/shared/` (worktrees).
 fn shared_dir() -> PathBuf {
@@ -45,35 +45,6 @@ fn parse_utc(s: &str) -> Epoch<Utc> {
         nano,
     })
     .unwrap()
-}
-
-/// TT of a UTC epoch: TAI − UTC from the IERS leap-second table (1990 onwards), + 32.184 s.
-// TODO(time): use `Epoch<Utc>::to_tt()` when the time helper lands it.
-fn to_tt(utc: &Epoch<Utc>) -> Epoch<Tt> {
-    const LEAPS: [(i32, u8, i32); 13] = [
-        (1990, 1, 25),
-        (1991, 1, 26),
-        (1992, 7, 27),
-        (1993, 7, 28),
-        (1994, 7, 29),
-        (1996, 1, 30),
-        (1997, 7, 31),
-        (1999, 1, 32),
-        (2006, 1, 33),
-        (2009, 1, 34),
-        (2012, 7, 35),
-        (2015, 7, 36),
-        (2017, 1, 37),
-    ];
-    let mut tai_utc = 0;
-    for (y, m, n) in LEAPS {
-        if utc.day() >= acs::time::days_from_civil(y, m, 1) {
-            tai_utc = n;
-        }
-    }
-    assert!(tai_utc > 0, "before 1990");
-    utc.add(acs::time::TimeSpan::new(tai_utc + 32, 184_000_000))
-        .relabel::<Tt>()
 }
 
 struct Row {
@@ -181,7 +152,11 @@ fn precise_within_15_arcsec_of_de421_on_every_row() {
     let mut dir = Stats::new();
     let mut dist = Stats::new();
     for row in rows() {
-        let sun = precise::sun_tt(&to_tt(&row.utc)).unwrap();
+        let sun = precise::sun(&row.utc).unwrap();
+        assert_eq!(
+            sun,
+            precise::sun_tt(&row.utc.to_tt_extrapolated().unwrap()).unwrap()
+        );
         let e = angle_arcsec(to_f64(&sun.direction), row.dir);
         dir.add(e, &row.label);
         dist.add((f64::from(sun.distance_au) - row.dist_au).abs(), &row.label);
@@ -292,6 +267,19 @@ fn out_of_range_years_are_errors_not_panics() {
         }
     }
     let u = |y: i32| Epoch::<Utc>::from_parts(acs::time::days_from_civil(y, 1, 1), 0, 0).unwrap();
+    // UTC input: no leap-second UTC before 1972; after 2100 the model's range ends.
+    assert!(matches!(
+        precise::sun(&u(1971)),
+        Err(SunError::Time(TimeError::BeforeLeapSeconds(_)))
+    ));
+    assert!(precise::sun(&u(1972)).is_ok());
+    assert!(precise::sun(&u(2100)).is_ok());
+    assert_eq!(precise::sun(&u(2101)), Err(SunError::Year(2101)));
+    let not_leap = Epoch::<Utc>::from_parts(acs::time::days_from_civil(2010, 3, 1), 86_400, 0);
+    assert!(matches!(
+        precise::sun(&not_leap.unwrap()),
+        Err(SunError::Time(_))
+    ));
     assert_eq!(thesis::sun(&u(1899)), Err(SunError::Year(1899)));
     assert!(thesis::sun(&u(2100)).is_ok());
 }
