@@ -477,3 +477,38 @@ fn note_000_geocentric_table() {
         assert_vec_close(got, want, 0.6, &format!("r {r} colat {colat} lon {lon}"));
     }
 }
+
+/// The epoch constructor equals the decimal-year one, and the thesis instant's GMST from
+/// `crate::time` gives the note's correct vector.
+#[test]
+fn epoch_constructor_and_gmst() {
+    use acs::time::{gmst_rad, Calendar, Epoch, Utc};
+    let utc: Epoch<Utc> = Epoch::from_calendar(Calendar {
+        year: 2009,
+        month: 6,
+        day: 16,
+        hour: 0,
+        minute: 0,
+        second: 0,
+        nano: 0,
+    })
+    .unwrap();
+    let a = Igrf::at_epoch(&FULL, &utc, Degree::FULL).unwrap();
+    let b = Igrf::new(&FULL, THESIS_DECIMAL_YEAR as f32, Degree::FULL).unwrap();
+    let r = THESIS_R_TEME_KM;
+    let r_teme = Vec3::new(r[0] as f32, r[1] as f32, r[2] as f32);
+    let gmst = gmst_rad(&utc.to_ut1(None).unwrap());
+    let ba = a.teme(&r_teme, gmst).unwrap();
+    let bb = b.teme(&r_teme, gmst).unwrap();
+    assert!((ba - bb).norm() < 0.05, "{ba} vs {bb}");
+    assert_vec_close(
+        ba,
+        [22633.6, -14658.8, -25644.3],
+        0.5,
+        "correct via crate::time",
+    );
+    assert!(matches!(
+        Igrf::at_epoch(&RECENT, &utc, Degree::FULL),
+        Err(IgrfError::DateOutOfRange { .. })
+    ));
+}

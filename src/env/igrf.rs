@@ -93,6 +93,7 @@ use core::fmt;
 
 use crate::fmath;
 use crate::linalg::Vec3;
+use crate::time::{Epoch, TimeScale};
 
 pub use tables::{FULL, RECENT};
 use tables::{N_COEFFS, N_MAX, RECURSION};
@@ -300,25 +301,55 @@ impl Igrf {
     /// Errors: [`IgrfError::NotFinite`], [`IgrfError::DateOutOfRange`].
     pub fn new(model: &Model, decimal_year: f32, degree: Degree) -> Result<Self, IgrfError> {
         finite("decimal_year", decimal_year)?;
+        // Exact in f32 for dates within a factor 2 of the first year (Sterbenz).
+        Self::from_years_since_first(
+            model,
+            decimal_year - model.first_year(),
+            decimal_year,
+            degree,
+        )
+    }
+
+    /// The field of `model` at `epoch` (its decimal year, [`Epoch::decimal_year_split`], the
+    /// IGRF convention; any time scale: IGRF does not resolve the seconds between them),
+    /// truncated at `degree`.
+    ///
+    /// Errors: [`IgrfError::DateOutOfRange`].
+    pub fn at_epoch<S: TimeScale>(
+        model: &Model,
+        epoch: &Epoch<S>,
+        degree: Degree,
+    ) -> Result<Self, IgrfError> {
+        let (year, fraction) = epoch.decimal_year_split();
+        // Whole years since the model start are exact integers; only the fraction rounds.
+        let whole = year.saturating_sub(i32::from(model.first_year)) as f32;
+        Self::from_years_since_first(model, whole + fraction, year as f32 + fraction, degree)
+    }
+
+    /// `years` since the model's first year; `decimal_year` only for the error report.
+    fn from_years_since_first(
+        model: &Model,
+        years: f32,
+        decimal_year: f32,
+        degree: Degree,
+    ) -> Result<Self, IgrfError> {
+        let step = f32::from(model.step_years);
+        let span = model.last_year() - model.first_year();
         let out_of_range = IgrfError::DateOutOfRange {
             decimal_year,
             first_year: model.first_year(),
             last_year: model.last_year(),
         };
-        if decimal_year < model.first_year() || decimal_year > model.last_year() {
+        if years.is_nan() || years < 0.0 || years > span {
             return Err(out_of_range);
         }
-        // Interval k covers [first + k·step, first + (k+1)·step]; the last date belongs to the
-        // last interval.
+        // Interval k covers [k·step, (k+1)·step] years; the last date belongs to the last one.
         let intervals = model.snapshots.len().saturating_sub(1);
-        let position = (decimal_year - model.first_year()) / f32::from(model.step_years);
-        let k_float = fmath::floor(position);
-        // 0 <= k_float <= intervals (at most a few dozen): the cast is exact.
-        let k = (k_float as usize).min(intervals.saturating_sub(1));
-        // Measured from the interval's own start year (exact in f32), so that every model
-        // holding the same two snapshots interpolates bit-identically.
-        let interval_start = model.first_year() + f32::from(model.step_years) * k as f32;
-        let fraction = (decimal_year - interval_start) / f32::from(model.step_years);
+        // 0 <= years/step <= intervals (at most a few dozen): the cast is exact.
+        let k = (fmath::floor(years / step) as usize).min(intervals.saturating_sub(1));
+        // Measured from the interval's own start (exact in f32), so that every model holding
+        // the same two snapshots interpolates bit-identically.
+        let fraction = (years - step * k as f32) / step;
         match (model.snapshots.get(k), model.snapshots.get(k + 1)) {
             (Some(start), Some(end)) => Ok(Self {
                 start,
