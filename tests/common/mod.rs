@@ -1,0 +1,150 @@
+//! Helpers shared by the integration tests: where the reference data is, a two-sided
+//! `assert_close`, and a small error-statistics accumulator (max, RMS) for the figures the README
+//! quotes.
+//!
+//! Use from a test file with `mod common;` (each integration test compiles its own copy, so
+//! unused helpers are allowed).
+#![allow(dead_code)]
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+/// The shared folder (`../shared` beside the crate on CI, `/work/shared` in the worktrees).
+///
+/// Tries `CARGO_MANIFEST_DIR/../shared`, then `/work/shared`; panics with both paths if neither
+/// exists, so a missing checkout is obvious.
+pub fn shared_dir() -> PathBuf {
+    let beside = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared");
+    if beside.is_dir() {
+        return beside;
+    }
+    let fixed = PathBuf::from("/work/shared");
+    if fixed.is_dir() {
+        return fixed;
+    }
+    panic!(
+        "reference data not found: neither {} nor {} exists",
+        beside.display(),
+        fixed.display()
+    );
+}
+
+/// A path inside the shared folder, e.g. `shared_path("ref/sgp4/dtusat.tle")`.
+pub fn shared_path(relative: &str) -> PathBuf {
+    shared_dir().join(relative)
+}
+
+/// Reads a text file of the shared folder; panics naming the file if it cannot.
+pub fn read_shared(relative: &str) -> String {
+    let path = shared_path(relative);
+    std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()))
+}
+
+/// Asserts `|actual − expected| ≤ tol` (two-sided; NaN always fails), naming `what` on failure.
+#[track_caller]
+pub fn assert_close(actual: f64, expected: f64, tol: f64, what: &str) {
+    let error = (actual - expected).abs();
+    // NaN anywhere fails: only a finite error within tolerance passes.
+    if error.is_nan() || error > tol {
+        panic!(
+            "{what}: actual {actual:e}, expected {expected:e}, |error| {error:e} > tolerance {tol:e}"
+        );
+    }
+}
+
+/// Asserts `assert_close` on each component of two 3-vectors.
+#[track_caller]
+pub fn assert_close3(actual: [f64; 3], expected: [f64; 3], tol: f64, what: &str) {
+    for (i, (a, e)) in actual.iter().zip(expected.iter()).enumerate() {
+        assert_close(*a, *e, tol, &format!("{what}[{i}]"));
+    }
+}
+
+/// Running error statistics: count, maximum of |error| (with where it happened) and RMS.
+///
+/// ```ignore
+/// let mut s = Stats::new("DTUSAT position error, m");
+/// s.add(err, "t=60 s");
+/// println!("{s}"); // run with --nocapture to read it
+/// ```
+#[derive(Clone, Debug)]
+pub struct Stats {
+    label: String,
+    count: usize,
+    max: f64,
+    sum_sq: f64,
+    worst: String,
+}
+
+impl Stats {
+    /// An empty accumulator with a label (say what and in which unit).
+    pub fn new(label: &str) -> Self {
+        Self {
+            label: label.to_owned(),
+            count: 0,
+            max: 0.0,
+            sum_sq: 0.0,
+            worst: String::new(),
+        }
+    }
+
+    /// Adds one error value (its absolute value is used); `at` says where, for the maximum.
+    /// A NaN becomes the maximum, so it is never hidden.
+    pub fn add(&mut self, error: f64, at: &str) {
+        let e = error.abs();
+        self.count += 1;
+        self.sum_sq += e * e;
+        if !self.max.is_nan() && (e.is_nan() || e > self.max) {
+            self.max = e;
+            self.worst = at.to_owned();
+        }
+    }
+
+    /// Adds `|actual − expected|`.
+    pub fn add_pair(&mut self, actual: f64, expected: f64, at: &str) {
+        self.add(actual - expected, at);
+    }
+
+    /// Number of values added.
+    pub fn count(&self) -> usize {
+        self.count
+    }
+
+    /// Largest |error| (0 when empty).
+    pub fn max(&self) -> f64 {
+        self.max
+    }
+
+    /// Root mean square of the errors (0 when empty).
+    pub fn rms(&self) -> f64 {
+        if self.count == 0 {
+            0.0
+        } else {
+            (self.sum_sq / self.count as f64).sqrt()
+        }
+    }
+
+    /// Where the largest error happened.
+    pub fn worst(&self) -> &str {
+        &self.worst
+    }
+
+    /// Prints the statistics (visible with `cargo test -- --nocapture`).
+    pub fn print(&self) {
+        println!("{self}");
+    }
+}
+
+impl fmt::Display for Stats {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{}: n = {}, max = {:.3e} (at {}), rms = {:.3e}",
+            self.label,
+            self.count,
+            self.max,
+            self.worst,
+            self.rms()
+        )
+    }
+}
