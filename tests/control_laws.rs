@@ -255,7 +255,8 @@ fn tracking_converges_from_a_large_error_and_takes_the_short_way() {
         },
     );
     let e = attitude_error(&q, &target);
-    let angle_deg = 2.0 * e.q0.clamp(-1.0, 1.0).acos().to_degrees();
+    // 2 asin |q_vec| resolves small angles (acos of q0 ≈ 1 cannot, in f32)
+    let angle_deg = 2.0 * Vec3::new(e.q1, e.q2, e.q3).norm().min(1.0).asin().to_degrees();
     println!(
         "tracking after 300 s: error {angle_deg:.2e}°, |ω| {:.2e} rad/s",
         w.norm()
@@ -341,7 +342,7 @@ fn sun_safe_points_the_axis_and_damps_in_eclipse() {
         sun_safe_torque(&gains, Some(&s), &axis, w).unwrap()
     });
     let s = q.to_dcm().to_body(&sun_ref);
-    let err_deg = s.dot(&axis).clamp(-1.0, 1.0).acos().to_degrees();
+    let err_deg = s.cross(&axis).norm().atan2(s.dot(&axis)).to_degrees();
     println!(
         "sun-safe after 600 s: pointing error {err_deg:.3e}°, |ω| {:.2e}",
         w.norm()
