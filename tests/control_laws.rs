@@ -256,7 +256,12 @@ fn tracking_converges_from_a_large_error_and_takes_the_short_way() {
     );
     let e = attitude_error(&q, &target);
     // 2 asin |q_vec| resolves small angles (acos of q0 ≈ 1 cannot, in f32)
-    let angle_deg = 2.0 * Vec3::new(e.q1, e.q2, e.q3).norm().min(1.0).asin().to_degrees();
+    let angle_deg = 2.0
+        * Vec3::new(e.q1, e.q2, e.q3)
+            .norm()
+            .min(1.0)
+            .asin()
+            .to_degrees();
     println!(
         "tracking after 300 s: error {angle_deg:.2e}°, |ω| {:.2e} rad/s",
         w.norm()
