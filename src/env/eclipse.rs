@@ -1,1 +1,227 @@
-//! Eclipse geometry.
+//! Eclipse geometry: is the spacecraft in the Earth's shadow, and how much of the Sun does it see?
+//!
+//! Two models, both for a spacecraft position in TEME (km) and the geocentric Sun (any frame, the
+//! same as the position's; in practice [`crate::env::sun::precise`]):
+//!
+//! - [`cylindrical`]: the shadow test of seed 003 §3.5 (note 003 §2.5, identical to PLAN13's):
+//!   shadow iff the spacecraft is behind the Earth (`r·ŝ < 0`) and within one Earth radius of the
+//!   Earth–Sun axis (`|r × ŝ| < R⊕`). No penumbra; in LEO its shadow edges are a few seconds off.
+//! - [`conical`]: the umbra/penumbra model (O. Montenbruck, E. Gill, *Satellite Orbits*, 2000,
+//!   §3.4.2, eqs. 3.85–3.87): the Sun and the Earth seen from the spacecraft are discs of angular
+//!   radii `a = asin(R☉/|s − r|)` and `b = asin(R⊕/|r|)` whose centres are `c` apart; the visible
+//!   fraction of the solar disc is one minus their overlap area over `π a²`.
+//!
+//! # Symbols
+//! | name | symbol | meaning |
+//! |---|---|---|
+//! | `r_teme_km` | r | spacecraft position, geocentric (km) |
+//! | `s_km` | s | geocentric Sun position (km) |
+//! | `a` | a | apparent radius of the Sun seen from the spacecraft (rad) |
+//! | `b` | b | apparent radius of the Earth seen from the spacecraft (rad) |
+//! | `c` | c | angle between the centres of the two discs (rad) |
+//! | `x`, `y` | x, y | chord geometry of the two overlapping circles (rad) |
+//!
+//! # Assumptions and accuracy
+//! A spherical Earth of radius [`EARTH_RADIUS_KM`] (WGS-84 equatorial; the polar radius is
+//! 21 km less, which moves a LEO shadow edge by up to about 3 s) without atmosphere (refraction
+//! and absorption make the real penumbra a few seconds longer), the Sun a uniform disc (no limb
+//! darkening) of radius [`SUN_RADIUS_KM`]. The f32 evaluation agrees with an f64 numerical
+//! integration over the solar disc to the figure in the README (`cargo test --test eclipse --
+//! --nocapture`).
+//!
+//! Inputs that are not finite, a zero Sun vector or a position inside the Earth give an
+//! [`EclipseError`].
+
+use core::fmt;
+
+use crate::env::sun::{Sun, AU_KM};
+use crate::fmath;
+use crate::linalg::Vec3;
+
+/// Radius of the spherical Earth used by both models: WGS-84 equatorial radius (km).
+pub const EARTH_RADIUS_KM: f32 = 6378.137;
+/// Nominal solar radius (IAU 2015 resolution B3), km.
+pub const SUN_RADIUS_KM: f32 = 695_700.0;
+
+/// Errors of the eclipse models.
+#[derive(Copy, Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum EclipseError {
+    /// A component of the spacecraft position is NaN or infinite.
+    NonFinitePosition,
+    /// A component of the Sun vector (or its distance) is NaN or infinite.
+    NonFiniteSun,
+    /// The Sun vector has zero length, or the Sun distance is not positive (carried: the length
+    /// or distance).
+    ZeroSun(f32),
+    /// The spacecraft is inside the Earth (carried: its geocentric distance in km).
+    InsideEarth(f32),
+    /// The spacecraft is farther than [`MAX_RANGE_KM`] (carried: its distance in km, possibly
+    /// infinite when the components are finite but their norm overflows).
+    TooFar(f32),
+}
+
+/// The largest geocentric distance accepted (km): 1e9 km, about 6.7 au, far beyond any Earth
+/// orbit and small enough that no product in the models overflows f32.
+pub const MAX_RANGE_KM: f32 = 1.0e9;
+
+impl fmt::Display for EclipseError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::NonFinitePosition => write!(f, "spacecraft position is not finite"),
+            Self::NonFiniteSun => write!(f, "Sun vector is not finite"),
+            Self::ZeroSun(l) => write!(f, "Sun vector length or distance {l} is not positive"),
+            Self::InsideEarth(r) => write!(
+                f,
+                "spacecraft at {r} km from the geocentre is inside the Earth"
+            ),
+            Self::TooFar(r) => write!(f, "spacecraft at {r} km is beyond {MAX_RANGE_KM} km"),
+        }
+    }
+}
+
+/// Where the spacecraft is with respect to the Earth's shadow cone.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Shadow {
+    /// The whole solar disc is visible.
+    Sunlit,
+    /// Part of the solar disc is hidden by the Earth.
+    Penumbra,
+    /// The Earth hides the whole solar disc.
+    Umbra,
+    /// Beyond the tip of the umbra (about 1.4 million km): the Earth is seen inside the solar disc.
+    Antumbra,
+}
+
+/// The result of the conical model.
+#[derive(Copy, Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Illumination {
+    /// Visible fraction of the solar disc, 0 (umbra) ..= 1 (sunlit).
+    pub fraction: f32,
+    /// The shadow region.
+    pub shadow: Shadow,
+}
+
+fn check_position(r_teme_km: &Vec3) -> Result<f32, EclipseError> {
+    if !r_teme_km.iter().all(|c| c.is_finite()) {
+        return Err(EclipseError::NonFinitePosition);
+    }
+    let r = r_teme_km.norm();
+    if r < EARTH_RADIUS_KM {
+        return Err(EclipseError::InsideEarth(r));
+    }
+    if r > MAX_RANGE_KM {
+        return Err(EclipseError::TooFar(r));
+    }
+    Ok(r)
+}
+
+fn check_direction(v: &Vec3) -> Result<Vec3, EclipseError> {
+    if !v.iter().all(|c| c.is_finite()) {
+        return Err(EclipseError::NonFiniteSun);
+    }
+    // Components are finite here. Scale by the largest first so that the norm cannot overflow or underflow.
+    let largest = v.amax();
+    if largest <= 0.0 {
+        return Err(EclipseError::ZeroSun(largest));
+    }
+    let scaled = v / largest;
+    Ok(scaled / scaled.norm())
+}
+
+/// The cylindrical shadow test of seed 003 (note 003 §2.5): `true` if the spacecraft is in
+/// shadow, i.e. `r·ŝ < 0` and `|r × ŝ| < R⊕`.
+///
+/// `sun_direction` is the geocentric Sun direction (any length > 0, same frame as `r_teme_km`).
+///
+/// # Errors
+/// [`EclipseError`] for non-finite input, a zero Sun vector or a position inside the Earth.
+pub fn cylindrical(r_teme_km: &Vec3, sun_direction: &Vec3) -> Result<bool, EclipseError> {
+    check_position(r_teme_km)?;
+    let s_hat = check_direction(sun_direction)?;
+    // Seed 003: Sw = acos(−r̂·ŝ) < 90° and SD = |r| sin Sw < R.
+    let along = r_teme_km.dot(&s_hat);
+    let off_axis_km = r_teme_km.cross(&s_hat).norm();
+    Ok(along < 0.0 && off_axis_km < EARTH_RADIUS_KM)
+}
+
+/// The conical umbra/penumbra model: the visible fraction of the solar disc and the region.
+///
+/// `sun` is the geocentric Sun (direction and distance, same frame as `r_teme_km`).
+///
+/// # Errors
+/// [`EclipseError`] for non-finite input, a zero Sun vector or distance, or a position inside
+/// the Earth.
+pub fn conical(r_teme_km: &Vec3, sun: &Sun) -> Result<Illumination, EclipseError> {
+    let r = check_position(r_teme_km)?;
+    let s_hat = check_direction(&sun.direction)?;
+    if !sun.distance_au.is_finite() {
+        return Err(EclipseError::NonFiniteSun);
+    }
+    if sun.distance_au <= 0.0 {
+        return Err(EclipseError::ZeroSun(sun.distance_au));
+    }
+    let s_km = s_hat * (sun.distance_au * AU_KM);
+    // Spacecraft → Sun and spacecraft → Earth centre.
+    let to_sun = s_km - r_teme_km;
+    let to_earth = -r_teme_km;
+    let d_sun = to_sun.norm();
+    // a = asin(R☉/|s − r|), b = asin(R⊕/|r|)   (M&G eq. 3.85)
+    let a = fmath::asin((SUN_RADIUS_KM / d_sun).min(1.0));
+    let b = fmath::asin((EARTH_RADIUS_KM / r).min(1.0));
+    // c = ∠(−r, s − r), from atan2 for accuracy near 0 and π.
+    let c = fmath::atan2(to_earth.cross(&to_sun).norm(), to_earth.dot(&to_sun));
+
+    let sunlit = Illumination {
+        fraction: 1.0,
+        shadow: Shadow::Sunlit,
+    };
+    if c >= a + b {
+        return Ok(sunlit);
+    }
+    if c <= b - a {
+        return Ok(Illumination {
+            fraction: 0.0,
+            shadow: Shadow::Umbra,
+        });
+    }
+    if c <= a - b {
+        // The Earth's disc lies inside the Sun's: annular eclipse.
+        return Ok(Illumination {
+            fraction: 1.0 - (b * b) / (a * a),
+            shadow: Shadow::Antumbra,
+        });
+    }
+    // Partial overlap of two circles (M&G eq. 3.87), written as the sum of two circular
+    // segments so that no term cancels in f32 (the Earth's segment is a sliver of a disc 250
+    // times larger than the Sun's):
+    // x = (c² + a² − b²)/(2c),  y = √(a² − x²)   (chord at distance x from the Sun's centre)
+    // A = a²·acos(x/a) + b²·acos((c − x)/b) − c·y = seg(a, θa) + seg(b, θb),
+    // θa = atan2(y, x), θb = atan2(y, c − x),  seg(ρ, θ) = ρ²(2θ − sin 2θ)/2
+    let x = ((c - b) * (c + b) + a * a) / (2.0 * c);
+    let y = fmath::sqrt(((a - x) * (a + x)).max(0.0));
+    let area = segment_area(a, fmath::atan2(y, x)) + segment_area(b, fmath::atan2(y, c - x));
+    let fraction = (1.0 - area / (core::f32::consts::PI * a * a)).clamp(0.0, 1.0);
+    Ok(Illumination {
+        fraction,
+        shadow: Shadow::Penumbra,
+    })
+}
+
+/// Area of the circular segment of a disc of radius `rho` cut by a chord that subtends the
+/// half-angle `theta` at the centre: `ρ²(u − sin u)/2` with `u = 2θ`, by its Taylor series when
+/// `u < 0.5` (relative error < 1e-9) to avoid the cancellation of `u − sin u`.
+fn segment_area(rho: f32, theta: f32) -> f32 {
+    let u = 2.0 * theta;
+    let u_minus_sin_u = if u < 0.5 {
+        // u³/6 − u⁵/120 + u⁷/5040 − u⁹/362880
+        let u2 = u * u;
+        u * u2 * (1.0 / 6.0 - u2 * (1.0 / 120.0 - u2 * (1.0 / 5040.0 - u2 / 362_880.0)))
+    } else {
+        u - fmath::sin(u)
+    };
+    0.5 * rho * rho * u_minus_sin_u
+}
