@@ -340,6 +340,20 @@ impl<S: TimeScale> Epoch<S> {
         (self.day as f32, frac)
     }
 
+    /// Julian centuries since J2000.0 (2000-01-01 12:00 of this scale), f64:
+    /// `T = (JD − 2 451 545.0) / 36 525` (Vallado 2013 eq. 3-42), from the exact split.
+    pub fn julian_centuries_since_j2000_f64(&self) -> f64 {
+        let seconds = f64::from(self.second) - 43_200.0 + f64::from(self.nano) * 1e-9;
+        (f64::from(self.day) + seconds / f64::from(SECONDS_PER_DAY)) / 36_525.0
+    }
+
+    /// Julian centuries since J2000.0 of this scale in f32 (resolution 3e-9 century = 9 s at
+    /// 2050; for slowly varying terms such as nutation and precession arguments).
+    pub fn julian_centuries_since_j2000_f32(&self) -> f32 {
+        let (whole, fraction) = self.days_since_j2000_split();
+        (whole + fraction) / 36_525.0
+    }
+
     /// The span from `earlier` to `self` (negative if `earlier` is later). UTC days count 86 400 s.
     pub fn span_since(&self, earlier: &Self) -> TimeSpan {
         let days = i64::from(self.day) - i64::from(earlier.day);

@@ -3,12 +3,14 @@
 //!
 //! Run with `cargo test --test frames -- --nocapture` to print the measured errors.
 
+use acs::frames::nutation::nutation;
 use acs::frames::{
     cartesian_to_spherical, cartesian_to_spherical_components, ecef_to_geodetic, ecef_to_ned,
     ecef_to_ned_matrix, ecef_to_teme, ecef_to_teme_position, geodetic_to_ecef,
     inertial_to_rsw_matrix, ned_to_ecef, spherical_to_cartesian, spherical_to_cartesian_components,
     teme_to_ecef, teme_to_ecef_position, FrameError, Geodetic, Spherical, EARTH_ROTATION_RADPS,
 };
+use acs::frames::{j2000_to_teme, teme_to_j2000};
 use acs::linalg::{Vec3, Vec3d};
 use acs::time::{gmst_rad_f64, Calendar, Epoch, TimeSpan, Utc};
 use core::f64::consts::{FRAC_PI_2, PI};
@@ -346,4 +348,216 @@ fn rsw_frame() {
         inertial_to_rsw_matrix(&Vec3::new(f32::INFINITY, 0.0, 0.0), &Vec3::x()),
         Err(FrameError::NonFinite)
     );
+}
+
+// ---------------------------------------------------------------------------------------------
+// Nutation and TEME → J2000
+// ---------------------------------------------------------------------------------------------
+
+/// `CARGO_MANIFEST_DIR/../shared`, else `/work/shared` (see the project preamble).
+fn shared_dir() -> std::path::PathBuf {
+    let beside = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared");
+    if beside.is_dir() {
+        beside
+    } else {
+        std::path::PathBuf::from("/work/shared")
+    }
+}
+
+/// One row of the full IAU-1980 table of `tests/data/iau1980_nutation.txt`.
+struct FullTerm {
+    k: [f64; 5],
+    a: f64,
+    b: f64,
+    c: f64,
+    d: f64,
+}
+
+fn full_nutation_table() -> Vec<FullTerm> {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/iau1980_nutation.txt");
+    let text = std::fs::read_to_string(path).unwrap();
+    let rows: Vec<FullTerm> = text
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
+        .map(|l| {
+            let v: Vec<f64> = l.split_whitespace().map(|x| x.parse().unwrap()).collect();
+            FullTerm {
+                k: [v[0], v[1], v[2], v[3], v[4]],
+                a: v[5],
+                b: v[6],
+                c: v[7],
+                d: v[8],
+            }
+        })
+        .collect();
+    assert_eq!(rows.len(), 106);
+    rows
+}
+
+/// The IAU-1980 series with its first `n` terms, in f64, written independently of the library
+/// from Vallado 2013 eq. 3-82 (arguments in degrees) and returning (Δψ, Δε) in arcseconds.
+fn reference_nutation_arcsec(table: &[FullTerm], n: usize, t: f64) -> (f64, f64) {
+    let deg = |c0: f64, c1: f64, c2: f64, c3: f64| {
+        (c0 + (c1 * t + c2 * t * t + c3 * t * t * t) / 3600.0).to_radians()
+    };
+    let l = deg(134.962_981_39, 1_717_915_922.633, 31.310, 0.064);
+    let l1 = deg(357.527_723_33, 129_596_581.224, -0.577, -0.012);
+    let f = deg(93.271_910_28, 1_739_527_263.137, -13.257, 0.011);
+    let d = deg(297.850_363_06, 1_602_961_601.328, -6.891, 0.019);
+    let om = deg(125.044_522_22, -6_962_890.539, 7.455, 0.008);
+    let (mut dpsi, mut deps) = (0.0, 0.0);
+    for term in table.iter().take(n) {
+        let arg = term.k[0] * l + term.k[1] * l1 + term.k[2] * f + term.k[3] * d + term.k[4] * om;
+        dpsi += (term.a + term.b * t) * arg.sin();
+        deps += (term.c + term.d * t) * arg.cos();
+    }
+    (dpsi * 1e-4, deps * 1e-4)
+}
+
+/// Meeus (1998) example 22.a, 1987-04-10 0h TD (JDE 2 446 895.5), full IAU-1980 series:
+/// Δψ = −3.788″, Δε = +9.443″, ε̄ = 23°26′27.407″.
+#[test]
+fn nutation_meeus_example_22a() {
+    let t = (2_446_895.5 - 2_451_545.0) / 36_525.0;
+    let n = nutation(t);
+    let arcsec = 180.0 / PI * 3600.0;
+    assert!((n.dpsi_rad * arcsec + 3.788).abs() < 0.001 + 0.0005);
+    assert!((n.deps_rad * arcsec - 9.443).abs() < 0.001 + 0.0005);
+    let eps0 = 23.0 * 3600.0 + 26.0 * 60.0 + 27.407;
+    assert!((n.mean_obliquity_rad * arcsec - eps0).abs() < 0.0005 + 1e-6);
+    let n32 = nutation(t as f32);
+    assert!((f64::from(n32.dpsi_rad) * arcsec + 3.788).abs() < 0.01);
+    assert!((f64::from(n32.deps_rad) * arcsec - 9.443).abs() < 0.01);
+}
+
+/// The truncation error of the first n terms against all 106, 1990–2050, for the rotation
+/// TEME → J2000 (nutation enters it as Δψ sin ε̄ about the equinox and Δε), and the library's
+/// f64 and f32 evaluation against the same series.
+#[test]
+fn nutation_truncation_and_f32() {
+    let table = full_nutation_table();
+    let sin_eps = (23.44f64).to_radians().sin();
+    let arcsec = 180.0 / PI * 3600.0;
+    let ts: Vec<f64> = (0..=2000)
+        .map(|i| -0.1 + 0.6 * f64::from(i) / 2000.0)
+        .collect();
+    let full: Vec<(f64, f64)> = ts
+        .iter()
+        .map(|&t| reference_nutation_arcsec(&table, 106, t))
+        .collect();
+    let truncation = |n: usize| {
+        ts.iter()
+            .zip(&full)
+            .map(|(&t, &(p, e))| {
+                let (p_n, e_n) = reference_nutation_arcsec(&table, n, t);
+                (((p_n - p) * sin_eps).powi(2) + (e_n - e).powi(2)).sqrt()
+            })
+            .fold(0.0, f64::max)
+    };
+    for n in [5, 10, 13, 20, 25, 30, 40, 60, 106] {
+        println!(
+            "nutation, first {n:3} terms: max rotation error {:.4}\"",
+            truncation(n)
+        );
+    }
+    let count = acs::frames::nutation::TERM_COUNT;
+    let trunc = truncation(count);
+    // The library against the reference series with the same terms, and its f32 version.
+    let (mut lib64, mut lib32, mut lib32_dpsi) = (0f64, 0f64, 0f64);
+    for (&t, &(p_full, e_full)) in ts.iter().zip(&full) {
+        let (p, e) = reference_nutation_arcsec(&table, count, t);
+        let n64 = nutation(t);
+        lib64 = lib64
+            .max((n64.dpsi_rad * arcsec - p).abs())
+            .max((n64.deps_rad * arcsec - e).abs());
+        let n32 = nutation(t as f32);
+        lib32_dpsi = lib32_dpsi.max((f64::from(n32.dpsi_rad) * arcsec - p_full).abs());
+        lib32 = lib32.max((f64::from(n32.deps_rad) * arcsec - e_full).abs());
+    }
+    println!("nutation library ({count} terms): f64 vs same-term reference {lib64:.1e}\"; truncation {trunc:.4}\"; f32 vs full series: dpsi {lib32_dpsi:.4}\", deps {lib32:.4}\"");
+    assert!(lib64 < 1e-9);
+    assert!(trunc < 0.05, "{trunc}");
+    assert!(lib32_dpsi < 0.5 && lib32 < 0.5);
+}
+
+/// A minimal reader of STK `.e` files: the `ScenarioEpoch` line and the `EphemerisTimePosVel`
+/// rows `t x y z vx vy vz` (s, m, m/s) up to `END Ephemeris`.
+fn read_stk(path: &std::path::Path) -> (String, Vec<[f64; 7]>) {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut epoch = String::new();
+    let mut rows = Vec::new();
+    let mut in_data = false;
+    for line in text.lines() {
+        let line = line.trim();
+        if let Some(rest) = line.strip_prefix("ScenarioEpoch") {
+            epoch = rest.trim().to_string();
+        } else if line == "EphemerisTimePosVel" {
+            in_data = true;
+        } else if line.starts_with("END Ephemeris") {
+            break;
+        } else if in_data && !line.is_empty() {
+            let v: Vec<f64> = line
+                .split_whitespace()
+                .map(|x| x.parse().unwrap())
+                .collect();
+            rows.push([v[0], v[1], v[2], v[3], v[4], v[5], v[6]]);
+        }
+    }
+    (epoch, rows)
+}
+
+/// Every row of the DTUSAT week in TEME rotated to J2000 must match the J2000 file within 20 m
+/// (0.6″ at 7000 km). Epoch of each row: the TLE epoch 09166.20608466 UTC + t; precession and
+/// nutation arguments in TT (UTC + 66.184 s in 2009).
+#[test]
+fn teme_to_j2000_dtusat_week() {
+    let dir = shared_dir().join("ref/sgp4");
+    let (epoch_teme, teme) = read_stk(&dir.join("dtusat_wgs72_teme.e"));
+    let (epoch_j2000, j2000) = read_stk(&dir.join("dtusat_wgs72_j2000.e"));
+    assert_eq!(epoch_teme, epoch_j2000);
+    assert_eq!(teme.len(), 10_081);
+    assert_eq!(teme.len(), j2000.len());
+    let tle_epoch = Epoch::<Utc>::from_tle_epoch(9, 166, 20_608_466).unwrap();
+    println!(
+        "ScenarioEpoch {epoch_teme}; TLE epoch {:?}",
+        tle_epoch.to_calendar()
+    );
+    // Diagnostic only: the frame bias J2000 → GCRS (IERS Conventions 2003 eq. 8, ξ0 = −16.617
+    // mas, η0 = −6.8192 mas, dα0 = −14.6 mas, first order), to see whether the reference file's
+    // "J2000" is in fact the GCRS/ICRF.
+    let mas = PI / 648_000.0 / 1e3;
+    let (xi0, eta0, da0) = (-16.617 * mas, -6.8192 * mas, -14.6 * mas);
+    let bias = Matrix3::new(1.0, da0, -xi0, -da0, 1.0, -eta0, xi0, eta0, 1.0);
+    let mut max_biased = 0f64;
+    let (mut max_r, mut sum_r, mut max_v, mut max_r32) = (0f64, 0f64, 0f64, 0f64);
+    for (a, b) in teme.iter().zip(&j2000) {
+        assert_eq!(a[0], b[0]);
+        let utc = tle_epoch.add(TimeSpan::from_seconds_f64(a[0]).unwrap());
+        let tt = utc.to_tt().unwrap();
+        let r_teme = Vec3d::new(a[1], a[2], a[3]);
+        let v_teme = Vec3d::new(a[4], a[5], a[6]);
+        let (r, v) = teme_to_j2000(&r_teme, &v_teme, &tt);
+        let err_r = (r - Vec3d::new(b[1], b[2], b[3])).norm();
+        let err_v = (v - Vec3d::new(b[4], b[5], b[6])).norm();
+        max_r = max_r.max(err_r);
+        sum_r += err_r * err_r;
+        max_biased = max_biased.max((bias.transpose() * r - Vec3d::new(b[1], b[2], b[3])).norm());
+        max_v = max_v.max(err_v);
+        // f32 matrix on f32 km.
+        let (r32, _) = teme_to_j2000(
+            &(r_teme / 1e3).cast::<f32>(),
+            &(v_teme / 1e3).cast::<f32>(),
+            &tt,
+        );
+        max_r32 = max_r32.max((r32.cast::<f64>() * 1e3 - Vec3d::new(b[1], b[2], b[3])).norm());
+        // Inverse.
+        let (r_back, _) = j2000_to_teme(&r, &v, &tt);
+        assert!((r_back - r_teme).norm() < 1e-6);
+    }
+    let rms_r = (sum_r / teme.len() as f64).sqrt();
+    println!("TEME->J2000, DTUSAT week, {} rows: position max {max_r:.3} m, RMS {rms_r:.3} m; velocity max {max_v:.2e} m/s; f32 position max {max_r32:.3} m", teme.len());
+    println!("  (diagnostic: with the J2000->GCRS frame bias applied, max {max_biased:.3} m)");
+    assert!(max_r <= 20.0, "{max_r}");
+    assert!(max_r32 <= 20.0, "{max_r32}");
 }

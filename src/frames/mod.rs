@@ -1,5 +1,5 @@
 //! Reference frames: TEME, Earth-fixed (GMST), geodetic WGS-84, NED, geocentric spherical, RSW,
-//! and the output conversion TEME → J2000 (IAU-76 precession, IAU-80 nutation).
+//! and (in [`j2000`]) the output conversion TEME → J2000 with the IAU-1980 [`nutation`].
 //!
 //! Every conversion is generic over [`Real`]: call it with f32 vectors ([`crate::linalg::Vec3`])
 //! in flight code and with f64 vectors ([`crate::linalg::Vec3d`]) on the host; the f32 versions
@@ -14,7 +14,7 @@
 //! | NED | local North, East, Down at a geodetic (or geocentric) latitude and longitude |
 //! | spherical | geocentric radius r, colatitude θ, east longitude (or right ascension) φ; components along r̂ (out), θ̂ (south), φ̂ (east), seed 000 eq. 7.26 |
 //! | RSW | satellite frame: R radial, S along-track (completes the triad), W orbit normal (Vallado 2013 §3.3, seed 000 §2) |
-//! | J2000 | mean equator and equinox of J2000.0 (FK5 / IAU-76/80), output only |
+//! | J2000 | mean equator and equinox of J2000.0 (FK5 / IAU-76/80), output only ([`j2000`]) |
 //!
 //! Matrices follow the crate's DCM convention ([`crate::attitude`]): a matrix named
 //! `a_to_b_matrix` maps vectors as `v_b = M · v_a`, so its rows are `b`'s axes expressed in `a`.
@@ -36,7 +36,10 @@
 //!   moves it 0.5 m) ≤ 1.9 m, RMS 0.54 m in position for heights ≤ 2000 km, and ≤ 2.9e-7·|r|
 //!   at any height (≤ 11 m in height at GEO, where the f32 resolution is 4 m).
 
+pub mod j2000;
+pub mod nutation;
 mod real;
+pub use j2000::{j2000_to_teme, teme_to_j2000, teme_to_j2000_matrix};
 pub use real::Real;
 
 use core::fmt;

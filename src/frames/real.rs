@@ -34,6 +34,8 @@ pub trait Real:
     fn atan2(self, x: Self) -> Self;
     /// True unless NaN or infinite.
     fn finite(self) -> bool;
+    /// Largest integer not above `self`.
+    fn floor_(self) -> Self;
 }
 
 impl Real for f32 {
@@ -61,6 +63,10 @@ impl Real for f32 {
     fn finite(self) -> bool {
         self.is_finite()
     }
+    #[inline]
+    fn floor_(self) -> Self {
+        crate::fmath::floor(self)
+    }
 }
 
 impl Real for f64 {
@@ -87,5 +93,9 @@ impl Real for f64 {
     #[inline]
     fn finite(self) -> bool {
         self.is_finite()
+    }
+    #[inline]
+    fn floor_(self) -> Self {
+        libm::floor(self)
     }
 }
