@@ -304,3 +304,76 @@ fn whole_range_is_finite() {
         day += 37;
     }
 }
+
+/// `acs sun` end to end: the CSV's timestamps in, the contract's CSV out, within the bound.
+#[cfg(feature = "host")]
+#[test]
+fn cli_acs_sun() {
+    use std::io::Write;
+    use std::process::{Command, Stdio};
+    let run = |args: &[&str], input: &str| {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_acs"))
+            .arg("sun")
+            .args(args)
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        child
+            .stdin
+            .take()
+            .unwrap()
+            .write_all(input.as_bytes())
+            .unwrap();
+        let out = child.wait_with_output().unwrap();
+        (
+            out.status.code().unwrap(),
+            String::from_utf8(out.stdout).unwrap(),
+            String::from_utf8(out.stderr).unwrap(),
+        )
+    };
+    let rows = rows();
+    let input: String = std::iter::once("# comment\n\n".to_string())
+        .chain(rows.iter().map(|r| format!("{}\n", r.label)))
+        .collect();
+    let (code, stdout, stderr) = run(&[], &input);
+    assert_eq!(code, 0, "{stderr}");
+    let mut lines = stdout.lines();
+    assert_eq!(lines.next(), Some("utc,x,y,z,dist_au"));
+    let mut n = 0;
+    for (line, row) in lines.zip(&rows) {
+        let f: Vec<&str> = line.split(',').collect();
+        assert_eq!(f[0], row.label);
+        for x in &f[1..] {
+            let mantissa = x.split('e').next().unwrap().replace(['-', '.'], "");
+            assert!(mantissa.len() >= 9, "{x}: fewer than 9 significant digits");
+        }
+        let v: Vec<f64> = f[1..].iter().map(|x| x.parse().unwrap()).collect();
+        assert!(angle_arcsec([v[0], v[1], v[2]], row.dir) <= 15.0, "{line}");
+        assert!((v[3] - row.dist_au).abs() <= 2e-5);
+        n += 1;
+    }
+    assert_eq!(n, rows.len());
+    // The thesis model gives the CSV's thesis RA/Dec.
+    let (code, stdout, _) = run(&["--model", "thesis"], "2009-08-14T00:00:00Z\n");
+    assert_eq!(code, 0);
+    let v: Vec<f64> = stdout
+        .lines()
+        .nth(1)
+        .unwrap()
+        .split(',')
+        .skip(1)
+        .map(|x| x.parse().unwrap())
+        .collect();
+    let (ra, _) = ra_dec_deg([v[0], v[1], v[2]]);
+    assert!(dangle_deg(ra, 143.7365).abs() < 2e-4);
+    // Bad input: exit 2 naming the line; out of range: exit 3.
+    let (code, _, stderr) = run(&[], "2009-06-16T00:00:00Z\n2009-13-01T00:00:00Z\n");
+    assert_eq!(code, 2);
+    assert!(stderr.contains("line 2"), "{stderr}");
+    let (code, _, stderr) = run(&[], "1965-01-01T00:00:00Z\n");
+    assert_eq!(code, 3, "{stderr}");
+    let (code, _, _) = run(&["--model", "bogus"], "");
+    assert_eq!(code, 2);
+}
