@@ -14,4 +14,5 @@ pub type Vec3d = nalgebra::Vector3<f64>;
 /// A 3×3 matrix of f64 (one-time initialisation and host code only).
 pub type Mat3d = nalgebra::Matrix3<f64>;
 
+pub mod lsq;
 pub mod svd;

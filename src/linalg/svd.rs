@@ -284,6 +284,40 @@ impl ThinSvd {
         Ok(x)
     }
 
+    /// `M⁺·Z` for `K` right-hand sides given as one row `zᵢ` per row of `M` (3×K result),
+    /// singular values below `rel_tol · σ₁` treated as zero.
+    pub fn solve_matrix<const K: usize>(
+        &self,
+        z: &[nalgebra::SVector<f32, K>],
+        rel_tol: f32,
+    ) -> Result<nalgebra::SMatrix<f32, 3, K>, SvdError> {
+        if z.len() != self.rows {
+            return Err(SvdError::RhsLength {
+                rows: self.rows,
+                rhs: z.len(),
+            });
+        }
+        if z.iter().any(|r| !r.iter().all(|x| x.is_finite())) {
+            return Err(SvdError::NonFinite);
+        }
+        let [s1, _, _] = self.sigma;
+        let threshold = rel_tol * s1;
+        let mut x = nalgebra::SMatrix::<f32, 3, K>::zeros();
+        for ((wj, vj), sj) in self.w.iter().zip(self.v.iter()).zip(self.sigma.iter()) {
+            if *sj > threshold {
+                // wⱼᵀ·Z = Σᵢ wᵢⱼ zᵢᵀ
+                let wz = wj
+                    .iter()
+                    .zip(z.iter())
+                    .fold(nalgebra::SVector::<f32, K>::zeros(), |acc, (a, zi)| {
+                        acc + zi * *a
+                    });
+                x += vj * wz.transpose() / (sj * sj);
+            }
+        }
+        Ok(x)
+    }
+
     /// The left singular vector `uⱼ` (j = 0, 1, 2) of a matrix with 3 rows, or `None` for a
     /// zero singular value, a bad index or a matrix with more rows.
     fn left3(&self, j: usize) -> Option<Vec3> {

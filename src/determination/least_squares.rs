@@ -1,0 +1,96 @@
+//! Body vectors from many one- and two-axis tile sensors by least squares (seed 000 §8.2–8.3;
+//! note 000 §3.8 b–d).
+//!
+//! # Magnetic field (eqs. 8.9–8.16)
+//! Tile m's magnetometer measures the field along its x̂ and ŷ (rows 1 and 2 of `A_m`, in
+//! the body frame): `x̂_m·B = φ_xm`, `ŷ_m·B = φ_ym`. Stacking the working tiles gives the 2N×3
+//! system `𝐁·B_uvw = Φ`, solved as `B_uvw = 𝐁⁺·Φ`. At least two tiles with non-parallel
+//! normals are needed (rank 3).
+//!
+//! # Angular rate (eqs. 8.19–8.25)
+//! Tile m's gyro measures `ẑ_m·ω = ω_zm`; `Z·ω_uvw = Ω`, `ω_uvw = Z⁺·Ω`. At least three tiles
+//! with non-coplanar normals are needed.
+//!
+//! # Numerics
+//! The rows are folded one by one into a Givens QR ([`crate::linalg::lsq`], constant memory
+//! whatever the number of tiles, error ∝ ε·κ), and the 3×3 factor is inverted by SVD with the
+//! relative threshold [`RANK_REL_TOL`] on its singular values (seed 000 eqs. 8.17–8.18; the
+//! thesis suggests "about 1e-6·σ_max", which is within 10 f32 ulps of the rounding floor of
+//! a rank-deficient 12-row matrix; 1e-5 keeps a margin). Rank < 3 is
+//! [`DeterminationError::NotObservable`]: the working tiles do not span the space.
+//! For the presets of [`crate::tiles`] the condition number is 1 (cube) to 1.7 (hexagon), so
+//! the f32 result is within a few ulps of the exact least-squares solution.
+//!
+//! Units: whatever the readings are in (nT for [`crate::tiles::RawMagnetometer::to_nt`];
+//! the thesis used 10 nT), rad/s for the rates.
+
+use nalgebra::SVector;
+
+use super::DeterminationError;
+use crate::linalg::lsq::QrLeastSquares;
+use crate::linalg::{Vec2, Vec3};
+use crate::tiles::Tile;
+
+/// Relative threshold on the singular values (see the module docs).
+pub const RANK_REL_TOL: f32 = 1.0e-5;
+
+fn check_lengths(tiles: usize, readings: usize) -> Result<(), DeterminationError> {
+    if tiles == readings {
+        Ok(())
+    } else {
+        Err(DeterminationError::LengthMismatch { tiles, readings })
+    }
+}
+
+/// The body-frame magnetic field `B_uvw = 𝐁⁺·Φ` (eq. 8.16) from the tiles whose reading is
+/// `Some((B_x, B_y))` (tile-frame components) and whose magnetometer is working. `readings`
+/// has one entry per tile.
+pub fn magnetic_field_body(
+    tiles: &[Tile],
+    readings: &[Option<Vec2>],
+) -> Result<Vec3, DeterminationError> {
+    check_lengths(tiles.len(), readings.len())?;
+    let mut ls = QrLeastSquares::<1>::new();
+    for (index, (tile, reading)) in tiles.iter().zip(readings.iter()).enumerate() {
+        let Some(b_tile) = reading else { continue };
+        if !tile.has_working_magnetometer() {
+            continue;
+        }
+        if !(b_tile.x.is_finite() && b_tile.y.is_finite()) {
+            return Err(DeterminationError::NonFinite { index });
+        }
+        ls.push(&tile.x_body(), &SVector::<f32, 1>::new(b_tile.x))?;
+        ls.push(&tile.y_body(), &SVector::<f32, 1>::new(b_tile.y))?;
+    }
+    if ls.rows() == 0 {
+        return Err(DeterminationError::NotObservable { rank: 0 });
+    }
+    let x = ls.solve_full_rank(RANK_REL_TOL)?;
+    Ok(x.column(0).into_owned())
+}
+
+/// The body-frame angular rate `ω_uvw = Z⁺·Ω` (eq. 8.25) from the tiles whose reading is
+/// `Some(ω_z)` (rad/s about the tile normal) and whose gyro is working. `readings` has one
+/// entry per tile.
+pub fn angular_rate_body(
+    tiles: &[Tile],
+    readings: &[Option<f32>],
+) -> Result<Vec3, DeterminationError> {
+    check_lengths(tiles.len(), readings.len())?;
+    let mut ls = QrLeastSquares::<1>::new();
+    for (index, (tile, reading)) in tiles.iter().zip(readings.iter()).enumerate() {
+        let Some(omega_z) = reading else { continue };
+        if !tile.has_working_gyro() {
+            continue;
+        }
+        if !omega_z.is_finite() {
+            return Err(DeterminationError::NonFinite { index });
+        }
+        ls.push(&tile.normal_body(), &SVector::<f32, 1>::new(*omega_z))?;
+    }
+    if ls.rows() == 0 {
+        return Err(DeterminationError::NotObservable { rank: 0 });
+    }
+    let x = ls.solve_full_rank(RANK_REL_TOL)?;
+    Ok(x.column(0).into_owned())
+}

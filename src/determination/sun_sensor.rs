@@ -1,0 +1,51 @@
+//! The Sun direction in the body frame from the lit tiles' Sun sensors (note 000 §7 item 1, the
+//! physically correct model; the `Tile` class's angle convention, seed 000 §6.2).
+//!
+//! For each working, lit tile m with sensor angles (a, b) (rad, [`crate::tiles`]):
+//! ```text
+//! ŝ_xyz = (sin b, cos b·sin a, cos b·cos a)        (tile frame)
+//! ŝ_uvw = A_mᵀ · ŝ_xyz                              (body frame)
+//! ```
+//! Every sensor sees the same single direction, so the body vectors are averaged (sum, then
+//! normalise) into **one** observation, to be paired with the Sun model's reference direction.
+//! A Sun direction alone never gives a full attitude: pair it with the magnetic field.
+//!
+//! Accuracy: exact up to f32 rounding (≈1e-7 rad) for consistent sensors; with independent
+//! sensor noise the average reduces it by about √n.
+
+use super::DeterminationError;
+use crate::linalg::Vec3;
+use crate::tiles::{sun_direction_tile, SunAngles, Tile};
+
+/// The unit Sun direction in the body frame, averaged over the tiles whose reading is
+/// `Some(angles)` (lit) and whose Sun sensor is working. `readings` has one entry per tile
+/// (`None` = not lit or no reading).
+pub fn sun_direction_body(
+    tiles: &[Tile],
+    readings: &[Option<SunAngles>],
+) -> Result<Vec3, DeterminationError> {
+    if tiles.len() != readings.len() {
+        return Err(DeterminationError::LengthMismatch {
+            tiles: tiles.len(),
+            readings: readings.len(),
+        });
+    }
+    let mut sum = Vec3::zeros();
+    let mut lit = 0usize;
+    for (index, (tile, reading)) in tiles.iter().zip(readings.iter()).enumerate() {
+        let Some(angles) = reading else { continue };
+        if !tile.has_working_sun_sensor() {
+            continue;
+        }
+        if !(angles.a_rad.is_finite() && angles.b_rad.is_finite()) {
+            return Err(DeterminationError::NonFinite { index });
+        }
+        sum += tile.tile_to_body(&sun_direction_tile(angles));
+        lit += 1;
+    }
+    let n = sum.norm();
+    if lit == 0 || n <= 0.0 {
+        return Err(DeterminationError::NoSunSensorLit);
+    }
+    Ok(sum / n)
+}

@@ -1,0 +1,48 @@
+//! Optimal attitude from weighted vector pairs by the singular value decomposition (Markley,
+//! *Attitude determination using vector observations and the singular value decomposition*,
+//! J. Astronaut. Sci. 36(3), 1988).
+//!
+//! # Problem (Wahba 1965)
+//! Find the rotation `A` (`v_body = A·v_ref`, [`crate::attitude`]) minimising
+//! `L(A) = ½ Σ aᵢ |b̂ᵢ − A r̂ᵢ|² = Σ aᵢ − tr(A Bᵀ)`, with the attitude profile matrix
+//! `B = Σ aᵢ b̂ᵢ r̂ᵢᵀ` (Markley eqs. 1–3).
+//!
+//! # Solution (Markley eqs. 9–12)
+//! `B = U·S·Vᵀ`, `A = U·diag(1, 1, det U·det V)·Vᵀ`. The SVD is the one-sided Jacobi of
+//! [`crate::linalg::svd::nearest_rotation`] (bounded sweeps, allocation-free), which takes the
+//! third left singular vector as `u₁ × u₂`, so two observations (rank-2 `B`) are exact.
+//!
+//! | symbol | name |
+//! |---|---|
+//! | `aᵢ`, `b̂ᵢ`, `r̂ᵢ` | [`Observation`] `weight`, `body`, `reference` (normalised here) |
+//! | `B` | `attitude_profile` (weights normalised to Σaᵢ = 1) |
+//! | `S = diag(s₁, s₂, s₃)` | singular values of `B` |
+//!
+//! # Validity and accuracy
+//! Needs two non-parallel directions: `s₂/s₁ ≥` [`MIN_SINGULAR_RATIO`] (for two unit vectors
+//! of equal weight at angle θ, `s₂/s₁ = (1 − cos θ)/(1 + cos θ) ≈ θ²/4`, so the threshold
+//! refuses pairs closer than about 1.1°: below that, rounding `B` to f32 alone turns the
+//! rotation about the common direction by more than 1e-3 rad). Measured on the 200 problems of
+//! `../shared/ref/attitude/wahba.json` (2–6 vectors, noise 0–0.01 rad): see the README and
+//! `cargo test --test determination wahba -- --nocapture`.
+
+use super::{attitude_profile, solution, DeterminationError, Observation, Solution};
+use crate::attitude::Dcm;
+use crate::linalg::svd::{nearest_rotation, SvdError};
+
+/// Smallest `s₂/s₁` of the attitude profile matrix accepted (see the module docs).
+pub const MIN_SINGULAR_RATIO: f32 = 1.0e-4;
+
+/// The optimal attitude for `observations` (at least 2, not all parallel): the solution of
+/// Wahba's problem by SVD, with its loss. Convention: [`crate::attitude`].
+pub fn solve(observations: &[Observation]) -> Result<Solution, DeterminationError> {
+    let b = attitude_profile(observations, 2)?;
+    let a = match nearest_rotation(&b, MIN_SINGULAR_RATIO) {
+        Ok((a, _)) => a,
+        Err(SvdError::RankDeficient { ratio, .. }) => {
+            return Err(DeterminationError::Parallel { measure: ratio })
+        }
+        Err(e) => return Err(DeterminationError::Linalg(e)),
+    };
+    Ok(solution(Dcm::from_matrix_unchecked(a), observations))
+}

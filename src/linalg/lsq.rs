@@ -1,0 +1,161 @@
+//! Streaming linear least squares with three unknowns by Givens QR, for any number of rows in
+//! constant memory, solved through the SVD of the 3×3 triangular factor.
+//!
+//! # Method
+//! Each row `aᵢᵀ x ≈ yᵢ` is folded into an upper-triangular `R` (3×3) and `z = Qᵀy` (3 rows of
+//! `K` right-hand sides) by three Givens rotations (Golub and Van Loan, *Matrix Computations*,
+//! 4th ed., §5.1.8 and §5.3.3 "updating"): for k = 1, 2, 3
+//! ```text
+//! ρ = √(R_kk² + a_k²),  c = R_kk/ρ,  s = a_k/ρ
+//! R_k ← c·R_k + s·aᵀ,  aᵀ ← −s·R_k + c·aᵀ,  z_k ← c·z_k + s·y,  y ← −s·z_k + c·y
+//! ```
+//! Since `M = Q·R`, `M⁺ = R⁺·Qᵀ` (also when `M` is rank deficient), so `x = R⁺ z` with `R⁺`
+//! from the one-sided Jacobi SVD of [`crate::linalg::svd`], singular values below
+//! `rel_tol·σ₁` treated as zero (seed 000 eqs. 8.16–8.18).
+//!
+//! # Why not the normal equations
+//! `MᵀM x = Mᵀy` costs the same on a 3×3 matrix but squares the condition number (error
+//! `ε·κ²`); the Givens update keeps `ε·κ` and still needs only 12 + 3K floats of state,
+//! whatever the number of tiles.
+
+use nalgebra::SVector;
+
+use crate::fmath;
+use crate::linalg::svd::{SvdError, ThinSvd};
+use crate::linalg::{Mat3, Vec3};
+
+/// A least-squares problem `M·X ≈ Y` with 3 unknowns per column and `K` right-hand sides,
+/// accumulated row by row.
+#[derive(Clone, Debug)]
+pub struct QrLeastSquares<const K: usize> {
+    r: [Vec3; 3],
+    z: [SVector<f32, K>; 3],
+    rows: u32,
+}
+
+impl<const K: usize> Default for QrLeastSquares<K> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// Component `k` (0, 1, 2) of a 3-vector, without indexing.
+fn comp(v: &Vec3, k: usize) -> f32 {
+    match k {
+        0 => v.x,
+        1 => v.y,
+        _ => v.z,
+    }
+}
+
+impl<const K: usize> QrLeastSquares<K> {
+    /// An empty problem.
+    pub fn new() -> Self {
+        Self {
+            r: [Vec3::zeros(); 3],
+            z: [SVector::zeros(); 3],
+            rows: 0,
+        }
+    }
+
+    /// Number of rows folded in.
+    pub fn rows(&self) -> u32 {
+        self.rows
+    }
+
+    /// Folds in the row `aᵀ·X = yᵀ`. Non-finite rows are refused.
+    pub fn push(&mut self, a: &Vec3, y: &SVector<f32, K>) -> Result<(), SvdError> {
+        if !a.iter().chain(y.iter()).all(|v| v.is_finite()) {
+            return Err(SvdError::NonFinite);
+        }
+        let mut a = *a;
+        let mut y = *y;
+        for (k, (rk, zk)) in self.r.iter_mut().zip(self.z.iter_mut()).enumerate() {
+            let rkk = comp(rk, k);
+            let ak = comp(&a, k);
+            if ak == 0.0 {
+                continue;
+            }
+            let rho = fmath::sqrt(rkk * rkk + ak * ak);
+            let c = rkk / rho;
+            let s = ak / rho;
+            let (r_old, a_old) = (*rk, a);
+            *rk = r_old * c + a_old * s;
+            a = a_old * c - r_old * s;
+            let (z_old, y_old) = (*zk, y);
+            *zk = z_old * c + y_old * s;
+            y = y_old * c - z_old * s;
+        }
+        self.rows = self.rows.saturating_add(1);
+        Ok(())
+    }
+
+    /// The singular values of `M` (equal to those of `R`) and its SVD.
+    fn svd(&self) -> Result<ThinSvd, SvdError> {
+        ThinSvd::new(&self.r)
+    }
+
+    /// The rank of `M` with the relative threshold `rel_tol` on its singular values.
+    pub fn rank(&self, rel_tol: f32) -> Result<u8, SvdError> {
+        Ok(self.svd()?.rank(rel_tol))
+    }
+
+    /// The singular values `σ₁ ≥ σ₂ ≥ σ₃` of `M`.
+    pub fn singular_values(&self) -> Result<Vec3, SvdError> {
+        Ok(self.svd()?.singular_values())
+    }
+
+    /// The minimum-norm least-squares solution `X = M⁺·Y` (3×K), requiring rank 3 with the
+    /// relative threshold `rel_tol` ([`SvdError::RankDeficient`] otherwise).
+    pub fn solve_full_rank(&self, rel_tol: f32) -> Result<nalgebra::SMatrix<f32, 3, K>, SvdError> {
+        let svd = self.svd()?;
+        svd.require_rank(3, rel_tol)?;
+        svd.solve_matrix(&self.z, rel_tol)
+    }
+
+    /// The minimum-norm least-squares solution `X = M⁺·Y` (3×K), singular values below
+    /// `rel_tol·σ₁` treated as zero (no rank requirement).
+    pub fn solve(&self, rel_tol: f32) -> Result<nalgebra::SMatrix<f32, 3, K>, SvdError> {
+        self.svd()?.solve_matrix(&self.z, rel_tol)
+    }
+}
+
+/// `M⁺·F` for a 3-column `F` given by rows, as a 3×3 matrix (helper for the thesis solver).
+pub fn pseudo_inverse_times(rows: &[(Vec3, Vec3)], rel_tol: f32) -> Result<Mat3, SvdError> {
+    let mut ls = QrLeastSquares::<3>::new();
+    for (a, f) in rows {
+        ls.push(a, f)?;
+    }
+    ls.solve(rel_tol)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn matches_exact_solution_and_pinv() {
+        let x_true = Vec3::new(1.5, -2.0, 0.25);
+        let rows = [
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+            Vec3::new(0.3, 0.4, 0.5),
+            Vec3::new(-1.0, 2.0, 1.0),
+            Vec3::new(0.0, 0.0, -1.0),
+        ];
+        let mut ls = QrLeastSquares::<1>::new();
+        for r in &rows {
+            ls.push(r, &SVector::<f32, 1>::new(r.dot(&x_true))).unwrap();
+        }
+        let x = ls.solve_full_rank(1e-5).unwrap();
+        assert!((x.column(0) - x_true).norm() < 1e-5, "{x}");
+        // Rank deficient: only x and y observed.
+        let mut ls = QrLeastSquares::<1>::new();
+        ls.push(&Vec3::x(), &SVector::<f32, 1>::new(2.0)).unwrap();
+        ls.push(&Vec3::y(), &SVector::<f32, 1>::new(3.0)).unwrap();
+        assert_eq!(ls.rank(1e-5).unwrap(), 2);
+        assert!(ls.solve_full_rank(1e-5).is_err());
+        let x = ls.solve(1e-5).unwrap();
+        assert!((x.column(0) - Vec3::new(2.0, 3.0, 0.0)).norm() < 1e-6);
+    }
+}
