@@ -719,3 +719,71 @@ mod wahba_json {
         }
     }
 }
+
+/// The covariance `P = [Σ aᵢ (I − b̂ᵢb̂ᵢᵀ)]⁻¹`: two orthogonal directions with σ = 1 mrad give
+/// σ² on the two tilt axes and σ²/2 about the third; parallel directions are refused.
+#[test]
+fn covariance_of_two_orthogonal_vectors() {
+    use acs::determination::covariance_rad2;
+    let sigma = 1e-3f32;
+    let w = 1.0 / (sigma * sigma);
+    let obs = [
+        Observation {
+            body: Vec3::x(),
+            reference: Vec3::y(),
+            weight: w,
+        },
+        Observation {
+            body: Vec3::y(),
+            reference: Vec3::z(),
+            weight: w,
+        },
+    ];
+    let p = covariance_rad2(&obs).unwrap();
+    let expected = Mat3::from_diagonal(&Vec3::new(1.0, 1.0, 0.5)) * (sigma * sigma);
+    assert!((p - expected).amax() < 1e-6 * sigma * sigma, "{p}");
+    let par = [
+        obs[0],
+        Observation {
+            body: Vec3::x() * 2.0,
+            ..obs[1]
+        },
+    ];
+    assert!(matches!(
+        covariance_rad2(&par),
+        Err(DeterminationError::Parallel { .. })
+    ));
+}
+
+/// The thesis solver with exactly two rows (one lit tile and the field: the eq. 8.30 cross
+/// product), on data generated with the thesis's inverse Sun formula (note 000 §4.2:
+/// a = RA_sun − RA(ẑ_m), b = Dec_sun − Dec(ẑ_m)): it recovers the true attitude.
+#[test]
+fn thesis_solver_two_rows() {
+    let d = thesis_data();
+    let a_true = mat3_f64(&d["a_true"]);
+    let (ra, dec) = (
+        d["sun_ra_deg"][0].to_radians(),
+        d["sun_dec_deg"][0].to_radians(),
+    );
+    let cube = tiles::cube_thesis();
+    let b_ijk = nalgebra::Vector3::new(d["b_ijk"][0], d["b_ijk"][1], d["b_ijk"][2]);
+    for lit in 1..6usize {
+        let z_ijk = a_true.transpose() * tile_f64(&cube[lit]).row(2).transpose();
+        let (ra_z, dec_z) = (z_ijk.y.atan2(z_ijk.x), z_ijk.z.asin());
+        let mut readings: Vec<Option<SunAngles>> = vec![None; 6];
+        readings[lit] = Some(SunAngles {
+            a_rad: (ra - ra_z) as f32,
+            b_rad: (dec - dec_z) as f32,
+        });
+        let magnetic = Observation {
+            body: (a_true * b_ijk).map(|x| x as f32),
+            reference: b_ijk.map(|x| x as f32),
+            weight: 1.0,
+        };
+        let a = thesis::solve(&cube, &readings, ra as f32, dec as f32, Some(&magnetic)).unwrap();
+        let e = (to_f64(&a) - a_true).amax();
+        println!("thesis solver, lit tile {lit} + field (N = 2): max |A − A_true| = {e:.2e}");
+        assert!(e < 2e-6, "tile {lit}: {e:e}");
+    }
+}

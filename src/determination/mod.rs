@@ -217,6 +217,48 @@ pub(crate) fn loss(a: &Dcm, observations: &[Observation]) -> f32 {
         .sum()
 }
 
+/// Smallest `σ₃/σ₁` of the Fisher information matrix [`covariance_rad2`] inverts.
+pub const COVARIANCE_MIN_RATIO: f32 = 1.0e-6;
+
+/// The attitude-error covariance (rad², body frame) of the optimal solution, from the Fisher
+/// information `F = Σ aᵢ (I − b̂ᵢ b̂ᵢᵀ)`, `P = F⁻¹` (Shuster and Oh 1981 eq. 96; Markley 1988
+/// eq. 17). It assumes `aᵢ = σᵢ⁻²` with σᵢ each vector's angular measurement noise (rad, per
+/// axis): scale it by the ratio if the weights are only relative. The attitude error `δθ`
+/// (small rotation, body frame) has covariance `P`; the 1σ error about body axis k is `√P_kk`.
+/// Errors as for the solvers (at least two non-parallel directions).
+pub fn covariance_rad2(observations: &[Observation]) -> Result<Mat3, DeterminationError> {
+    if observations.len() < 2 {
+        return Err(DeterminationError::TooFewObservations {
+            count: observations.len(),
+            needed: 2,
+        });
+    }
+    let mut fisher = Mat3::zeros();
+    for (i, o) in observations.iter().enumerate() {
+        let u = unit(i, o)?;
+        fisher += (Mat3::identity() - u.body * u.body.transpose()) * u.weight;
+    }
+    if !fisher.iter().all(|x| x.is_finite()) {
+        return Err(DeterminationError::NonFinite { index: 0 });
+    }
+    let rows = [
+        Vec3::new(fisher.m11, fisher.m12, fisher.m13),
+        Vec3::new(fisher.m21, fisher.m22, fisher.m23),
+        Vec3::new(fisher.m31, fisher.m32, fisher.m33),
+    ];
+    let svd = crate::linalg::svd::ThinSvd::new(&rows)?;
+    let s = svd.singular_values();
+    if !(s.z > COVARIANCE_MIN_RATIO * s.x) {
+        return Err(DeterminationError::Parallel {
+            measure: if s.x > 0.0 { s.z / s.x } else { 0.0 },
+        });
+    }
+    // F is symmetric positive definite: F⁻¹ = V Σ⁻¹ Vᵀ.
+    let v = svd.v();
+    let inv = Mat3::from_diagonal(&Vec3::new(1.0 / s.x, 1.0 / s.y, 1.0 / s.z));
+    Ok(v * inv * v.transpose())
+}
+
 /// Packs a rotation matrix into a [`Solution`].
 pub(crate) fn solution(a: Dcm, observations: &[Observation]) -> Solution {
     let quaternion = a.to_quaternion();

@@ -25,6 +25,21 @@
 //! rotation about the common direction by more than 1e-3 rad). Measured on the 200 problems of
 //! `../shared/ref/attitude/wahba.json` (2–6 vectors, noise 0–0.01 rad): see the README and
 //! `cargo test --test determination wahba -- --nocapture`.
+//!
+//! # Example
+//! ```
+//! use acs::determination::{wahba_svd, Observation};
+//! use acs::linalg::Vec3;
+//! // The body frame is the reference frame turned by 90° about z: x_ref is seen along −y_body.
+//! let obs = [
+//!     Observation { body: -Vec3::y(), reference: Vec3::x(), weight: 1.0 },
+//!     Observation { body: Vec3::z(), reference: Vec3::z(), weight: 1.0 },
+//! ];
+//! let s = wahba_svd::solve(&obs)?;
+//! assert!((s.dcm.to_body(&Vec3::x()) + Vec3::y()).norm() < 1e-6);
+//! assert!(s.loss < 1e-12);
+//! # Ok::<(), acs::determination::DeterminationError>(())
+//! ```
 
 use super::{attitude_profile, solution, DeterminationError, Observation, Solution};
 use crate::attitude::Dcm;
