@@ -248,7 +248,7 @@ pub fn covariance_rad2(observations: &[Observation]) -> Result<Mat3, Determinati
     ];
     let svd = crate::linalg::svd::ThinSvd::new(&rows)?;
     let s = svd.singular_values();
-    if !(s.z > COVARIANCE_MIN_RATIO * s.x) {
+    if s.z <= COVARIANCE_MIN_RATIO * s.x {
         return Err(DeterminationError::Parallel {
             measure: if s.x > 0.0 { s.z / s.x } else { 0.0 },
         });
