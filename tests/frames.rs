@@ -3,6 +3,8 @@
 //!
 //! Run with `cargo test --test frames -- --nocapture` to print the measured errors.
 
+mod common;
+
 use acs::frames::nutation::nutation;
 use acs::frames::{
     cartesian_to_spherical, cartesian_to_spherical_components, ecef_to_geodetic, ecef_to_ned,
@@ -354,16 +356,6 @@ fn rsw_frame() {
 // Nutation and TEME → J2000
 // ---------------------------------------------------------------------------------------------
 
-/// `CARGO_MANIFEST_DIR/../shared`, else `/work/shared` (see the project preamble).
-fn shared_dir() -> std::path::PathBuf {
-    let beside = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared");
-    if beside.is_dir() {
-        beside
-    } else {
-        std::path::PathBuf::from("/work/shared")
-    }
-}
-
 /// One row of the full IAU-1980 table of `tests/data/iau1980_nutation.txt`.
 struct FullTerm {
     k: [f64; 5],
@@ -512,7 +504,7 @@ fn read_stk(path: &std::path::Path) -> (String, Vec<[f64; 7]>) {
 /// nutation arguments in TT (UTC + 66.184 s in 2009).
 #[test]
 fn teme_to_j2000_dtusat_week() {
-    let dir = shared_dir().join("ref/sgp4");
+    let dir = common::shared_path("ref/sgp4");
     let (epoch_teme, teme) = read_stk(&dir.join("dtusat_wgs72_teme.e"));
     let (epoch_j2000, j2000) = read_stk(&dir.join("dtusat_wgs72_j2000.e"));
     assert_eq!(epoch_teme, epoch_j2000);
