@@ -1,1 +1,741 @@
-//! SGP4 near-Earth propagator (Vallado et al. 2006), f32 propagation.
+//! SGP4, near-Earth: the NORAD analytical propagator as revised by Vallado, Crawford, Hujsak and
+//! Kelso, "Revisiting Spacetrack Report #3", AIAA 2006-6753 (its `sgp4init`/`sgp4` routines), with
+//! the equations written out in `../shared/notes/000-aramis-acs.md` §3.3. Seed 000 §4.3 ran the
+//! same code, all in `float`, on the MSP430.
+//!
+//! # Use
+//! ```
+//! # use acs::{orbit::sgp4::{Gravity, Sgp4}, time::TimeSpan, tle::Tle};
+//! # fn run(tle: &Tle) -> Result<(), acs::orbit::sgp4::Sgp4Error> {
+//! let sgp4 = Sgp4::new(tle, Gravity::Wgs72)?;
+//! let state = sgp4.propagate(TimeSpan::new(3600, 0))?; // one hour after the TLE epoch
+//! let r_teme_km = state.r_teme_km;
+//! # Ok(()) }
+//! ```
+//! Input: a parsed [`Tle`] and the time since its epoch as a [`TimeSpan`] (or an f32 split pair,
+//! [`Sgp4::propagate_split`]). Output: [`TemeState`], position (km) and velocity (km/s) in the TEME
+//! frame of date.
+//!
+//! # Precision
+//! - **Initialisation in f64** ([`Sgp4::new`], once per element set): the secular rates need the
+//!   TLE's ten significant digits of mean motion (f32 keeps seven: 6e-8 of 300 rad of mean anomaly
+//!   after three days is 130 m). Everything else is then stored in f32.
+//! - **Propagation in f32**, with the `crate::fmath` functions, except for the secular angles
+//!   (mean anomaly, argument of perigee, node and their sum), which are [`Phase`]s: exact
+//!   fixed-point turns advanced by 64-bit integer products for the whole minutes, f32 only for the
+//!   sub-minute remainder and the small periodic terms. Angles are reduced to −π..π (not 0..2π),
+//!   which halves the f32 spacing of the argument of latitude.
+//! - Kepler's equation is solved to f32 resolution and the sine and cosine of the solution are
+//!   corrected to first order for the last Newton step (Vallado uses those of the previous
+//!   iterate, harmless with his 1e-12 tolerance in f64 but not with an f32 tolerance).
+//!
+//! # Accuracy (measured, `cargo test --release --test sgp4 -- --nocapture`)
+//! Position and velocity against the f64 Vallado reference files of `../shared/ref/sgp4/`: see the
+//! README's SGP4 section for the per-file maximum and RMS. Summary: maximum position error
+//! ≤ 20 m on every near-Earth verification case and `sat900xx` file (−1 to +3 days), ≤ 100 m over
+//! seven days for DTUSAT; a plain f32 port of the same code (the thesis's) is shown alongside.
+//!
+//! # Validity and errors
+//! Near-Earth element sets only (un-Kozai'd period below 225 min); a deep-space set gives
+//! [`Sgp4Error::DeepSpace`] at initialisation. Vallado's error codes map to [`Sgp4Error`]:
+//! 1 → [`Sgp4Error::Eccentricity`], 2 → [`Sgp4Error::MeanMotion`],
+//! 4 → [`Sgp4Error::SemiLatusRectum`], 5 → [`Sgp4Error::SubOrbital`], 6 → [`Sgp4Error::Decayed`]
+//! (3 concerns the deep-space perturbations only). Vallado's 2006 code no longer raises error 5
+//! for a perigee below the surface at epoch (its decay check covers it, and verification case
+//! 28872 propagates for 50 min from such elements); here it is raised when the whole mean orbit,
+//! apogee included, is below the surface, which the decay check would report at any time.
+//! Propagation never panics: non-finite times give [`Sgp4Error::Time`], and a result that is not
+//! finite (the drag polynomial far outside its range) gives [`Sgp4Error::Diverged`].
+//!
+//! # Symbols (Vallado's names, note 000 §3.3)
+//! | name | symbol | meaning |
+//! |---|---|---|
+//! | `no` | n₀″ | un-Kozai'd (Brouwer) mean motion, rad/min |
+//! | `ao` | a₀″ | semi-major axis at epoch, Earth radii (ER) |
+//! | `ecco`, `inclo`, `argpo`, `nodeo`, `mo` | e₀, i₀, ω₀, Ω₀, M₀ | mean elements at epoch |
+//! | `mdot`, `argpdot`, `nodedot` | Ṁ, ω̇, Ω̇ | secular rates, rad/min |
+//! | `cc1`…`cc5`, `d2`…`d4` | C₁…C₅, D₂…D₄ | drag coefficients |
+//! | `t2cof`…`t5cof` | | mean-longitude drag polynomial |
+//! | `isimp` | | simplified drag for perigee below 220 km |
+//! | `am`, `em`, `nm` | a, e, n | drag-perturbed mean elements at `t` |
+//! | `axnl`, `aynl` | a_xN, a_yN | long-period eccentricity vector |
+//! | `eo1` | E + ω | solution of Kepler's equation |
+//! | `mrt`, `su`, `xnode`, `xinc` | r_k, u_k, Ω_k, i_k | short-period corrected radius and angles |
+
+use core::fmt;
+
+use super::{split_span, Phase, TemeState};
+use crate::fmath;
+use crate::linalg::Vec3;
+use crate::time::TimeSpan;
+use crate::tle::Tle;
+
+/// Earth gravity model of the propagator (Vallado's `getgravconst`).
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Gravity {
+    /// WGS-72, the model TLEs are fitted with (default).
+    #[default]
+    Wgs72,
+    /// WGS-84, the thesis's choice (seed 000 §4.3; note 000 §0.2).
+    Wgs84,
+}
+
+/// The constants of a [`Gravity`] model, as Vallado's `getgravconst` gives them.
+#[derive(Copy, Clone, Debug, PartialEq)]
+struct GravityConstants {
+    /// Earth radius, km.
+    radius_km: f64,
+    /// √(μ/R³) in ER^1.5 per minute.
+    xke: f64,
+    /// Zonal harmonics.
+    j2: f64,
+    j3: f64,
+    j4: f64,
+}
+
+impl Gravity {
+    fn constants(self) -> GravityConstants {
+        let (mu, radius_km, j2, j3, j4) = match self {
+            Self::Wgs72 => (
+                398_600.8,
+                6378.135,
+                0.001_082_616,
+                -0.000_002_538_81,
+                -0.000_001_655_97,
+            ),
+            Self::Wgs84 => (
+                398_600.5,
+                6378.137,
+                0.001_082_629_989_05,
+                -0.000_002_532_153_06,
+                -0.000_001_610_987_61,
+            ),
+        };
+        GravityConstants {
+            radius_km,
+            xke: 60.0 / libm::sqrt(radius_km * radius_km * radius_km / mu),
+            j2,
+            j3,
+            j4,
+        }
+    }
+}
+
+/// Why an element set cannot be propagated (Vallado's error codes, plus the cases this crate
+/// refuses rather than propagates wrongly). Times are minutes since the TLE epoch.
+#[derive(Copy, Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum Sgp4Error {
+    /// Vallado error 1: eccentricity outside 0..1 at epoch, or the drag-perturbed mean
+    /// eccentricity outside −0.001..1 at `tsince_min`.
+    Eccentricity {
+        /// The offending eccentricity.
+        eccentricity: f32,
+        /// Minutes since epoch (0 at initialisation).
+        tsince_min: f32,
+    },
+    /// Vallado error 2: mean motion (Kozai or un-Kozai'd) not positive or not finite, rad/min.
+    MeanMotion {
+        /// The offending mean motion, rad/min.
+        rad_per_min: f32,
+    },
+    /// Vallado error 4: negative semi-latus rectum at `tsince_min`.
+    SemiLatusRectum {
+        /// Minutes since epoch.
+        tsince_min: f32,
+    },
+    /// Vallado error 5 (see the module doc): the whole mean orbit at epoch is below the surface.
+    SubOrbital {
+        /// Mean apogee altitude at epoch, km (negative).
+        apogee_km: f32,
+    },
+    /// Vallado error 6: the satellite has decayed (radius below one Earth radius).
+    Decayed {
+        /// Minutes since epoch.
+        tsince_min: f32,
+        /// Radius at that time, km.
+        radius_km: f32,
+    },
+    /// A deep-space element set (period of 225 min or more): SDP4 is not implemented.
+    DeepSpace {
+        /// Un-Kozai'd period, minutes.
+        period_min: f32,
+    },
+    /// An element that is not finite, or an inclination outside 0..180°.
+    Element {
+        /// Which element.
+        field: &'static str,
+    },
+    /// The time since epoch is not finite or beyond ±10⁹ min.
+    Time {
+        /// The offending value, minutes.
+        tsince_min: f32,
+    },
+    /// The result is not finite: the drag polynomials diverged (far outside the element set's
+    /// validity).
+    Diverged {
+        /// Minutes since epoch.
+        tsince_min: f32,
+    },
+}
+
+impl fmt::Display for Sgp4Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Eccentricity {
+                eccentricity,
+                tsince_min,
+            } => write!(
+                f,
+                "eccentricity {eccentricity} out of range at {tsince_min} min (SGP4 error 1)"
+            ),
+            Self::MeanMotion { rad_per_min } => {
+                write!(
+                    f,
+                    "mean motion {rad_per_min} rad/min not positive (SGP4 error 2)"
+                )
+            }
+            Self::SemiLatusRectum { tsince_min } => write!(
+                f,
+                "negative semi-latus rectum at {tsince_min} min (SGP4 error 4)"
+            ),
+            Self::SubOrbital { apogee_km } => write!(
+                f,
+                "sub-orbital element set: mean apogee altitude {apogee_km} km (SGP4 error 5)"
+            ),
+            Self::Decayed {
+                tsince_min,
+                radius_km,
+            } => write!(
+                f,
+                "satellite decayed at {tsince_min} min: radius {radius_km} km (SGP4 error 6)"
+            ),
+            Self::DeepSpace { period_min } => write!(
+                f,
+                "deep-space element set (period {period_min} min ≥ 225 min): not supported"
+            ),
+            Self::Element { field } => write!(f, "element {field} not finite or out of range"),
+            Self::Time { tsince_min } => {
+                write!(
+                    f,
+                    "time since epoch {tsince_min} min not finite or too large"
+                )
+            }
+            Self::Diverged { tsince_min } => write!(
+                f,
+                "propagation diverged at {tsince_min} min (far outside the element set's validity)"
+            ),
+        }
+    }
+}
+
+/// Largest |time since epoch| accepted by [`Sgp4::propagate_split`], minutes.
+const MAX_TSINCE_MIN: f32 = 1.0e9;
+/// Newton tolerance of Kepler's equation: a few f32 ulps of an angle of order π.
+const KEPLER_TOLERANCE: f32 = 1.0e-6;
+/// Newton iterations at most (Vallado's cap).
+const KEPLER_MAX_ITERATIONS: usize = 10;
+/// Vallado's near-Earth limit: period below 225 min.
+const DEEP_SPACE_PERIOD_MIN: f64 = 225.0;
+
+/// Drag terms used only when the perigee is above 220 km (`isimp = 0`).
+#[derive(Copy, Clone, Debug, PartialEq)]
+struct FullDrag {
+    d2: f32,
+    d3: f32,
+    d4: f32,
+    t3cof: f32,
+    t4cof: f32,
+    t5cof: f32,
+    cc5: f32,
+    omgcof: f32,
+    xmcof: f32,
+    eta: f32,
+    delmo: f32,
+    sinmao: f32,
+}
+
+/// An initialised near-Earth SGP4 propagator for one element set (Vallado's `elsetrec`).
+///
+/// Immutable after [`Sgp4::new`]: propagation is a pure function of the time since epoch.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sgp4 {
+    /// Epoch of the elements (UTC).
+    epoch: crate::time::Epoch<crate::time::Utc>,
+    radius_km: f32,
+    xke: f32,
+    j2: f32,
+    /// Mean anomaly M₀ + Ṁt.
+    mean_anomaly: Phase,
+    /// Argument of perigee ω₀ + ω̇t.
+    arg_perigee: Phase,
+    /// Node Ω₀ + Ω̇t.
+    node: Phase,
+    /// Mean argument of latitude (M₀ + ω₀) + (Ṁ + ω̇)t.
+    arg_latitude: Phase,
+    no: f32,
+    ao: f32,
+    ecco: f32,
+    bstar: f32,
+    cosio: f32,
+    sinio: f32,
+    con41: f32,
+    x1mth2: f32,
+    x7thm1: f32,
+    cc1: f32,
+    cc4: f32,
+    nodecf: f32,
+    t2cof: f32,
+    xlcof: f32,
+    aycof: f32,
+    /// `None` when `isimp = 1` (perigee below 220 km).
+    full_drag: Option<FullDrag>,
+}
+
+fn finite(x: f64, field: &'static str) -> Result<f64, Sgp4Error> {
+    if x.is_finite() {
+        Ok(x)
+    } else {
+        Err(Sgp4Error::Element { field })
+    }
+}
+
+impl Sgp4 {
+    /// Initialises the propagator from an element set (Vallado's `twoline2rv` conversions,
+    /// `initl` and `sgp4init`, near-Earth part, in f64), then checks it by propagating to the
+    /// epoch as Vallado's `sgp4init` does.
+    ///
+    /// # Errors
+    /// [`Sgp4Error::Element`] for a non-finite element, [`Sgp4Error::Eccentricity`] outside 0..1,
+    /// [`Sgp4Error::MeanMotion`], [`Sgp4Error::DeepSpace`], [`Sgp4Error::SubOrbital`], or any error
+    /// of the propagation to the epoch.
+    pub fn new(tle: &Tle, gravity: Gravity) -> Result<Self, Sgp4Error> {
+        use core::f64::consts::{PI, TAU};
+        let g = gravity.constants();
+        let deg = PI / 180.0;
+        let x2o3 = 2.0 / 3.0;
+        // twoline2rv: rev/day → rad/min, degrees → rad
+        let no_kozai = finite(tle.mean_motion_rev_per_day, "mean motion")? * TAU / 1440.0;
+        let ecco = finite(tle.eccentricity, "eccentricity")?;
+        let inclo = finite(tle.inclination_deg, "inclination")?;
+        if !(0.0..=180.0).contains(&inclo) {
+            return Err(Sgp4Error::Element {
+                field: "inclination",
+            });
+        }
+        let inclo = inclo * deg;
+        let nodeo = finite(tle.raan_deg, "right ascension of the node")? * deg;
+        let argpo = finite(tle.arg_perigee_deg, "argument of perigee")? * deg;
+        let mo = finite(tle.mean_anomaly_deg, "mean anomaly")? * deg;
+        let bstar = finite(tle.bstar, "B*")?;
+        if no_kozai <= 0.0 {
+            return Err(Sgp4Error::MeanMotion {
+                rad_per_min: no_kozai as f32,
+            });
+        }
+        if !(0.0..1.0).contains(&ecco) {
+            return Err(Sgp4Error::Eccentricity {
+                eccentricity: ecco as f32,
+                tsince_min: 0.0,
+            });
+        }
+
+        // initl: recover the un-Kozai'd mean motion
+        let eccsq = ecco * ecco;
+        let omeosq = 1.0 - eccsq;
+        let rteosq = libm::sqrt(omeosq);
+        let cosio = libm::cos(inclo);
+        let cosio2 = cosio * cosio;
+        let ak = two_thirds_power(g.xke / no_kozai);
+        let d1 = 0.75 * g.j2 * (3.0 * cosio2 - 1.0) / (rteosq * omeosq);
+        let del = d1 / (ak * ak);
+        let adel = ak * (1.0 - del * del - del * (1.0 / 3.0 + 134.0 * del * del / 81.0));
+        let del = d1 / (adel * adel);
+        let no = no_kozai / (1.0 + del);
+        if !(no > 0.0 && no.is_finite()) {
+            return Err(Sgp4Error::MeanMotion {
+                rad_per_min: no as f32,
+            });
+        }
+        let period_min = TAU / no;
+        if period_min >= DEEP_SPACE_PERIOD_MIN {
+            return Err(Sgp4Error::DeepSpace {
+                period_min: period_min as f32,
+            });
+        }
+        let ao = two_thirds_power(g.xke / no);
+        let sinio = libm::sin(inclo);
+        let po = ao * omeosq;
+        let con42 = 1.0 - 5.0 * cosio2;
+        let con41 = -con42 - cosio2 - cosio2;
+        let posq = po * po;
+        let rp = ao * (1.0 - ecco);
+        let alta = ao * (1.0 + ecco) - 1.0;
+        if alta < 0.0 {
+            return Err(Sgp4Error::SubOrbital {
+                apogee_km: (alta * g.radius_km) as f32,
+            });
+        }
+
+        // sgp4init: drag and secular coefficients
+        let ss = 78.0 / g.radius_km + 1.0;
+        let qzms2t = fourth_power((120.0 - 78.0) / g.radius_km);
+        let isimp = rp < 220.0 / g.radius_km + 1.0;
+        let mut sfour = ss;
+        let mut qzms24 = qzms2t;
+        let perige = (rp - 1.0) * g.radius_km;
+        if perige < 156.0 {
+            sfour = if perige < 98.0 { 20.0 } else { perige - 78.0 };
+            qzms24 = fourth_power((120.0 - sfour) / g.radius_km);
+            sfour = sfour / g.radius_km + 1.0;
+        }
+        let pinvsq = 1.0 / posq;
+        let tsi = 1.0 / (ao - sfour);
+        let eta = ao * ecco * tsi;
+        let etasq = eta * eta;
+        let eeta = ecco * eta;
+        let psisq = libm::fabs(1.0 - etasq);
+        let coef = qzms24 * fourth_power(tsi);
+        // psisq^3.5
+        let coef1 = coef / (psisq * psisq * psisq * libm::sqrt(psisq));
+        let cc2 = coef1
+            * no
+            * (ao * (1.0 + 1.5 * etasq + eeta * (4.0 + etasq))
+                + 0.375 * g.j2 * tsi / psisq * con41 * (8.0 + 3.0 * etasq * (8.0 + etasq)));
+        let cc1 = bstar * cc2;
+        let j3oj2 = g.j3 / g.j2;
+        let cc3 = if ecco > 1.0e-4 {
+            -2.0 * coef * tsi * j3oj2 * no * sinio / ecco
+        } else {
+            0.0
+        };
+        let x1mth2 = 1.0 - cosio2;
+        let cc4 = 2.0
+            * no
+            * coef1
+            * ao
+            * omeosq
+            * (eta * (2.0 + 0.5 * etasq) + ecco * (0.5 + 2.0 * etasq)
+                - g.j2 * tsi / (ao * psisq)
+                    * (-3.0 * con41 * (1.0 - 2.0 * eeta + etasq * (1.5 - 0.5 * eeta))
+                        + 0.75
+                            * x1mth2
+                            * (2.0 * etasq - eeta * (1.0 + etasq))
+                            * libm::cos(2.0 * argpo)));
+        let cc5 = 2.0 * coef1 * ao * omeosq * (1.0 + 2.75 * (etasq + eeta) + eeta * etasq);
+        let cosio4 = cosio2 * cosio2;
+        let temp1 = 1.5 * g.j2 * pinvsq * no;
+        let temp2 = 0.5 * temp1 * g.j2 * pinvsq;
+        let temp3 = -0.46875 * g.j4 * pinvsq * pinvsq * no;
+        let mdot = no
+            + 0.5 * temp1 * rteosq * con41
+            + 0.0625 * temp2 * rteosq * (13.0 - 78.0 * cosio2 + 137.0 * cosio4);
+        let argpdot = -0.5 * temp1 * con42
+            + 0.0625 * temp2 * (7.0 - 114.0 * cosio2 + 395.0 * cosio4)
+            + temp3 * (3.0 - 36.0 * cosio2 + 49.0 * cosio4);
+        let xhdot1 = -temp1 * cosio;
+        let nodedot = xhdot1
+            + (0.5 * temp2 * (4.0 - 19.0 * cosio2) + 2.0 * temp3 * (3.0 - 7.0 * cosio2)) * cosio;
+        let omgcof = bstar * cc3 * libm::cos(argpo);
+        let xmcof = if ecco > 1.0e-4 {
+            -x2o3 * coef * bstar / eeta
+        } else {
+            0.0
+        };
+        let nodecf = 3.5 * omeosq * xhdot1 * cc1;
+        let t2cof = 1.5 * cc1;
+        // Vallado's guard against division by zero at i = 180°
+        let one_plus_cosio = if libm::fabs(cosio + 1.0) > 1.5e-12 {
+            cosio + 1.0
+        } else {
+            1.5e-12
+        };
+        let xlcof = -0.25 * j3oj2 * sinio * (3.0 + 5.0 * cosio) / one_plus_cosio;
+        let aycof = -0.5 * j3oj2 * sinio;
+        let delmo = cube(1.0 + eta * libm::cos(mo));
+        let sinmao = libm::sin(mo);
+        let x7thm1 = 7.0 * cosio2 - 1.0;
+        let full_drag = if isimp {
+            None
+        } else {
+            let cc1sq = cc1 * cc1;
+            let d2 = 4.0 * ao * tsi * cc1sq;
+            let temp = d2 * tsi * cc1 / 3.0;
+            let d3 = (17.0 * ao + sfour) * temp;
+            let d4 = 0.5 * temp * ao * tsi * (221.0 * ao + 31.0 * sfour) * cc1;
+            Some(FullDrag {
+                d2: d2 as f32,
+                d3: d3 as f32,
+                d4: d4 as f32,
+                t3cof: (d2 + 2.0 * cc1sq) as f32,
+                t4cof: (0.25 * (3.0 * d3 + cc1 * (12.0 * d2 + 10.0 * cc1sq))) as f32,
+                t5cof: (0.2
+                    * (3.0 * d4
+                        + 12.0 * cc1 * d3
+                        + 6.0 * d2 * d2
+                        + 15.0 * cc1sq * (2.0 * d2 + cc1sq))) as f32,
+                cc5: cc5 as f32,
+                omgcof: omgcof as f32,
+                xmcof: xmcof as f32,
+                eta: eta as f32,
+                delmo: delmo as f32,
+                sinmao: sinmao as f32,
+            })
+        };
+
+        let sgp4 = Self {
+            epoch: tle.epoch,
+            radius_km: g.radius_km as f32,
+            xke: g.xke as f32,
+            j2: g.j2 as f32,
+            mean_anomaly: Phase::new(mo, mdot),
+            arg_perigee: Phase::new(argpo, argpdot),
+            node: Phase::new(nodeo, nodedot),
+            arg_latitude: Phase::new(mo + argpo, mdot + argpdot),
+            no: no as f32,
+            ao: ao as f32,
+            ecco: ecco as f32,
+            bstar: bstar as f32,
+            cosio: cosio as f32,
+            sinio: sinio as f32,
+            con41: con41 as f32,
+            x1mth2: x1mth2 as f32,
+            x7thm1: x7thm1 as f32,
+            cc1: cc1 as f32,
+            cc4: cc4 as f32,
+            nodecf: nodecf as f32,
+            t2cof: t2cof as f32,
+            xlcof: xlcof as f32,
+            aycof: aycof as f32,
+            full_drag,
+        };
+        if !sgp4.coefficients_finite() {
+            // e.g. η = 1 exactly (perigee at the drag reference height): a singular model
+            return Err(Sgp4Error::Element {
+                field: "eccentricity and perigee (singular drag coefficients)",
+            });
+        }
+        sgp4.propagate_split(0.0, 0.0)?;
+        Ok(sgp4)
+    }
+
+    fn coefficients_finite(&self) -> bool {
+        let common = [
+            self.no,
+            self.ao,
+            self.cc1,
+            self.cc4,
+            self.nodecf,
+            self.t2cof,
+            self.xlcof,
+            self.aycof,
+        ];
+        let drag = self.full_drag.map_or([0.0; 12], |d| {
+            [
+                d.d2, d.d3, d.d4, d.t3cof, d.t4cof, d.t5cof, d.cc5, d.omgcof, d.xmcof, d.eta,
+                d.delmo, d.sinmao,
+            ]
+        });
+        common.iter().chain(drag.iter()).all(|x| x.is_finite())
+    }
+
+    /// The epoch of the element set (UTC).
+    pub fn epoch(&self) -> crate::time::Epoch<crate::time::Utc> {
+        self.epoch
+    }
+
+    /// Position and velocity `since_epoch` after the element set's epoch (UTC days of 86 400 s,
+    /// as SGP4 counts them).
+    ///
+    /// # Errors
+    /// [`Sgp4Error::Eccentricity`], [`Sgp4Error::SemiLatusRectum`], [`Sgp4Error::Decayed`] as
+    /// Vallado's `sgp4`; [`Sgp4Error::Diverged`] if the result is not finite.
+    pub fn propagate(&self, since_epoch: TimeSpan) -> Result<TemeState, Sgp4Error> {
+        let (whole, frac) = split_span(since_epoch, 60);
+        self.propagate_whole_frac(whole, frac)
+    }
+
+    /// As [`Sgp4::propagate`], for a time since epoch given as an f32 split pair
+    /// `whole_min + frac_min` (such as [`TimeSpan::split_minutes`] returns; `whole_min` should be
+    /// an integer for full precision, any fractional part is moved into `frac_min`).
+    ///
+    /// # Errors
+    /// [`Sgp4Error::Time`] for a non-finite pair or |`whole_min`| > 10⁹; otherwise as
+    /// [`Sgp4::propagate`].
+    pub fn propagate_split(&self, whole_min: f32, frac_min: f32) -> Result<TemeState, Sgp4Error> {
+        let t = whole_min + frac_min;
+        if !t.is_finite() || fmath::abs(whole_min) > MAX_TSINCE_MIN {
+            return Err(Sgp4Error::Time { tsince_min: t });
+        }
+        let w = fmath::floor(whole_min);
+        let frac = (whole_min - w) + frac_min;
+        let w2 = fmath::floor(frac);
+        // |w| ≤ 1e9 and |frac| is finite but may be large: saturating conversions
+        let whole = (w as i32).saturating_add(w2 as i32);
+        self.propagate_whole_frac(whole, frac - w2)
+    }
+
+    /// The propagation proper (Vallado's `sgp4`, near-Earth), `t = whole + frac` minutes.
+    fn propagate_whole_frac(&self, whole: i32, frac: f32) -> Result<TemeState, Sgp4Error> {
+        let t = whole as f32 + frac;
+        let t2 = t * t;
+
+        // Secular gravity and drag: angles from their exact phases (−π..π)
+        let xmdf = self.mean_anomaly.radians(whole, frac);
+        let argpdf = self.arg_perigee.radians(whole, frac);
+        let nodedf = self.node.radians(whole, frac);
+        // Ω = Ω₀ + Ω̇t + nodecf·t²
+        let nodem = nodedf + self.nodecf * t2;
+        let mut tempa = 1.0 - self.cc1 * t;
+        let mut tempe = self.bstar * self.cc4 * t;
+        let mut templ = self.t2cof * t2;
+        let mut argpm = argpdf;
+        if let Some(d) = &self.full_drag {
+            // δω = ω-cof·t; δM = M-cof·((1 + η cos M_df)³ − (1 + η cos M₀)³)
+            let delomg = d.omgcof * t;
+            let delm = d.xmcof * (cube32(1.0 + d.eta * fmath::cos(xmdf)) - d.delmo);
+            let temp = delomg + delm;
+            let mm = xmdf + temp;
+            argpm = argpdf - temp;
+            let t3 = t2 * t;
+            let t4 = t3 * t;
+            tempa = tempa - d.d2 * t2 - d.d3 * t3 - d.d4 * t4;
+            tempe += self.bstar * d.cc5 * (fmath::sin(mm) - d.sinmao);
+            templ += d.t3cof * t3 + t4 * (d.t4cof + t * d.t5cof);
+        }
+        // a = a₀″·tempa², n = kₑ/a^1.5 = n₀″/|tempa|³
+        let am = self.ao * tempa * tempa;
+        let nm = self.no / fmath::abs(tempa * tempa * tempa);
+        let mut em = self.ecco - tempe;
+        if !(-0.001..1.0).contains(&em) {
+            return Err(Sgp4Error::Eccentricity {
+                eccentricity: em,
+                tsince_min: t,
+            });
+        }
+        if em < 1.0e-6 {
+            em = 1.0e-6;
+        }
+
+        // Long-period periodics
+        let (sin_argp, cos_argp) = fmath::sincos(argpm);
+        let axnl = em * cos_argp;
+        let temp = 1.0 / (am * (1.0 - em * em));
+        let aynl = em * sin_argp + temp * self.aycof;
+        // u = M + ω + n₀″·templ + xlcof-term, from the exact M + ω phase (δω and δM cancel)
+        let u = self.arg_latitude.radians(whole, frac) + self.no * templ + temp * self.xlcof * axnl;
+
+        // Kepler's equation for E + ω, Newton with steps clamped to ±0.95 rad
+        let mut eo1 = u;
+        let (mut sineo1, mut coseo1) = fmath::sincos(eo1);
+        for _ in 0..KEPLER_MAX_ITERATIONS {
+            let denom = 1.0 - coseo1 * axnl - sineo1 * aynl;
+            let step = ((u - aynl * coseo1 + axnl * sineo1 - eo1) / denom).clamp(-0.95, 0.95);
+            eo1 += step;
+            if fmath::abs(step) < KEPLER_TOLERANCE {
+                // sin and cos of eo1 to first order in the (tiny) last step
+                let s = sineo1 + coseo1 * step;
+                coseo1 -= sineo1 * step;
+                sineo1 = s;
+                break;
+            }
+            (sineo1, coseo1) = fmath::sincos(eo1);
+        }
+
+        // Short-period preliminary quantities
+        let ecose = axnl * coseo1 + aynl * sineo1;
+        let esine = axnl * sineo1 - aynl * coseo1;
+        let el2 = axnl * axnl + aynl * aynl;
+        let pl = am * (1.0 - el2);
+        if pl < 0.0 {
+            return Err(Sgp4Error::SemiLatusRectum { tsince_min: t });
+        }
+        let rl = am * (1.0 - ecose);
+        let rdotl = fmath::sqrt(am) * esine / rl;
+        let rvdotl = fmath::sqrt(pl) / rl;
+        let betal = fmath::sqrt(1.0 - el2);
+        let temp = esine / (1.0 + betal);
+        let sinu = am / rl * (sineo1 - aynl - axnl * temp);
+        let cosu = am / rl * (coseo1 - axnl + aynl * temp);
+        let su = fmath::atan2(sinu, cosu);
+        let sin2u = (cosu + cosu) * sinu;
+        let cos2u = 1.0 - 2.0 * sinu * sinu;
+        let temp = 1.0 / pl;
+        let temp1 = 0.5 * self.j2 * temp;
+        let temp2 = temp1 * temp;
+
+        // Short-period periodics
+        let mrt = rl * (1.0 - 1.5 * temp2 * betal * self.con41) + 0.5 * temp1 * self.x1mth2 * cos2u;
+        let su = su - 0.25 * temp2 * self.x7thm1 * sin2u;
+        let xnode = nodem + 1.5 * temp2 * self.cosio * sin2u;
+        let xinc_delta = 1.5 * temp2 * self.cosio * self.sinio * cos2u;
+        let mvt = rdotl - nm * temp1 * self.x1mth2 * sin2u / self.xke;
+        let rvdot = rvdotl + nm * temp1 * (self.x1mth2 * cos2u + 1.5 * self.con41) / self.xke;
+
+        // Orientation vectors
+        let (sinsu, cossu) = fmath::sincos(su);
+        let (snod, cnod) = fmath::sincos(xnode);
+        // sin and cos of i = i₀ + δi from those of i₀: δi is of order J₂ (≈1e-3), so a Taylor
+        // series to δi³ is exact in f32; larger values (orbits near collapse) take sincos
+        let (sdi, cdi) = if fmath::abs(xinc_delta) < 0.01 {
+            let d2 = xinc_delta * xinc_delta;
+            (xinc_delta * (1.0 - d2 / 6.0), 1.0 - 0.5 * d2)
+        } else {
+            fmath::sincos(xinc_delta)
+        };
+        let sini = self.sinio * cdi + self.cosio * sdi;
+        let cosi = self.cosio * cdi - self.sinio * sdi;
+        let xmx = -snod * cosi;
+        let xmy = cnod * cosi;
+        let ux = xmx * sinsu + cnod * cossu;
+        let uy = xmy * sinsu + snod * cossu;
+        let uz = sini * sinsu;
+        let vx = xmx * cossu - cnod * sinsu;
+        let vy = xmy * cossu - snod * sinsu;
+        let vz = sini * cossu;
+
+        let r_scale = mrt * self.radius_km;
+        let v_scale = self.radius_km * self.xke / 60.0;
+        let state = TemeState {
+            r_teme_km: Vec3::new(ux, uy, uz) * r_scale,
+            v_teme_kmps: Vec3::new(
+                mvt * ux + rvdot * vx,
+                mvt * uy + rvdot * vy,
+                mvt * uz + rvdot * vz,
+            ) * v_scale,
+        };
+        if !(state.r_teme_km.iter().all(|x| x.is_finite())
+            && state.v_teme_kmps.iter().all(|x| x.is_finite()))
+        {
+            return Err(Sgp4Error::Diverged { tsince_min: t });
+        }
+        if mrt < 1.0 {
+            return Err(Sgp4Error::Decayed {
+                tsince_min: t,
+                radius_km: r_scale,
+            });
+        }
+        Ok(state)
+    }
+}
+
+/// `x^(2/3)` for x > 0, as `cbrt(x)²` (no `pow` in the flight build).
+fn two_thirds_power(x: f64) -> f64 {
+    let c = libm::cbrt(x);
+    c * c
+}
+
+fn fourth_power(x: f64) -> f64 {
+    let s = x * x;
+    s * s
+}
+
+fn cube(x: f64) -> f64 {
+    x * x * x
+}
+
+fn cube32(x: f32) -> f32 {
+    x * x * x
+}
