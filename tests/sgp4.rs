@@ -781,3 +781,287 @@ mod naive {
         }
     }
 }
+
+// ---------------------------------------------------------------------------------------------
+// A plain f32 port of the same code (the thesis's choice: every double made float, f32 tsince,
+// f32 initialisation), to measure what the precision discipline gains.
+
+mod naive {
+    use acs::tle::Tle;
+
+    pub struct Naive {
+        k: [f32; 40],
+        isimp: bool,
+    }
+
+    const TWOPI: f32 = std::f32::consts::TAU;
+
+    impl Naive {
+        pub fn new(tle: &Tle) -> Self {
+            // WGS-72
+            let mu: f32 = 398600.8;
+            let re: f32 = 6378.135;
+            let xke = 60.0 / (re * re * re / mu).sqrt();
+            let j2: f32 = 0.001082616;
+            let j3: f32 = -0.00000253881;
+            let j4: f32 = -0.00000165597;
+            let j3oj2 = j3 / j2;
+            let d = std::f32::consts::PI / 180.0;
+            let xpdotp = 1440.0 / TWOPI;
+            let no = tle.mean_motion_rev_per_day as f32 / xpdotp;
+            let ecco = tle.eccentricity as f32;
+            let inclo = tle.inclination_deg as f32 * d;
+            let nodeo = tle.raan_deg as f32 * d;
+            let argpo = tle.arg_perigee_deg as f32 * d;
+            let mo = tle.mean_anomaly_deg as f32 * d;
+            let bstar = tle.bstar as f32;
+            let x2o3 = 2.0f32 / 3.0;
+            let eccsq = ecco * ecco;
+            let omeosq = 1.0 - eccsq;
+            let rteosq = omeosq.sqrt();
+            let cosio = inclo.cos();
+            let cosio2 = cosio * cosio;
+            let ak = (xke / no).powf(x2o3);
+            let d1 = 0.75 * j2 * (3.0 * cosio2 - 1.0) / (rteosq * omeosq);
+            let del = d1 / (ak * ak);
+            let adel = ak * (1.0 - del * del - del * (1.0 / 3.0 + 134.0 * del * del / 81.0));
+            let del = d1 / (adel * adel);
+            let no = no / (1.0 + del);
+            let ao = (xke / no).powf(x2o3);
+            let sinio = inclo.sin();
+            let po = ao * omeosq;
+            let con42 = 1.0 - 5.0 * cosio2;
+            let con41 = -con42 - cosio2 - cosio2;
+            let posq = po * po;
+            let rp = ao * (1.0 - ecco);
+            let ss = 78.0 / re + 1.0;
+            let qzms2t = ((120.0 - 78.0) / re).powi(4);
+            let isimp = rp < 220.0 / re + 1.0;
+            let mut sfour = ss;
+            let mut qzms24 = qzms2t;
+            let perige = (rp - 1.0) * re;
+            if perige < 156.0 {
+                sfour = perige - 78.0;
+                if perige < 98.0 {
+                    sfour = 20.0;
+                }
+                qzms24 = ((120.0 - sfour) / re).powi(4);
+                sfour = sfour / re + 1.0;
+            }
+            let pinvsq = 1.0 / posq;
+            let tsi = 1.0 / (ao - sfour);
+            let eta = ao * ecco * tsi;
+            let etasq = eta * eta;
+            let eeta = ecco * eta;
+            let psisq = (1.0 - etasq).abs();
+            let coef = qzms24 * tsi.powi(4);
+            let coef1 = coef / psisq.powf(3.5);
+            let cc2 = coef1
+                * no
+                * (ao * (1.0 + 1.5 * etasq + eeta * (4.0 + etasq))
+                    + 0.375 * j2 * tsi / psisq * con41 * (8.0 + 3.0 * etasq * (8.0 + etasq)));
+            let cc1 = bstar * cc2;
+            let cc3 = if ecco > 1e-4 {
+                -2.0 * coef * tsi * j3oj2 * no * sinio / ecco
+            } else {
+                0.0
+            };
+            let x1mth2 = 1.0 - cosio2;
+            let cc4 = 2.0
+                * no
+                * coef1
+                * ao
+                * omeosq
+                * (eta * (2.0 + 0.5 * etasq) + ecco * (0.5 + 2.0 * etasq)
+                    - j2 * tsi / (ao * psisq)
+                        * (-3.0 * con41 * (1.0 - 2.0 * eeta + etasq * (1.5 - 0.5 * eeta))
+                            + 0.75
+                                * x1mth2
+                                * (2.0 * etasq - eeta * (1.0 + etasq))
+                                * (2.0 * argpo).cos()));
+            let cc5 = 2.0 * coef1 * ao * omeosq * (1.0 + 2.75 * (etasq + eeta) + eeta * etasq);
+            let cosio4 = cosio2 * cosio2;
+            let temp1 = 1.5 * j2 * pinvsq * no;
+            let temp2 = 0.5 * temp1 * j2 * pinvsq;
+            let temp3 = -0.46875 * j4 * pinvsq * pinvsq * no;
+            let mdot = no
+                + 0.5 * temp1 * rteosq * con41
+                + 0.0625 * temp2 * rteosq * (13.0 - 78.0 * cosio2 + 137.0 * cosio4);
+            let argpdot = -0.5 * temp1 * con42
+                + 0.0625 * temp2 * (7.0 - 114.0 * cosio2 + 395.0 * cosio4)
+                + temp3 * (3.0 - 36.0 * cosio2 + 49.0 * cosio4);
+            let xhdot1 = -temp1 * cosio;
+            let nodedot = xhdot1
+                + (0.5 * temp2 * (4.0 - 19.0 * cosio2) + 2.0 * temp3 * (3.0 - 7.0 * cosio2))
+                    * cosio;
+            let omgcof = bstar * cc3 * argpo.cos();
+            let xmcof = if ecco > 1e-4 {
+                -x2o3 * coef * bstar / eeta
+            } else {
+                0.0
+            };
+            let nodecf = 3.5 * omeosq * xhdot1 * cc1;
+            let t2cof = 1.5 * cc1;
+            let xlcof = if (cosio + 1.0).abs() > 1.5e-12 {
+                -0.25 * j3oj2 * sinio * (3.0 + 5.0 * cosio) / (1.0 + cosio)
+            } else {
+                -0.25 * j3oj2 * sinio * (3.0 + 5.0 * cosio) / 1.5e-12
+            };
+            let aycof = -0.5 * j3oj2 * sinio;
+            let delmo = (1.0 + eta * mo.cos()).powi(3);
+            let sinmao = mo.sin();
+            let x7thm1 = 7.0 * cosio2 - 1.0;
+            let cc1sq = cc1 * cc1;
+            let d2 = 4.0 * ao * tsi * cc1sq;
+            let temp = d2 * tsi * cc1 / 3.0;
+            let d3 = (17.0 * ao + sfour) * temp;
+            let d4 = 0.5 * temp * ao * tsi * (221.0 * ao + 31.0 * sfour) * cc1;
+            let t3cof = d2 + 2.0 * cc1sq;
+            let t4cof = 0.25 * (3.0 * d3 + cc1 * (12.0 * d2 + 10.0 * cc1sq));
+            let t5cof = 0.2
+                * (3.0 * d4 + 12.0 * cc1 * d3 + 6.0 * d2 * d2 + 15.0 * cc1sq * (2.0 * d2 + cc1sq));
+            Naive {
+                k: [
+                    mo, mdot, argpo, argpdot, nodeo, nodedot, nodecf, cc1, bstar, cc4, t2cof,
+                    omgcof, xmcof, eta, delmo, d2, d3, d4, cc5, sinmao, t3cof, t4cof, t5cof, no,
+                    xke, ecco, aycof, xlcof, j2, con41, x1mth2, x7thm1, cosio, sinio, inclo, re,
+                    0.0, 0.0, 0.0, 0.0,
+                ],
+                isimp,
+            }
+        }
+
+        /// Vallado's `sgp4`, near-Earth, every value f32. `None` on any error.
+        pub fn propagate(&self, t: f32) -> Option<([f64; 3], [f64; 3])> {
+            let [mo, mdot, argpo, argpdot, nodeo, nodedot, nodecf, cc1, bstar, cc4, t2cof, omgcof, xmcof, eta, delmo, d2, d3, d4, cc5, sinmao, t3cof, t4cof, t5cof, no, xke, ecco, aycof, xlcof, j2, con41, x1mth2, x7thm1, cosio, sinio, inclo, re, ..] =
+                self.k;
+            let xmdf = mo + mdot * t;
+            let argpdf = argpo + argpdot * t;
+            let nodedf = nodeo + nodedot * t;
+            let mut argpm = argpdf;
+            let mut mm = xmdf;
+            let t2 = t * t;
+            let mut nodem = nodedf + nodecf * t2;
+            let mut tempa = 1.0 - cc1 * t;
+            let mut tempe = bstar * cc4 * t;
+            let mut templ = t2cof * t2;
+            if !self.isimp {
+                let delomg = omgcof * t;
+                let delm = xmcof * ((1.0 + eta * xmdf.cos()).powi(3) - delmo);
+                let temp = delomg + delm;
+                mm = xmdf + temp;
+                argpm = argpdf - temp;
+                let t3 = t2 * t;
+                let t4 = t3 * t;
+                tempa = tempa - d2 * t2 - d3 * t3 - d4 * t4;
+                tempe += bstar * cc5 * (mm.sin() - sinmao);
+                templ += t3cof * t3 + t4 * (t4cof + t * t5cof);
+            }
+            let am = (xke / no).powf(2.0 / 3.0) * tempa * tempa;
+            let nm = xke / am.powf(1.5);
+            let mut em = ecco - tempe;
+            if !(-0.001..1.0).contains(&em) {
+                return None;
+            }
+            if em < 1e-6 {
+                em = 1e-6;
+            }
+            mm += no * templ;
+            let xlm = mm + argpm + nodem;
+            nodem %= TWOPI;
+            argpm %= TWOPI;
+            let xlm = xlm % TWOPI;
+            let mm = (xlm - argpm - nodem) % TWOPI;
+            let axnl = em * argpm.cos();
+            let temp = 1.0 / (am * (1.0 - em * em));
+            let aynl = em * argpm.sin() + temp * aycof;
+            let xl = mm + argpm + nodem + temp * xlcof * axnl;
+            let u = (xl - nodem) % TWOPI;
+            let mut eo1 = u;
+            let mut tem5: f32 = 9999.9;
+            let mut ktr = 1;
+            let (mut sineo1, mut coseo1) = (0.0f32, 0.0f32);
+            while tem5.abs() >= 1e-12 && ktr <= 10 {
+                sineo1 = eo1.sin();
+                coseo1 = eo1.cos();
+                tem5 = 1.0 - coseo1 * axnl - sineo1 * aynl;
+                tem5 = (u - aynl * coseo1 + axnl * sineo1 - eo1) / tem5;
+                tem5 = tem5.clamp(-0.95, 0.95);
+                eo1 += tem5;
+                ktr += 1;
+            }
+            let ecose = axnl * coseo1 + aynl * sineo1;
+            let esine = axnl * sineo1 - aynl * coseo1;
+            let el2 = axnl * axnl + aynl * aynl;
+            let pl = am * (1.0 - el2);
+            if pl < 0.0 {
+                return None;
+            }
+            let rl = am * (1.0 - ecose);
+            let rdotl = am.sqrt() * esine / rl;
+            let rvdotl = pl.sqrt() / rl;
+            let betal = (1.0 - el2).sqrt();
+            let temp = esine / (1.0 + betal);
+            let sinu = am / rl * (sineo1 - aynl - axnl * temp);
+            let cosu = am / rl * (coseo1 - axnl + aynl * temp);
+            let su = sinu.atan2(cosu);
+            let sin2u = (cosu + cosu) * sinu;
+            let cos2u = 1.0 - 2.0 * sinu * sinu;
+            let temp = 1.0 / pl;
+            let temp1 = 0.5 * j2 * temp;
+            let temp2 = temp1 * temp;
+            let mrt = rl * (1.0 - 1.5 * temp2 * betal * con41) + 0.5 * temp1 * x1mth2 * cos2u;
+            let su = su - 0.25 * temp2 * x7thm1 * sin2u;
+            let xnode = nodem + 1.5 * temp2 * cosio * sin2u;
+            let xinc = inclo + 1.5 * temp2 * cosio * sinio * cos2u;
+            let mvt = rdotl - nm * temp1 * x1mth2 * sin2u / xke;
+            let rvdot = rvdotl + nm * temp1 * (x1mth2 * cos2u + 1.5 * con41) / xke;
+            let (sinsu, cossu) = (su.sin(), su.cos());
+            let (snod, cnod) = (xnode.sin(), xnode.cos());
+            let (sini, cosi) = (xinc.sin(), xinc.cos());
+            let xmx = -snod * cosi;
+            let xmy = cnod * cosi;
+            let u3 = [
+                xmx * sinsu + cnod * cossu,
+                xmy * sinsu + snod * cossu,
+                sini * sinsu,
+            ];
+            let v3 = [
+                xmx * cossu - cnod * sinsu,
+                xmy * cossu - snod * sinsu,
+                sini * cossu,
+            ];
+            let vk = re * xke / 60.0;
+            if mrt < 1.0 {
+                return None;
+            }
+            let r = [0, 1, 2].map(|i| (mrt * u3[i] * re) as f64);
+            let v = [0, 1, 2].map(|i| ((mvt * u3[i] + rvdot * v3[i]) * vk) as f64);
+            Some((r, v))
+        }
+    }
+}
+
+#[test]
+fn debug_rsw() {
+    let tle = dtusat();
+    let stk = read_stk(&sgp4_ref("dtusat_wgs84_teme.e"));
+    let s = Sgp4::new(&tle, Gravity::Wgs84).unwrap();
+    for (t, r, v) in stk.rows.iter().skip(1070).take(20) {
+        let (r1, _) = ours(&s, t / 60.0).unwrap();
+        let r = r.map(|x| x * 1e-3);
+        let v = v.map(|x| x * 1e-3);
+        let d = [r1[0] - r[0], r1[1] - r[1], r1[2] - r[2]];
+        let rn = dist(r, [0.0; 3]);
+        let rad = (d[0] * r[0] + d[1] * r[1] + d[2] * r[2]) / rn;
+        let vn = dist(v, [0.0; 3]);
+        let along = (d[0] * v[0] + d[1] * v[1] + d[2] * v[2]) / vn;
+        println!(
+            "t={:>7} rad {:>7.3} along {:>7.3} tot {:>7.3}",
+            t / 60.0,
+            rad * 1e3,
+            along * 1e3,
+            dist(r1, r) * 1e3
+        );
+    }
+}

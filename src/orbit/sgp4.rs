@@ -267,6 +267,11 @@ pub struct Sgp4 {
     radius_km: f32,
     xke: f32,
     j2: f32,
+    /// a₀″ in km, rounded once (the radius scale of the result: storing a₀″ in ER and R_E
+    /// separately would round twice, a radial bias of up to 1 m).
+    ao_km: f32,
+    /// R_E·kₑ/60, ER/min → km/s.
+    v_scale_kmps: f32,
     /// Mean anomaly M₀ + Ṁt.
     mean_anomaly: Phase,
     /// Argument of perigee ω₀ + ω̇t.
@@ -490,6 +495,8 @@ impl Sgp4 {
             radius_km: g.radius_km as f32,
             xke: g.xke as f32,
             j2: g.j2 as f32,
+            ao_km: (ao * g.radius_km) as f32,
+            v_scale_kmps: (g.radius_km * g.xke / 60.0) as f32,
             mean_anomaly: Phase::new(mo, mdot),
             arg_perigee: Phase::new(argpo, argpdot),
             node: Phase::new(nodeo, nodedot),
@@ -659,7 +666,6 @@ impl Sgp4 {
         let temp = esine / (1.0 + betal);
         let sinu = am / rl * (sineo1 - aynl - axnl * temp);
         let cosu = am / rl * (coseo1 - axnl + aynl * temp);
-        let su = fmath::atan2(sinu, cosu);
         let sin2u = (cosu + cosu) * sinu;
         let cos2u = 1.0 - 2.0 * sinu * sinu;
         let temp = 1.0 / pl;
@@ -667,24 +673,28 @@ impl Sgp4 {
         let temp2 = temp1 * temp;
 
         // Short-period periodics
-        let mrt = rl * (1.0 - 1.5 * temp2 * betal * self.con41) + 0.5 * temp1 * self.x1mth2 * cos2u;
-        let su = su - 0.25 * temp2 * self.x7thm1 * sin2u;
+        // r_k = r_l(1 − 1.5·temp2·β_l·con41) + ½·temp1·x1mth2·cos 2u, in km with r_l = a(1 − e cos E)
+        // and a = a₀″·tempa² scaled by the once-rounded a₀″ in km
+        let r_km =
+            self.ao_km * tempa * tempa * (1.0 - ecose) * (1.0 - 1.5 * temp2 * betal * self.con41)
+                + 0.5 * temp1 * self.x1mth2 * cos2u * self.radius_km;
+        // u_k = u − ¼·temp2·(7cos²i₀ − 1)·sin 2u, applied as a rotation of (sin u, cos u) (no
+        // atan2, and u is never rounded to an f32 angle); (sinu, cosu) has unit norm to rounding,
+        // restored by one Newton step of 1/√
+        let dsu = -0.25 * temp2 * self.x7thm1 * sin2u;
+        let norm = 1.5 - 0.5 * (sinu * sinu + cosu * cosu);
+        let (sin_d, cos_d) = small_sincos(dsu);
+        let sinsu = norm * (sinu * cos_d + cosu * sin_d);
+        let cossu = norm * (cosu * cos_d - sinu * sin_d);
         let xnode = nodem + 1.5 * temp2 * self.cosio * sin2u;
         let xinc_delta = 1.5 * temp2 * self.cosio * self.sinio * cos2u;
         let mvt = rdotl - nm * temp1 * self.x1mth2 * sin2u / self.xke;
         let rvdot = rvdotl + nm * temp1 * (self.x1mth2 * cos2u + 1.5 * self.con41) / self.xke;
 
         // Orientation vectors
-        let (sinsu, cossu) = fmath::sincos(su);
         let (snod, cnod) = fmath::sincos(xnode);
-        // sin and cos of i = i₀ + δi from those of i₀: δi is of order J₂ (≈1e-3), so a Taylor
-        // series to δi³ is exact in f32; larger values (orbits near collapse) take sincos
-        let (sdi, cdi) = if fmath::abs(xinc_delta) < 0.01 {
-            let d2 = xinc_delta * xinc_delta;
-            (xinc_delta * (1.0 - d2 / 6.0), 1.0 - 0.5 * d2)
-        } else {
-            fmath::sincos(xinc_delta)
-        };
+        // sin and cos of i = i₀ + δi from those of i₀ (δi is of order J₂)
+        let (sdi, cdi) = small_sincos(xinc_delta);
         let sini = self.sinio * cdi + self.cosio * sdi;
         let cosi = self.cosio * cdi - self.sinio * sdi;
         let xmx = -snod * cosi;
@@ -696,10 +706,9 @@ impl Sgp4 {
         let vy = xmy * cossu - snod * sinsu;
         let vz = sini * cossu;
 
-        let r_scale = mrt * self.radius_km;
-        let v_scale = self.radius_km * self.xke / 60.0;
+        let v_scale = self.v_scale_kmps;
         let state = TemeState {
-            r_teme_km: Vec3::new(ux, uy, uz) * r_scale,
+            r_teme_km: Vec3::new(ux, uy, uz) * r_km,
             v_teme_kmps: Vec3::new(
                 mvt * ux + rvdot * vx,
                 mvt * uy + rvdot * vy,
@@ -711,13 +720,25 @@ impl Sgp4 {
         {
             return Err(Sgp4Error::Diverged { tsince_min: t });
         }
-        if mrt < 1.0 {
+        // mrt < 1 (radius below one Earth radius)
+        if r_km < self.radius_km {
             return Err(Sgp4Error::Decayed {
                 tsince_min: t,
-                radius_km: r_scale,
+                radius_km: r_km,
             });
         }
         Ok(state)
+    }
+}
+
+/// `(sin x, cos x)` of a small angle: a Taylor series to x³ for |x| < 0.01 rad (exact in f32,
+/// the short-period corrections are of order J₂ ≈ 1e-3), `fmath::sincos` otherwise.
+fn small_sincos(x: f32) -> (f32, f32) {
+    if fmath::abs(x) < 0.01 {
+        let x2 = x * x;
+        (x * (1.0 - x2 / 6.0), 1.0 - 0.5 * x2)
+    } else {
+        fmath::sincos(x)
     }
 }
 
