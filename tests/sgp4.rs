@@ -6,7 +6,7 @@
 use std::path::PathBuf;
 
 use acs::orbit::sgp4::{Gravity, Sgp4, Sgp4Error};
-use acs::time::{Epoch, TimeSpan, Utc};
+use acs::time::{Epoch, TimeSpan};
 use acs::tle::Tle;
 
 // ---------------------------------------------------------------------------------------------
@@ -89,10 +89,13 @@ fn read_tles(path: &std::path::Path) -> Vec<(Tle, String)> {
     out
 }
 
+/// A reference row: time, position, velocity.
+type Row = (f64, [f64; 3], [f64; 3]);
+
 struct StkFile {
     scenario_epoch: String,
     /// (seconds, r m, v m/s)
-    rows: Vec<(f64, [f64; 3], [f64; 3])>,
+    rows: Vec<Row>,
 }
 
 fn read_stk(path: &std::path::Path) -> StkFile {
@@ -120,7 +123,7 @@ fn read_stk(path: &std::path::Path) -> StkFile {
 }
 
 /// tcppver.out: blocks "<satnum> xx" then rows "tsince x y z vx vy vz ..." (km, km/s).
-fn read_tcppver() -> Vec<(u32, Vec<(f64, [f64; 3], [f64; 3])>)> {
+fn read_tcppver() -> Vec<(u32, Vec<Row>)> {
     let text = std::fs::read_to_string(sgp4_ref("tcppver.out")).unwrap();
     let mut blocks: Vec<(u32, Vec<_>)> = Vec::new();
     for l in text.lines() {
@@ -409,9 +412,9 @@ fn thesis_vector_at_1080_min() {
     let (r, _) = ours(&sgp4, 1080.0).unwrap();
     // note 000 §0.2: r = [4097.62841796875, -1100.9205322265625, -5829.1435546875] km (thesis)
     let thesis = [
-        4097.628_417_968_75,
-        -1100.920_532_226_562_5,
-        -5829.143_554_687_5,
+        4_097.628_417_968_75,
+        -1_100.920_532_226_562_5,
+        -5_829.143_554_687_5,
     ];
     let e = dist(r, thesis) * 1e3;
     println!("thesis vector at 1080 min (WGS-84): {e:.3} m");
