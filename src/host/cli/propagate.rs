@@ -1,6 +1,25 @@
-//! `acs propagate`: SGP4 ephemeris of a TLE as an STK `.e` file.
+//! `acs propagate`: SGP4 ephemeris of a TLE as an STK `.e` file (`../shared/cli.md`).
+//!
+//! The TLE file is parsed with [`Tle::parse_text`] (checksums verified); the propagation is the
+//! flight [`Sgp4`] (f32); the optional J2000 output rotates each f32 TEME state with the f64
+//! [`crate::frames::teme_to_j2000`] at the row's TT epoch (UTC + ΔAT + 32.184 s, leap seconds
+//! extrapolated past the table).
+//!
+//! Exit codes: 2 for an unreadable or malformed TLE file or bad times (non-finite, step ≤ 0,
+//! stop before start, more than [`MAX_ROWS`] rows, beyond ±3·10⁷ min); 3 when SGP4 refuses the
+//! element set (deep space, sub-orbital, …) or fails part-way (decay, eccentricity out of
+//! range), in which case the rows before the failure are written as a complete file first.
+
+use std::io::Write;
 
 use super::CliError;
+use crate::orbit::sgp4::{Gravity, Sgp4, Sgp4Error};
+use crate::orbit::TemeState;
+use crate::time::{Epoch, TimeSpan, Utc};
+use crate::tle::Tle;
+
+/// Most rows one run may write (a week at a 0.1 s step is 6 million).
+pub const MAX_ROWS: u64 = 10_000_000;
 
 /// Arguments of `acs propagate`.
 #[derive(clap::Args, Debug)]
@@ -25,7 +44,190 @@ pub struct Args {
     frame: String,
 }
 
+/// One output row: seconds from the TLE epoch, position (m), velocity (m/s).
+struct Row {
+    t_s: f64,
+    r_m: [f64; 3],
+    v_mps: [f64; 3],
+}
+
+/// The number of rows of `start..=stop` by `step` (minutes), validated.
+fn row_count(start: f64, stop: f64, step: f64) -> Result<u64, CliError> {
+    if !(start.is_finite() && stop.is_finite() && step.is_finite()) {
+        return Err(CliError::Input(
+            "--start, --stop and --step must be finite numbers".into(),
+        ));
+    }
+    if step <= 0.0 {
+        return Err(CliError::Input(format!("--step {step} must be positive")));
+    }
+    if stop < start {
+        return Err(CliError::Input(format!(
+            "--stop {stop} is before --start {start}"
+        )));
+    }
+    // a tolerance of 1e-9 step so that 0..=60 by 5 includes 60
+    let count = ((stop - start) / step + 1e-9).floor() + 1.0;
+    if count > MAX_ROWS as f64 {
+        return Err(CliError::Input(format!(
+            "{count} rows requested, at most {MAX_ROWS}: increase --step"
+        )));
+    }
+    Ok(count as u64)
+}
+
 /// Runs `acs propagate`.
-pub fn run(_args: &Args) -> Result<(), CliError> {
-    Err(CliError::NotImplemented("propagate"))
+pub fn run(args: &Args) -> Result<(), CliError> {
+    let path = args.tle.display();
+    let text =
+        std::fs::read_to_string(&args.tle).map_err(|e| CliError::Input(format!("{path}: {e}")))?;
+    let tle = Tle::parse_text(&text).map_err(|e| CliError::Input(format!("{path}: {e}")))?;
+    let count = row_count(args.start, args.stop, args.step)?;
+    let gravity = match args.gravity.as_str() {
+        "wgs84" => Gravity::Wgs84,
+        _ => Gravity::Wgs72,
+    };
+    let j2000 = args.frame == "j2000";
+    let sgp4 = Sgp4::new(&tle, gravity).map_err(|e| match e {
+        Sgp4Error::Element { .. } => CliError::Input(format!("{path}: {e}")),
+        _ => CliError::Compute(format!("{path}: {e}")),
+    })?;
+
+    let mut rows = Vec::new();
+    let mut failure = None;
+    for k in 0..count {
+        let t_min = args.start + k as f64 * args.step;
+        let span = TimeSpan::from_minutes_f64(t_min)
+            .map_err(|e| CliError::Input(format!("time {t_min} min: {e}")))?;
+        match sgp4.propagate(span) {
+            Ok(state) => {
+                let state = if j2000 {
+                    to_j2000(&state, &tle.epoch.add(span))?
+                } else {
+                    to_f64(&state)
+                };
+                rows.push(Row {
+                    t_s: span.as_seconds_f64(),
+                    r_m: state.0.map(|x| x * 1e3),
+                    v_mps: state.1.map(|x| x * 1e3),
+                });
+            }
+            Err(e) => {
+                failure = Some(e);
+                break;
+            }
+        }
+    }
+
+    let stdout = std::io::stdout();
+    let mut out = std::io::BufWriter::new(stdout.lock());
+    write_stk(&mut out, &tle, gravity, j2000, &rows)
+        .and_then(|()| out.flush())
+        .map_err(|e| CliError::Compute(format!("cannot write the output: {e}")))?;
+    match failure {
+        Some(e) => Err(CliError::Compute(e.to_string())),
+        None => Ok(()),
+    }
+}
+
+/// An f32 TEME state as f64 `(r_km, v_kmps)`.
+fn to_f64(s: &TemeState) -> ([f64; 3], [f64; 3]) {
+    let r = s.r_teme_km;
+    let v = s.v_teme_kmps;
+    (
+        [f64::from(r.x), f64::from(r.y), f64::from(r.z)],
+        [f64::from(v.x), f64::from(v.y), f64::from(v.z)],
+    )
+}
+
+/// A TEME state rotated to J2000 at the UTC epoch `utc` (f64 rotation).
+fn to_j2000(s: &TemeState, utc: &Epoch<Utc>) -> Result<([f64; 3], [f64; 3]), CliError> {
+    let tt = utc.to_tt_extrapolated().map_err(|e| {
+        CliError::Compute(format!("J2000 output needs the TT epoch of the row: {e}"))
+    })?;
+    let (r, v) = to_f64(s);
+    let (r, v) = crate::frames::teme_to_j2000::<f64>(
+        &nalgebra::Vector3::from(r),
+        &nalgebra::Vector3::from(v),
+        &tt,
+    );
+    Ok(([r.x, r.y, r.z], [v.x, v.y, v.z]))
+}
+
+const MONTHS: [&str; 12] = [
+    "Jan", "Feb", "Mar", "Apr", "May", "Jun", "Jul", "Aug", "Sep", "Oct", "Nov", "Dec",
+];
+
+/// STK `.e` (v11, `EphemerisTimePosVel`, metres) with `ScenarioEpoch` = the TLE epoch (UTC).
+fn write_stk(
+    out: &mut impl Write,
+    tle: &Tle,
+    gravity: Gravity,
+    j2000: bool,
+    rows: &[Row],
+) -> std::io::Result<()> {
+    let c = tle.epoch.to_calendar();
+    let month = MONTHS
+        .get(usize::from(c.month).wrapping_sub(1))
+        .copied()
+        .unwrap_or("???");
+    writeln!(out, "stk.v.11.0")?;
+    writeln!(
+        out,
+        "# acs propagate: SGP4 {}, NORAD {}; time column: seconds from the TLE epoch",
+        match gravity {
+            Gravity::Wgs72 => "WGS72",
+            Gravity::Wgs84 => "WGS84",
+        },
+        tle.catalog_number
+    )?;
+    writeln!(out, "BEGIN Ephemeris")?;
+    writeln!(out, "NumberOfEphemerisPoints {}", rows.len())?;
+    writeln!(
+        out,
+        "ScenarioEpoch {:02} {month} {} {:02}:{:02}:{:02}.{:06}",
+        c.day,
+        c.year,
+        c.hour,
+        c.minute,
+        c.second,
+        c.nano / 1000
+    )?;
+    writeln!(out, "InterpolationMethod Lagrange")?;
+    writeln!(out, "InterpolationSamplesM1 5")?;
+    writeln!(out, "CentralBody Earth")?;
+    writeln!(
+        out,
+        "CoordinateSystem {}",
+        if j2000 { "J2000" } else { "TEMEOfDate" }
+    )?;
+    writeln!(out, "DistanceUnit Meters")?;
+    writeln!(out, "EphemerisTimePosVel")?;
+    for r in rows {
+        writeln!(
+            out,
+            "{:.6} {:.6} {:.6} {:.6} {:.9} {:.9} {:.9}",
+            r.t_s, r.r_m[0], r.r_m[1], r.r_m[2], r.v_mps[0], r.v_mps[1], r.v_mps[2]
+        )?;
+    }
+    writeln!(out, "END Ephemeris")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn row_counts() {
+        assert_eq!(row_count(0.0, 60.0, 5.0).ok(), Some(13));
+        assert_eq!(row_count(-1440.0, 4320.0, 10.0).ok(), Some(577));
+        assert_eq!(row_count(0.0, 0.0, 1.0).ok(), Some(1));
+        assert!(matches!(row_count(0.0, 1.0, 0.0), Err(CliError::Input(_))));
+        assert!(matches!(row_count(1.0, 0.0, 1.0), Err(CliError::Input(_))));
+        assert!(matches!(
+            row_count(f64::NAN, 0.0, 1.0),
+            Err(CliError::Input(_))
+        ));
+        assert!(matches!(row_count(0.0, 1e9, 1e-3), Err(CliError::Input(_))));
+    }
 }
