@@ -368,6 +368,23 @@ fn cli_acs_sun() {
         .collect();
     let (ra, _) = ra_dec_deg([v[0], v[1], v[2]]);
     assert!(dangle_deg(ra, 143.7365).abs() < 2e-4);
+    // --frame j2000: the TEME output rotated by crate::frames' TEME → J2000 matrix.
+    let (code, stdout, _) = run(&["--frame", "j2000"], &input);
+    assert_eq!(code, 0);
+    for (line, row) in stdout.lines().skip(1).zip(&rows) {
+        let v: Vec<f64> = line
+            .split(',')
+            .skip(1)
+            .map(|x| x.parse().unwrap())
+            .collect();
+        let tt = row.utc.to_tt_extrapolated().unwrap();
+        let m = acs::frames::teme_to_j2000_matrix::<f64>(&tt);
+        let teme = m.transpose() * acs::linalg::Vec3d::new(v[0], v[1], v[2]);
+        assert!(
+            angle_arcsec([teme.x, teme.y, teme.z], row.dir) <= 15.0,
+            "{line}"
+        );
+    }
     // Bad input: exit 2 naming the line; out of range: exit 3.
     let (code, _, stderr) = run(&[], "2009-06-16T00:00:00Z\n2009-13-01T00:00:00Z\n");
     assert_eq!(code, 2);

@@ -3,7 +3,7 @@
 //! | model | module | accuracy vs JPL DE421 (1990–2050, 400 instants) | cost |
 //! |---|---|---|---|
 //! | Schlyter's algorithm, seed 000 §7.1 | [`thesis`] | 46.9″ max, 26.2″ RMS | 3 sincos, 1 atan2, 1 sqrt |
-//! | truncated VSOP87 + nutation + aberration | [`precise`] | 3.74″ max, 1.43″ RMS (bound 15″) | 17 sincos + nutation |
+//! | truncated VSOP87 + nutation + aberration | [`precise`] | 3.72″ max, 1.43″ RMS (bound 15″) | 17 sincos + the shared IAU-1980 nutation (`frames::nutation`, 40 sincos) |
 //!
 //! Both take an exact [`Epoch`](crate::time::Epoch) and never form a Julian date in f32: the whole
 //! days and the fraction of the day are kept apart, and every angle that grows with time is

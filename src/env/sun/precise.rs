@@ -10,8 +10,8 @@
 //!    frequency (phases differ by ±π/2 to within 0.03 rad, checked by a unit test), so one
 //!    `sincos` per frequency gives both.
 //! 2. Geocentric Sun: `λ = L + 180°`, `β = 0`; the FK5 correction −0.09033″ (Meeus eq. 25.9).
-//! 3. Nutation in longitude `Δψ` and obliquity `Δε`, and the mean obliquity `ε₀` (IAU 1980,
-//!    Meeus eq. 22.2).
+//! 3. Nutation in longitude `Δψ` and obliquity `Δε` (IAU 1980) and the mean obliquity `ε̄`
+//!    (IAU 1976), from [`crate::frames::nutation`].
 //! 4. Aberration (with the light time of the Sun's apparent motion): `−20.4898″ / R`
 //!    (Meeus eq. 25.10); apparent longitude `λ_app = λ + Δψ − 20.4898″/R`.
 //! 5. True equator of date with `ε = ε₀ + Δε`; then TEME (true equator, **mean** equinox): the
@@ -27,7 +27,7 @@
 //! | `r_au` | R | Earth–Sun distance (AU) |
 //! | `dpsi`, `deps` | Δψ, Δε | nutation in longitude and obliquity |
 //! | `eps` | ε | true obliquity of the ecliptic |
-//! | `eqeq` | | equation of the equinoxes `Δψ cos ε` |
+//! | `eqeq` | | equation of the equinoxes `Δψ cos ε̄` |
 //!
 //! # Precision
 //! Every argument `B + C·τ` is reduced modulo 2π in exact fixed point from the whole day count
@@ -36,13 +36,14 @@
 //! # Range and measured accuracy
 //! Years 1950–2100 in TT ([`sun_tt`]); from UTC ([`sun`]) 1972–2100, the leap-second era. Other
 //! years give [`SunError`]. Against the apparent Sun of JPL DE421 in TEME of date
-//! (`../shared/ref/sun/sun_de421.csv`, 400 instants 1990–2050, UTC input): **max 3.74″, RMS
+//! (`../shared/ref/sun/sun_de421.csv`, 400 instants 1990–2050, UTC input): **max 3.72″, RMS
 //! 1.43″**; distance max 1.3e-5 AU (`cargo test --test sun -- --nocapture`, which holds 15″ and
 //! 2e-5 AU on every row). Outside 1990–2050 the truncation was compared with the whole abridged
 //! series of Meeus (f64, 1950–2100, weekly): it differs by at most 4.7″.
 
 use super::{year_of_day, LinearAngle, Sun, SunError};
 use crate::fmath;
+use crate::frames::nutation::nutation;
 use crate::linalg::Vec3;
 use crate::time::{Epoch, Tt, Utc};
 
@@ -114,26 +115,6 @@ const MEAN_LONGITUDE: LinearAngle = LinearAngle::from_radians_per_millennium(
 /// Constant of `R0` (AU).
 const R0_CONST: f32 = 1.000_139_89_f64 as f32;
 
-/// Nutation in longitude and in obliquity `(Δψ, Δε)` in radians at `t` Julian centuries of TT
-/// since J2000.0.
-///
-/// The four largest terms of the IAU 1980 series (Meeus ch. 22, "0.5″ in Δψ, 0.1″ in Δε"):
-/// arguments Ω (Moon's node), L (Sun's mean longitude), L′ (Moon's mean longitude).
-// TODO(frames): switch to the shared nutation of `crate::frames` when it lands.
-fn nutation(t: f32) -> (f32, f32) {
-    // Ω = 125.04452° − 1934.136261°·T,  L = 280.4665° + 36000.7698°·T,  L′ = 218.3165° + 481267.8813°·T
-    let omega = (125.044_52 - 1_934.136_3 * t).to_radians();
-    let l_sun = (280.4665 + 36_000.77 * t).to_radians();
-    let l_moon = (218.3165 + 481_267.88 * t).to_radians();
-    let (s1, c1) = fmath::sincos(omega);
-    let (s2, c2) = fmath::sincos(2.0 * l_sun);
-    let (s3, c3) = fmath::sincos(2.0 * l_moon);
-    let (s4, c4) = fmath::sincos(2.0 * omega);
-    let dpsi = -17.20 * s1 - 1.32 * s2 - 0.23 * s3 + 0.21 * s4;
-    let deps = 9.20 * c1 + 0.57 * c2 + 0.10 * c3 - 0.09 * c4;
-    (dpsi * ARCSEC, deps * ARCSEC)
-}
-
 /// The apparent Sun at a UTC instant: unit vector in TEME of date and distance in AU.
 ///
 /// TT = UTC + ΔAT + 32.184 s from the leap-second table
@@ -160,7 +141,7 @@ pub fn sun_tt(epoch: &Epoch<Tt>) -> Result<Sun, SunError> {
     let (_, f) = epoch.days_since_j2000_split();
     let days = n as f32 + f;
     let tau = days / 365_250.0;
-    let t = days / 36_525.0;
+    let t = epoch.julian_centuries_since_j2000_f32();
 
     // L = L0 + L1·τ (VSOP87D), λ = L + 180°; R likewise.
     let mut lon_geo = MEAN_LONGITUDE.radians(n, f);
@@ -174,9 +155,10 @@ pub fn sun_tt(epoch: &Epoch<Tt>) -> Result<Sun, SunError> {
     lon_geo += tau * L1_TERM.l_cos * c;
     r_au += tau * L1_TERM.r_sin * s;
 
-    // Nutation, mean obliquity ε₀ = 84381.448″ − 46.8150″·T (Meeus eq. 22.2, T² terms < 0.01″).
-    let (dpsi, deps) = nutation(t);
-    let eps = (84_381.448 - 46.815 * t) * ARCSEC + deps;
+    // Nutation (IAU 1980) and true obliquity ε = ε̄ + Δε (IAU 1976), from crate::frames.
+    let nut = nutation(t);
+    let dpsi = nut.dpsi_rad;
+    let eps = nut.true_obliquity_rad();
 
     // λ_app = λ − 0.09033″ (FK5) + Δψ − 20.4898″/R
     let lon_app = lon_geo - 0.090_33 * ARCSEC + dpsi - 20.4898 * ARCSEC / r_au;
@@ -187,9 +169,9 @@ pub fn sun_tt(epoch: &Epoch<Tt>) -> Result<Sun, SunError> {
     let x_tod = cos_lon;
     let y_tod = sin_lon * cos_eps;
     let z_tod = sin_lon * sin_eps;
-    // TEME: rotate by the equation of the equinoxes about z (RA_teme = RA_tod − Δψ cos ε);
-    // first order is exact to 3e-9 for |Δψ cos ε| < 9e-5 rad.
-    let eqeq = dpsi * cos_eps;
+    // TEME: rotate by the equation of the equinoxes about z (α_TEME = α_TOD − Δψ cos ε̄);
+    // first order is exact to 3e-9 for |Δψ cos ε̄| < 9e-5 rad.
+    let eqeq = nut.equation_of_equinoxes_rad();
     let direction = Vec3::new(x_tod + eqeq * y_tod, y_tod - eqeq * x_tod, z_tod);
     Ok(Sun {
         direction,

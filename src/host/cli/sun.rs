@@ -10,6 +10,7 @@
 use std::io::{BufRead, Write};
 
 use crate::env::sun::{precise, thesis, Sun};
+use crate::frames::teme_to_j2000_matrix;
 use crate::time::{Calendar, Epoch, Utc};
 
 use super::CliError;
@@ -108,11 +109,7 @@ pub(super) fn num(x: f32) -> String {
 /// Runs `acs sun`.
 pub fn run(args: &Args) -> Result<(), CliError> {
     let thesis_model = args.model == "thesis";
-    if !thesis_model && args.frame == "j2000" {
-        return Err(CliError::Compute(
-            "--frame j2000 needs the TEME→J2000 rotation of crate::frames, not built yet".into(),
-        ));
-    }
+    let j2000 = !thesis_model && args.frame == "j2000";
     let stdin = std::io::stdin();
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
@@ -134,7 +131,17 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         };
         let sun =
             result.map_err(|e| CliError::Compute(format!("line {line_no}: `{text}`: {e}")))?;
-        let d = sun.direction;
+        let d = if j2000 {
+            // TEME → J2000 (IAU-76/80, crate::frames) in f64, at the instant's TT.
+            let tt = epoch
+                .to_tt_extrapolated()
+                .map_err(|e| CliError::Compute(format!("line {line_no}: `{text}`: {e}")))?;
+            let m = teme_to_j2000_matrix::<f64>(&tt);
+            let v = m * sun.direction.cast::<f64>();
+            (v / v.norm()).cast::<f32>()
+        } else {
+            sun.direction
+        };
         writeln!(
             out,
             "{text},{},{},{},{}",
