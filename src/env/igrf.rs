@@ -92,6 +92,7 @@ mod tables;
 use core::fmt;
 
 use crate::fmath;
+use crate::frames::{self, Geodetic};
 use crate::linalg::Vec3;
 use crate::time::{Epoch, TimeScale};
 
@@ -105,11 +106,6 @@ pub const REFERENCE_RADIUS_KM: f32 = 6371.2;
 /// the depth of the deepest ocean trench. Below it the expansion is continued inside its own
 /// sources, where it means nothing: [`IgrfError::BelowSurface`].
 pub const MIN_RADIUS_KM: f32 = 6345.0;
-
-/// WGS-84 semi-major axis, km.
-const WGS84_A_KM: f32 = 6378.137;
-/// WGS-84 first eccentricity squared, e² = f(2 − f) with f = 1/298.257223563.
-const WGS84_E2: f32 = 6.694_38e-3; // 6.69437999014e-3 rounded to f32
 
 /// A set of IGRF coefficient tables: snapshots of the Gauss coefficients every `step_years`
 /// from `first_year`; the last one is the secular-variation prediction. Use [`FULL`] or
@@ -407,21 +403,23 @@ impl Igrf {
                 value_rad: lat_rad,
             });
         }
-        let (sin_lat, cos_lat) = fmath::sincos(lat_rad);
-        // Geodetic → Earth-fixed, in the meridian plane:
-        // N = a/√(1 − e² sin²φ),  ρ = (N + h) cos φ,  z = (N(1 − e²) + h) sin φ.
-        let prime_vertical_km = WGS84_A_KM / fmath::sqrt(1.0 - WGS84_E2 * sin_lat * sin_lat);
-        let rho_km = (prime_vertical_km + alt_km) * cos_lat;
-        let z_km = (prime_vertical_km * (1.0 - WGS84_E2) + alt_km) * sin_lat;
-        let r_km = fmath::sqrt(rho_km * rho_km + z_km * z_km);
+        // The point in its meridian plane (longitude 0): (ρ, 0, z), so that the horizontal axes
+        // follow the given longitude even at the poles.
+        let meridian_km = frames::geodetic_to_ecef(&Geodetic {
+            lat_rad,
+            lon_rad: 0.0,
+            alt_km,
+        });
+        let r_km = fmath::sqrt(meridian_km.x * meridian_km.x + meridian_km.z * meridian_km.z);
         if r_km.is_nan() || r_km < MIN_RADIUS_KM {
             return Err(IgrfError::BelowSurface { radius_km: r_km });
         }
-        // Geocentric colatitude θ: sin θ = ρ/r, cos θ = z/r (ρ ≥ 0 since |lat| ≤ π/2).
-        let sin_t = fmath::abs(rho_km) / r_km;
-        let cos_t = z_km / r_km;
+        // Geocentric colatitude θ: sin θ = ρ/r, cos θ = z/r.
+        let sin_t = meridian_km.x / r_km;
+        let cos_t = meridian_km.z / r_km;
         let (sin_p, cos_p) = fmath::sincos(lon_rad);
         let b = self.synthesize(r_km, cos_t, sin_t, cos_p, sin_p)?;
+        let (sin_lat, cos_lat) = fmath::sincos(lat_rad);
         // ψ = lat − (π/2 − θ):  sin ψ = sin lat sin θ − cos lat cos θ,
         //                       cos ψ = cos lat sin θ + sin lat cos θ.
         let sin_psi = sin_lat * sin_t - cos_lat * cos_t;
@@ -459,16 +457,9 @@ impl Igrf {
     /// Errors: [`IgrfError::NotFinite`], [`IgrfError::BelowSurface`].
     pub fn teme(&self, r_teme_km: &Vec3, gmst_rad: f32) -> Result<Vec3, IgrfError> {
         finite("gmst_rad", gmst_rad)?;
-        let (s, c) = fmath::sincos(gmst_rad);
-        // r_ecef = R3(GMST) r_teme.
-        let r_ecef_km = Vec3::new(
-            c * r_teme_km.x + s * r_teme_km.y,
-            -s * r_teme_km.x + c * r_teme_km.y,
-            r_teme_km.z,
-        );
-        let b = self.earth_fixed(&r_ecef_km)?;
-        // b_teme = R3(−GMST) b_ecef.
-        Ok(Vec3::new(c * b.x - s * b.y, s * b.x + c * b.y, b.z))
+        let r_ecef_km = frames::teme_to_ecef_position(r_teme_km, gmst_rad);
+        let b_ecef_nt = self.earth_fixed(&r_ecef_km)?;
+        Ok(frames::ecef_to_teme_position(&b_ecef_nt, gmst_rad))
     }
 
     /// The synthesis: field at radius `r_km`, colatitude θ and longitude φ given by their
@@ -578,7 +569,10 @@ impl Igrf {
     }
 }
 
-/// The local spherical basis (r̂, θ̂ south, φ̂ east) at an Earth-fixed position.
+/// The local spherical basis (r̂, θ̂ south, φ̂ east) at an Earth-fixed position, from the
+/// position's direction cosines. [`crate::frames`] has the same conversion from angles
+/// (`spherical_to_cartesian_components`); this private one needs no trigonometric call, which
+/// on the MSP430 saves four of them per field evaluation.
 struct SphericalBasis {
     r_km: f32,
     cos_t: f32,
