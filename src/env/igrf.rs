@@ -357,6 +357,17 @@ impl Igrf {
         }
     }
 
+    /// The interpolated degree-1 Gauss coefficients `(g₁⁰, g₁¹, h₁¹)`, nT: the tilted dipole
+    /// ([`crate::env::dipole::Dipole::from_igrf`]).
+    pub fn degree_one_nt(&self) -> (f32, f32, f32) {
+        let at = |i: usize| match (self.start.get(i), self.end.get(i)) {
+            (Some(g0), Some(g1)) => g0 + self.fraction * (g1 - g0),
+            _ => 0.0,
+        };
+        // Column order: g_1^0 is first, (g_1^1, h_1^1) follow the N_MAX zonal terms.
+        (at(0), at(N_MAX), at(N_MAX + 1))
+    }
+
     /// The degree of this evaluation.
     pub fn degree(&self) -> Degree {
         self.degree
