@@ -512,3 +512,121 @@ fn epoch_constructor_and_gmst() {
         Err(IgrfError::DateOutOfRange { .. })
     ));
 }
+
+/// `acs igrf` end to end on the reference points (both input forms), and its exit codes.
+#[cfg(feature = "host")]
+#[test]
+fn cli_reproduces_the_reference_points() {
+    use std::io::Write;
+    use std::process::{Command, Stdio};
+
+    fn run(args: &[&str], input: &str) -> (i32, String, String) {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_acs"))
+            .arg("igrf")
+            .args(args)
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        child
+            .stdin
+            .take()
+            .unwrap()
+            .write_all(input.as_bytes())
+            .unwrap();
+        let out = child.wait_with_output().unwrap();
+        (
+            out.status.code().unwrap(),
+            String::from_utf8(out.stdout).unwrap(),
+            String::from_utf8(out.stderr).unwrap(),
+        )
+    }
+
+    let points = reference_points();
+    let geodetic: String = std::iter::once("decimal_year,lat_deg,lon_deg,alt_km\n".to_string())
+        .chain(
+            points
+                .iter()
+                .map(|p| format!("{},{},{},{}\n", p.year, p.lat_deg, p.lon_deg, p.alt_km)),
+        )
+        .collect();
+    let geocentric: String = points
+        .iter()
+        .map(|p| format!("{},{},{},{}\n", p.year, p.r_km, p.colat_deg, p.lon_deg))
+        .collect();
+    for (args, input, header, pick) in [
+        (
+            &[][..],
+            &geodetic,
+            "north_nt,east_nt,down_nt",
+            (|p: &Point| p.ned) as fn(&Point) -> [f64; 3],
+        ),
+        (
+            &["--geocentric"][..],
+            &geocentric,
+            "br_nt,btheta_nt,bphi_nt",
+            |p: &Point| p.sph,
+        ),
+    ] {
+        let (code, out, err) = run(args, input);
+        assert_eq!(code, 0, "{err}");
+        let mut lines = out.lines();
+        assert_eq!(lines.next(), Some(header));
+        let mut max = 0.0_f64;
+        let mut n = 0;
+        for (line, p) in lines.zip(&points) {
+            let got: Vec<f64> = line.split(',').map(|s| s.parse().unwrap()).collect();
+            for (g, w) in got.iter().zip(pick(p)) {
+                max = max.max((g - w).abs());
+            }
+            // At least 9 significant digits.
+            for cell in line.split(',') {
+                let digits = cell.chars().filter(char::is_ascii_digit).count();
+                assert!(digits >= 9, "{cell}");
+            }
+            n += 1;
+        }
+        assert_eq!(n, points.len());
+        println!("acs igrf {args:?}: {n} rows, max error {max:.4} nT");
+        assert!(max < 1.0);
+    }
+
+    // Degree option, bad input (exit 2, line and field named), date out of range (exit 3).
+    let (code, out, _) = run(
+        &["--geocentric", "--degree", "8"],
+        "# c\n\n2020,7000,90,1\n",
+    );
+    assert_eq!(code, 0);
+    assert_eq!(out.lines().count(), 2);
+    for (args, input, code_want, needle) in [
+        (
+            &[][..],
+            "2020,41,1,1\n2020,41,x,1\n",
+            2,
+            "line 2, field lon_deg",
+        ),
+        (&[][..], "2020,41,1\n", 2, "line 1"),
+        (&[][..], "2020,95,1,1\n", 2, "field lat_deg"),
+        (&["--geocentric"][..], "2020,6000,1,1\n", 2, "field r_km"),
+        (
+            &["--geocentric"][..],
+            "2020,7000,-1,1\n",
+            2,
+            "field colat_deg",
+        ),
+        (&[][..], "2020,1,1,nan\n", 2, "field alt_km"),
+        (&["--degree", "0"][..], "2020,1,1,1\n", 2, "degree"),
+        (
+            &[][..],
+            "2020,1,1,1\n2031,1,1,1\n",
+            3,
+            "line 2, field decimal_year",
+        ),
+        (&[][..], "1899.5,1,1,1\n", 3, "outside"),
+    ] {
+        let (code, _, err) = run(args, input);
+        assert_eq!(code, code_want, "{input}: {err}");
+        assert!(err.contains(needle), "{input}: {err}");
+    }
+}
