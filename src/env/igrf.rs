@@ -489,12 +489,10 @@ impl Igrf {
         let degree = usize::from(self.degree.get());
         let ratio = REFERENCE_RADIUS_KM / r_km;
         let f = self.fraction;
-        // g(t) = g_start + f (g_end − g_start), walked in the tables' column order.
-        let mut coeffs = self
-            .start
-            .iter()
-            .zip(self.end.iter())
-            .map(|(g0, g1)| g0 + f * (g1 - g0));
+        // (g_start, g_end) pairs walked in the tables' column order; interpolated only for the
+        // terms used: g(t) = g_start + f (g_end − g_start).
+        let mut coeffs = self.start.iter().zip(self.end.iter());
+        let lerp = |(g0, g1): (&f32, &f32)| g0 + f * (g1 - g0);
         let mut consts = RECURSION.iter();
 
         let mut br = 0.0_f32;
@@ -512,6 +510,7 @@ impl Igrf {
             if n > degree {
                 continue; // keep the iterators in step with the tables
             }
+            let g = lerp(g);
             rho *= ratio;
             // P_n = a cos θ P_{n−1} − b P_{n−2};  dP_n = a (cos θ dP_{n−1} − sin θ P_{n−1}) − b dP_{n−2}
             let p = a * cos_t * p1 - b * p2;
@@ -547,6 +546,7 @@ impl Igrf {
                 if n > degree {
                     continue;
                 }
+                let (g, h) = (lerp(g), lerp(h));
                 let (q, dp) = if n == m {
                     // Q_m^m = c_m P_{m−1}^{m−1};  dP_m^m = c_m (cos θ P_{m−1}^{m−1} + sin θ dP_{m−1}^{m−1})
                     let q = a * p_diag;

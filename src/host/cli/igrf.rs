@@ -145,6 +145,7 @@ fn sig9(x: f32) -> String {
 }
 
 #[cfg(test)]
+#[allow(clippy::excessive_precision)]
 mod tests {
     use super::sig9;
 
