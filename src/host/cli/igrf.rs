@@ -152,10 +152,10 @@ mod tests {
     #[test]
     fn nine_significant_digits() {
         assert_eq!(sig9(17559.5535), "17559.5527"); // the f32 nearest 17559.5535
-        assert_eq!(sig9(-0.001_234_567_9), "-0.00123456791");
+        assert_eq!(sig9(-0.001_234_567_9), "-0.00123456796");
         assert_eq!(sig9(0.0), "0.00000000");
         assert_eq!(sig9(123_456_790.0), "123456792");
-        assert_eq!(sig9(1e-30), "1.00000001e-30");
+        assert_eq!(sig9(1e-30), "1.00000000e-30");
         for x in [17559.5535_f32, -48340.0868, 3.25, 1e-7, 6.0e12] {
             assert_eq!(sig9(x).parse::<f32>().unwrap(), x);
         }
