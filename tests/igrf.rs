@@ -529,12 +529,9 @@ fn cli_reproduces_the_reference_points() {
             .stderr(Stdio::piped())
             .spawn()
             .unwrap();
-        child
-            .stdin
-            .take()
-            .unwrap()
-            .write_all(input.as_bytes())
-            .unwrap();
+        // The tool may exit before reading everything (bad arguments): a broken pipe here is
+        // part of the behaviour under test, not a failure.
+        let _ = child.stdin.take().unwrap().write_all(input.as_bytes());
         let out = child.wait_with_output().unwrap();
         (
             out.status.code().unwrap(),
