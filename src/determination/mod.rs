@@ -132,8 +132,26 @@ pub struct Observation {
     pub weight: f32,
 }
 
+#[cfg(feature = "defmt")]
+impl defmt::Format for Observation {
+    fn format(&self, f: defmt::Formatter) {
+        defmt::write!(
+            f,
+            "Observation[body ({},{},{}), ref ({},{},{}), w {}]",
+            self.body.x,
+            self.body.y,
+            self.body.z,
+            self.reference.x,
+            self.reference.y,
+            self.reference.z,
+            self.weight
+        )
+    }
+}
+
 /// An attitude solution, `v_body = A · v_ref` (see [`crate::attitude`]).
 #[derive(Copy, Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Solution {
     /// The attitude matrix, a proper rotation (det = +1 to f32 rounding).
     pub dcm: Dcm,
