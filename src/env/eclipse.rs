@@ -138,24 +138,68 @@ fn check_direction(v: &Vec3) -> Result<Vec3, EclipseError> {
 /// `sun_direction` is the geocentric Sun direction (any length > 0, same frame as `r_teme_km`).
 ///
 /// # Errors
-/// [`EclipseError`] for non-finite input, a zero Sun vector or a position inside the Earth.
+/// [`EclipseError`] for non-finite input, a zero Sun vector or a position inside the Earth or
+/// beyond [`MAX_RANGE_KM`].
 pub fn cylindrical(r_teme_km: &Vec3, sun_direction: &Vec3) -> Result<bool, EclipseError> {
-    check_position(r_teme_km)?;
+    Ok(cylindrical_margin_km(r_teme_km, sun_direction)? < 0.0)
+}
+
+/// The signed distance (km) from the spacecraft to the surface of the shadow cylinder:
+/// `|r × ŝ| − R⊕` behind the Earth (`r·ŝ < 0`), `|r| − R⊕` in front of it; negative in shadow,
+/// continuous in time, zero at shadow entry and exit (for event search by bisection).
+///
+/// # Errors
+/// As [`cylindrical`].
+pub fn cylindrical_margin_km(r_teme_km: &Vec3, sun_direction: &Vec3) -> Result<f32, EclipseError> {
+    let r = check_position(r_teme_km)?;
     let s_hat = check_direction(sun_direction)?;
     // Seed 003: Sw = acos(−r̂·ŝ) < 90° and SD = |r| sin Sw < R.
     let along = r_teme_km.dot(&s_hat);
-    let off_axis_km = r_teme_km.cross(&s_hat).norm();
-    Ok(along < 0.0 && off_axis_km < EARTH_RADIUS_KM)
+    let off_axis_km = if along < 0.0 {
+        r_teme_km.cross(&s_hat).norm()
+    } else {
+        r
+    };
+    Ok(off_axis_km - EARTH_RADIUS_KM)
 }
 
-/// The conical umbra/penumbra model: the visible fraction of the solar disc and the region.
+/// The angles of the conical model (M&G eq. 3.85–3.86), all in radians, as seen from the
+/// spacecraft.
+///
+/// Its margins are smooth functions of time whose zeros are the shadow boundaries, for event
+/// search by bisection: [`ConeGeometry::penumbra_margin`] (negative inside the penumbra or the
+/// umbra) and [`ConeGeometry::umbra_margin`] (negative inside the umbra).
+#[derive(Copy, Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct ConeGeometry {
+    /// Apparent radius of the Sun, `a = asin(R☉/|s − r|)`.
+    pub sun_radius_rad: f32,
+    /// Apparent radius of the Earth, `b = asin(R⊕/|r|)`.
+    pub earth_radius_rad: f32,
+    /// Angle between the centres of the two discs, `c = ∠(−r, s − r)`.
+    pub separation_rad: f32,
+}
+
+impl ConeGeometry {
+    /// `c − (a + b)`: positive in full sun, zero at penumbra entry/exit.
+    pub fn penumbra_margin(&self) -> f32 {
+        self.separation_rad - (self.sun_radius_rad + self.earth_radius_rad)
+    }
+
+    /// `c − (b − a)`: negative in the umbra, zero at umbra entry/exit.
+    pub fn umbra_margin(&self) -> f32 {
+        self.separation_rad - (self.earth_radius_rad - self.sun_radius_rad)
+    }
+}
+
+/// The apparent radii of the Sun and the Earth and their separation seen from the spacecraft.
 ///
 /// `sun` is the geocentric Sun (direction and distance, same frame as `r_teme_km`).
 ///
 /// # Errors
 /// [`EclipseError`] for non-finite input, a zero Sun vector or distance, or a position inside
-/// the Earth.
-pub fn conical(r_teme_km: &Vec3, sun: &Sun) -> Result<Illumination, EclipseError> {
+/// the Earth or beyond [`MAX_RANGE_KM`].
+pub fn cone_geometry(r_teme_km: &Vec3, sun: &Sun) -> Result<ConeGeometry, EclipseError> {
     let r = check_position(r_teme_km)?;
     let s_hat = check_direction(&sun.direction)?;
     if !sun.distance_au.is_finite() {
@@ -174,7 +218,22 @@ pub fn conical(r_teme_km: &Vec3, sun: &Sun) -> Result<Illumination, EclipseError
     let b = fmath::asin((EARTH_RADIUS_KM / r).min(1.0));
     // c = ∠(−r, s − r), from atan2 for accuracy near 0 and π.
     let c = fmath::atan2(to_earth.cross(&to_sun).norm(), to_earth.dot(&to_sun));
+    Ok(ConeGeometry {
+        sun_radius_rad: a,
+        earth_radius_rad: b,
+        separation_rad: c,
+    })
+}
 
+/// The conical umbra/penumbra model: the visible fraction of the solar disc and the region.
+///
+/// `sun` is the geocentric Sun (direction and distance, same frame as `r_teme_km`).
+///
+/// # Errors
+/// As [`cone_geometry`].
+pub fn conical(r_teme_km: &Vec3, sun: &Sun) -> Result<Illumination, EclipseError> {
+    let g = cone_geometry(r_teme_km, sun)?;
+    let (a, b, c) = (g.sun_radius_rad, g.earth_radius_rad, g.separation_rad);
     let sunlit = Illumination {
         fraction: 1.0,
         shadow: Shadow::Sunlit,

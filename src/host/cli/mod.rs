@@ -11,6 +11,7 @@ use clap::{Parser, Subcommand};
 
 mod attitude;
 mod demo;
+mod eclipses;
 mod igrf;
 mod propagate;
 mod sim;
@@ -61,6 +62,8 @@ enum Command {
     Propagate(propagate::Args),
     /// Sun direction for UTC timestamps read from stdin (CSV on stdout).
     Sun(sun::Args),
+    /// Eclipse report of a TLE over a time span: eclipses, sunlit fraction per orbit (CSV).
+    Eclipses(eclipses::Args),
     /// IGRF-14 field for points read from stdin (CSV on stdout).
     Igrf(igrf::Args),
     /// Optimal attitude from vector pairs read as JSON from stdin.
@@ -88,6 +91,7 @@ pub fn main() -> ExitCode {
     let result = match cli.command {
         Command::Propagate(a) => propagate::run(&a),
         Command::Sun(a) => sun::run(&a),
+        Command::Eclipses(a) => eclipses::run(&a),
         Command::Igrf(a) => igrf::run(&a),
         Command::Attitude(a) => attitude::run(&a),
         Command::Demo(a) => demo::run(&a),
