@@ -787,3 +787,79 @@ fn thesis_solver_two_rows() {
         assert!(e < 2e-6, "tile {lit}: {e:e}");
     }
 }
+
+/// `acs attitude` end to end (`../shared/cli.md`): JSON in, JSON out, exit 2 for malformed
+/// input or mismatched lengths, 3 for degenerate geometry, ≥ 9 significant digits.
+#[cfg(feature = "host")]
+#[test]
+fn cli_attitude() {
+    use std::io::Write;
+    use std::process::{Command, Stdio};
+    let run = |input: &str, method: &str| {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_acs"))
+            .args(["attitude", "--method", method])
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        // The tool may exit before reading everything: ignore a broken pipe.
+        let _ = child.stdin.take().unwrap().write_all(input.as_bytes());
+        let out = child.wait_with_output().unwrap();
+        (
+            out.status.code().unwrap(),
+            String::from_utf8(out.stdout).unwrap(),
+            String::from_utf8(out.stderr).unwrap(),
+        )
+    };
+    let good = "# comment\n\n{\"body\": [[0,1,0],[0,0,1],[1,0,0]],\n \"reference\": [[1,0,0],[0,1,0],[0,0,1]],\n \"weights\": [1, 2, 3]}\n";
+    for method in ["svd", "quest", "triad"] {
+        let (code, out, err) = run(good, method);
+        assert_eq!(code, 0, "{method}: {err}");
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        let dcm: Vec<Vec<f64>> = serde_json::from_value(v["dcm"].clone()).unwrap();
+        let q: Vec<f64> = serde_json::from_value(v["quaternion"].clone()).unwrap();
+        let expected = [[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        for (r, e) in dcm.iter().zip(expected.iter()) {
+            for (x, y) in r.iter().zip(e.iter()) {
+                assert!((x - y).abs() < 1e-6, "{method}: {out}");
+            }
+        }
+        assert_eq!(q.len(), 4);
+        // ≥ 9 significant digits: every number is printed as d.ddddddddde±x.
+        for num in out.split(|c: char| c == '[' || c == ']' || c == ',' || c == ' ') {
+            if num.trim().parse::<f64>().is_err() {
+                continue;
+            }
+            if let Some((mantissa, _)) = num.trim().split_once('e') {
+                let digits = mantissa.chars().filter(|c| c.is_ascii_digit()).count();
+                assert!(digits >= 9, "{num}");
+            }
+        }
+    }
+    for (input, code) in [
+        ("{\"body\": [[1,0,0]", 2),
+        (
+            "{\"body\": [[1,0,0],[0,1,0]], \"reference\": [[1,0,0]], \"weights\": [1,1]}",
+            2,
+        ),
+        (
+            "{\"body\": [[1,0,0],[0,1,0]], \"reference\": [[1,0,0],[0,1,0]], \"weights\": [1]}",
+            2,
+        ),
+        (
+            "{\"body\": [[1,0,0]], \"reference\": [[0,1,0]], \"weights\": [1]}",
+            3,
+        ),
+        (
+            "{\"body\": [[1,0,0],[-1,0,0]], \"reference\": [[0,1,0],[0,-1,0]], \"weights\": [1,1]}",
+            3,
+        ),
+    ] {
+        for method in ["svd", "quest", "triad"] {
+            let (c, _, err) = run(input, method);
+            assert_eq!(c, code, "{method} {input}: {err}");
+            assert!(!err.is_empty());
+        }
+    }
+}
