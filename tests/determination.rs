@@ -827,7 +827,7 @@ fn cli_attitude() {
         }
         assert_eq!(q.len(), 4);
         // ≥ 9 significant digits: every number is printed as d.ddddddddde±x.
-        for num in out.split(|c: char| c == '[' || c == ']' || c == ',' || c == ' ') {
+        for num in out.split(['[', ']', ',', ' ']) {
             if num.trim().parse::<f64>().is_err() {
                 continue;
             }
