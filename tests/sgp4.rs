@@ -43,19 +43,30 @@ type Row = (f64, [f64; 3], [f64; 3]);
 
 struct StkFile {
     scenario_epoch: String,
+    coordinate_system: String,
+    number_of_points: usize,
     /// (seconds, r m, v m/s)
     rows: Vec<Row>,
 }
 
 fn read_stk(path: &std::path::Path) -> StkFile {
-    let text = std::fs::read_to_string(path).unwrap();
+    parse_stk(&std::fs::read_to_string(path).unwrap())
+}
+
+fn parse_stk(text: &str) -> StkFile {
     let mut scenario_epoch = String::new();
+    let mut coordinate_system = String::new();
+    let mut number_of_points = 0;
     let mut rows = Vec::new();
     let mut in_data = false;
     for l in text.lines() {
         let l = l.trim();
         if let Some(e) = l.strip_prefix("ScenarioEpoch") {
             scenario_epoch = e.trim().to_string();
+        } else if let Some(c) = l.strip_prefix("CoordinateSystem") {
+            coordinate_system = c.trim().to_string();
+        } else if let Some(n) = l.strip_prefix("NumberOfEphemerisPoints") {
+            number_of_points = n.trim().parse().unwrap();
         } else if l == "EphemerisTimePosVel" {
             in_data = true;
         } else if l.starts_with("END") {
@@ -67,6 +78,8 @@ fn read_stk(path: &std::path::Path) -> StkFile {
     }
     StkFile {
         scenario_epoch,
+        coordinate_system,
+        number_of_points,
         rows,
     }
 }
@@ -320,15 +333,39 @@ fn dtusat_seven_days() {
     ] {
         let stk = read_stk(&sgp4_ref(file));
         let sgp4 = Sgp4::new(&tle, gravity).unwrap();
+        let naive = naive::Naive::with_gravity(&tle, gravity == Gravity::Wgs84);
+        // what an f32 initialisation would cost at least: the elements rounded to f32 before the
+        // (f64) initialisation, the propagation unchanged
+        let mut tle32 = tle.clone();
+        for x in [
+            &mut tle32.mean_motion_rev_per_day,
+            &mut tle32.eccentricity,
+            &mut tle32.inclination_deg,
+            &mut tle32.raan_deg,
+            &mut tle32.arg_perigee_deg,
+            &mut tle32.mean_anomaly_deg,
+            &mut tle32.bstar,
+        ] {
+            *x = f64::from(*x as f32);
+        }
+        let f32_elements = Sgp4::new(&tle32, gravity).unwrap();
         let mut st = Stats::default();
+        let mut st_naive = Stats::default();
+        let mut st_f32_elements = Stats::default();
         for (t, r, v) in &stk.rows {
             let (r1, v1) = ours(&sgp4, t / 60.0).unwrap();
-            st.add(
-                dist(r1, r.map(|x| x * 1e-3)) * 1e3,
-                dist(v1, v.map(|x| x * 1e-3)) * 1e6,
-            );
+            let r = r.map(|x| x * 1e-3);
+            let v = v.map(|x| x * 1e-3);
+            st.add(dist(r1, r) * 1e3, dist(v1, v) * 1e6);
+            if let Some((r2, v2)) = naive.propagate((t / 60.0) as f32) {
+                st_naive.add(dist(r2, r) * 1e3, dist(v2, v) * 1e6);
+            }
+            let (r3, v3) = ours(&f32_elements, t / 60.0).unwrap();
+            st_f32_elements.add(dist(r3, r) * 1e3, dist(v3, v) * 1e6);
         }
         println!("{}", st.line(file));
+        println!("{}", st_naive.line(&format!("{file} plain f32")));
+        println!("{}", st_f32_elements.line(&format!("{file} f32 elements")));
         assert!(stk.rows.last().unwrap().0 >= 7.0 * 86_400.0);
         assert!(st.max_r_m <= 100.0, "{file}: {} m", st.max_r_m);
         println!("  ScenarioEpoch {}", stk.scenario_epoch);
@@ -474,6 +511,185 @@ fn never_panics_and_errors_are_typed() {
 }
 
 // ---------------------------------------------------------------------------------------------
+// `acs propagate` end to end (../shared/cli.md)
+
+fn acs_propagate(args: &[&str]) -> (Option<i32>, String, String) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_acs"))
+        .arg("propagate")
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.code(),
+        String::from_utf8(out.stdout).unwrap(),
+        String::from_utf8(out.stderr).unwrap(),
+    )
+}
+
+#[test]
+fn cli_propagate_dtusat_week_teme_and_j2000() {
+    let tle = sgp4_ref("dtusat.tle");
+    let tle = tle.to_str().unwrap();
+    for (gravity, frame, file) in [
+        ("wgs84", "teme", "dtusat_wgs84_teme.e"),
+        ("wgs72", "teme", "dtusat_wgs72_teme.e"),
+        ("wgs84", "j2000", "dtusat_wgs84_j2000.e"),
+        ("wgs72", "j2000", "dtusat_wgs72_j2000.e"),
+    ] {
+        let (code, stdout, stderr) = acs_propagate(&[
+            "--tle",
+            tle,
+            "--start",
+            "0",
+            "--stop",
+            "10080",
+            "--step",
+            "1",
+            "--gravity",
+            gravity,
+            "--frame",
+            frame,
+        ]);
+        assert_eq!(code, Some(0), "{stderr}");
+        let ours = parse_stk(&stdout);
+        let reference = read_stk(&sgp4_ref(file));
+        assert_eq!(ours.number_of_points, ours.rows.len());
+        assert_eq!(ours.rows.len(), reference.rows.len());
+        assert_eq!(ours.coordinate_system, reference.coordinate_system);
+        // the TLE epoch 2009-06-15 04:56:45.714624 UTC (166.20608466 days exactly)
+        assert_eq!(ours.scenario_epoch, "15 Jun 2009 04:56:45.714624");
+        let mut st = Stats::default();
+        for ((t, r, v), (tr, rr, vr)) in ours.rows.iter().zip(&reference.rows) {
+            assert_eq!(t, tr);
+            st.add(dist(*r, *rr), dist(*v, *vr) * 1e3);
+        }
+        println!("{}", st.line(&format!("acs propagate {gravity} {frame}")));
+        assert!(st.max_r_m <= 100.0, "{file}: {} m", st.max_r_m);
+    }
+}
+
+#[test]
+fn cli_propagate_exit_codes() {
+    let dir = std::env::temp_dir().join(format!("acs-sgp4-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let write = |name: &str, text: &str| {
+        let p = dir.join(name);
+        std::fs::write(&p, text).unwrap();
+        p.to_str().unwrap().to_string()
+    };
+    // MINOTAUR R/B (SGP4-VER.TLE): decays between 50 and 55 min
+    let decays = write(
+        "decay.tle",
+        "1 28872U 05037B   05333.02012661  .25992681  00000-0  24476-3 0  1534\n\
+         2 28872  96.4736 157.9986 0303955 244.0492 110.6523 16.46015938 10708\n",
+    );
+    let (code, stdout, stderr) = acs_propagate(&[
+        "--tle", &decays, "--start", "0", "--stop", "60", "--step", "5",
+    ]);
+    assert_eq!(code, Some(3), "{stderr}");
+    let stk = parse_stk(&stdout);
+    assert_eq!(stk.rows.len(), 11, "rows 0..=50 min before the decay");
+    assert_eq!(stk.number_of_points, 11);
+    assert!(stderr.contains("decayed"), "{stderr}");
+    // deep space (MOLNIYA 2-14): refused, exit 3
+    let deep = write(
+        "deep.tle",
+        "MOLNIYA 2-14\n1 08195U 75081A   06176.33215444  .00000099  00000-0  11873-3 0   813\n\
+         2 08195  64.1586 279.0717 6877146 264.7651  20.2257  2.00491383225656\n",
+    );
+    let (code, _, stderr) = acs_propagate(&[
+        "--tle", &deep, "--start", "0", "--stop", "60", "--step", "5",
+    ]);
+    assert_eq!(code, Some(3), "{stderr}");
+    assert!(stderr.contains("deep-space"), "{stderr}");
+    // malformed TLE (bad checksum), missing file, bad times: exit 2
+    let bad = write(
+        "bad.tle",
+        "1 28872U 05037B   05333.02012661  .25992681  00000-0  24476-3 0  1535\n\
+         2 28872  96.4736 157.9986 0303955 244.0492 110.6523 16.46015938 10708\n",
+    );
+    for args in [
+        vec![
+            "--tle",
+            bad.as_str(),
+            "--start",
+            "0",
+            "--stop",
+            "60",
+            "--step",
+            "5",
+        ],
+        vec![
+            "--tle",
+            "/nonexistent/x.tle",
+            "--start",
+            "0",
+            "--stop",
+            "60",
+            "--step",
+            "5",
+        ],
+        vec![
+            "--tle",
+            decays.as_str(),
+            "--start",
+            "0",
+            "--stop",
+            "60",
+            "--step",
+            "0",
+        ],
+        vec![
+            "--tle",
+            decays.as_str(),
+            "--start",
+            "10",
+            "--stop",
+            "0",
+            "--step",
+            "1",
+        ],
+        vec![
+            "--tle",
+            decays.as_str(),
+            "--start",
+            "NaN",
+            "--stop",
+            "0",
+            "--step",
+            "1",
+        ],
+        vec![
+            "--tle",
+            decays.as_str(),
+            "--start",
+            "0",
+            "--stop",
+            "1e12",
+            "--step",
+            "1e5",
+        ],
+        vec![
+            "--tle",
+            decays.as_str(),
+            "--start",
+            "0",
+            "--stop",
+            "60",
+            "--step",
+            "5",
+            "--frame",
+            "itrf",
+        ],
+    ] {
+        let (code, _, stderr) = acs_propagate(&args);
+        assert_eq!(code, Some(2), "{args:?}: {stderr}");
+        assert!(!stderr.contains("panicked"), "{stderr}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+// ---------------------------------------------------------------------------------------------
 // A plain f32 port of the same code (the thesis's choice: every double made float, f32 tsince,
 // f32 initialisation), to measure what the precision discipline gains.
 
@@ -489,13 +705,28 @@ mod naive {
 
     impl Naive {
         pub fn new(tle: &Tle) -> Self {
-            // WGS-72
-            let mu: f32 = 398600.8;
-            let re: f32 = 6378.135;
+            Self::with_gravity(tle, false)
+        }
+
+        pub fn with_gravity(tle: &Tle, wgs84: bool) -> Self {
+            let (mu, re, j2, j3, j4): (f32, f32, f32, f32, f32) = if wgs84 {
+                (
+                    398600.5,
+                    6378.137,
+                    0.00108262998905,
+                    -0.00000253215306,
+                    -0.00000161098761,
+                )
+            } else {
+                (
+                    398600.8,
+                    6378.135,
+                    0.001082616,
+                    -0.00000253881,
+                    -0.00000165597,
+                )
+            };
             let xke = 60.0 / (re * re * re / mu).sqrt();
-            let j2: f32 = 0.001082616;
-            let j3: f32 = -0.00000253881;
-            let j4: f32 = -0.00000165597;
             let j3oj2 = j3 / j2;
             let d = std::f32::consts::PI / 180.0;
             let xpdotp = 1440.0 / TWOPI;
