@@ -708,6 +708,8 @@ mod naive {
             Self::with_gravity(tle, false)
         }
 
+        // Vallado's constants, rounded to f32 as the thesis's port does
+        #[allow(clippy::excessive_precision)]
         pub fn with_gravity(tle: &Tle, wgs84: bool) -> Self {
             let (mu, re, j2, j3, j4): (f32, f32, f32, f32, f32) = if wgs84 {
                 (
