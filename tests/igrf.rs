@@ -8,14 +8,8 @@ use std::path::PathBuf;
 use acs::env::igrf::{Degree, Igrf, IgrfError, FULL, MIN_RADIUS_KM, RECENT};
 use acs::linalg::Vec3;
 
-fn shared_dir() -> PathBuf {
-    let beside = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared");
-    if beside.is_dir() {
-        beside
-    } else {
-        PathBuf::from("/work/shared")
-    }
-}
+mod common;
+use common::shared_dir;
 
 /// One row of `ref/igrf/igrf14_points.csv` (ppigrf, f64, degree 13).
 struct Point {

@@ -46,10 +46,17 @@ pub const SEED_002_MOMENT_NT_KM3: f32 = 7.96e15;
 
 /// A centred dipole field, Earth-fixed.
 #[derive(Debug, Clone, Copy, PartialEq)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Dipole {
     /// The moment m (μ₀/4π included), Earth-fixed, nT·km³.
     moment_nt_km3: Vec3,
+}
+
+#[cfg(feature = "defmt")]
+impl defmt::Format for Dipole {
+    fn format(&self, f: defmt::Formatter) {
+        let m = &self.moment_nt_km3;
+        defmt::write!(f, "Dipole {{ moment_nt_km3: [{}, {}, {}] }}", m.x, m.y, m.z);
+    }
 }
 
 impl Dipole {
