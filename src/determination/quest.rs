@@ -31,6 +31,10 @@
 //! | `K` | rows `k0..k3` |
 //! | `a, b, c, d` of eq. 71 | `ca, cb, cc, cd` |
 //!
+//! [`solve`] adds one Gauss–Newton step on Wahba's loss ([`super::refine`]), which removes
+//! the f32 rounding of the characteristic polynomial and of the adjugate; [`solve_raw`] is
+//! QUEST alone.
+//!
 //! # Validity and accuracy
 //! Needs two non-parallel directions: the longest adjugate column, which equals
 //! `|q_k|·Π_{j≠max}(λ_max − λ_j)` (≥ half the product of the eigenvalue gaps), must be at least
@@ -142,9 +146,10 @@ fn lambda_max(b: &Mat3) -> f32 {
     lambda
 }
 
-/// The optimal attitude for `observations` (at least 2, not all parallel) by QUEST, with its
-/// loss. Convention: [`crate::attitude`].
-pub fn solve(observations: &[Observation]) -> Result<Solution, DeterminationError> {
+/// The optimal attitude for `observations` (at least 2, not all parallel) by QUEST alone
+/// (Shuster and Oh's algorithm as described above), with its loss. Convention:
+/// [`crate::attitude`].
+pub fn solve_raw(observations: &[Observation]) -> Result<Solution, DeterminationError> {
     let b = attitude_profile(observations, 2)?;
     let k = davenport(&b);
     let lambda = lambda_max(&b);
@@ -159,7 +164,13 @@ pub fn solve(observations: &[Observation]) -> Result<Solution, DeterminationErro
     let kq = Vector4::new(k0.dot(&q), k1.dot(&q), k2.dot(&q), k3.dot(&q));
     let v = eigenvector(&k, q.dot(&kq));
     let quaternion = Quaternion::new_normalize(v.x, v.y, v.z, v.w)
-        .ok_or(DeterminationError::Parallel { measure: 0.0 })?
-        .canonical();
-    Ok(solution(quaternion.to_dcm(), observations))
+        .ok_or(DeterminationError::Parallel { measure: 0.0 })?;
+    Ok(solution(quaternion.canonical().to_dcm(), observations))
+}
+
+/// [`solve_raw`] followed by one Gauss–Newton refinement ([`super::refine`]): the flight
+/// solver. Convention: [`crate::attitude`].
+pub fn solve(observations: &[Observation]) -> Result<Solution, DeterminationError> {
+    let raw = solve_raw(observations)?;
+    Ok(super::refine(&raw, observations))
 }

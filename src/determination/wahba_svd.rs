@@ -18,6 +18,10 @@
 //! | `B` | `attitude_profile` (weights normalised to Σaᵢ = 1) |
 //! | `S = diag(s₁, s₂, s₃)` | singular values of `B` |
 //!
+//! [`solve`] adds one Gauss–Newton step on Wahba's loss ([`super::refine`]): forming `B` in
+//! f32 rounds away information that the step recovers from the vectors themselves;
+//! [`solve_raw`] is Markley's method alone.
+//!
 //! # Validity and accuracy
 //! Needs two non-parallel directions: `s₂/s₁ ≥` [`MIN_SINGULAR_RATIO`] (for two unit vectors
 //! of equal weight at angle θ, `s₂/s₁ = (1 − cos θ)/(1 + cos θ) ≈ θ²/4`, so the threshold
@@ -48,9 +52,17 @@ use crate::linalg::svd::{nearest_rotation, SvdError};
 /// Smallest `s₂/s₁` of the attitude profile matrix accepted (see the module docs).
 pub const MIN_SINGULAR_RATIO: f32 = 1.0e-4;
 
-/// The optimal attitude for `observations` (at least 2, not all parallel): the solution of
-/// Wahba's problem by SVD, with its loss. Convention: [`crate::attitude`].
+/// [`solve_raw`] followed by one Gauss–Newton refinement ([`super::refine`]): the flight
+/// solver. Convention: [`crate::attitude`].
 pub fn solve(observations: &[Observation]) -> Result<Solution, DeterminationError> {
+    let raw = solve_raw(observations)?;
+    Ok(super::refine(&raw, observations))
+}
+
+/// The optimal attitude for `observations` (at least 2, not all parallel): the solution of
+/// Wahba's problem by SVD alone (Markley 1988), with its loss. Convention:
+/// [`crate::attitude`].
+pub fn solve_raw(observations: &[Observation]) -> Result<Solution, DeterminationError> {
     let b = attitude_profile(observations, 2)?;
     let a = match nearest_rotation(&b, MIN_SINGULAR_RATIO) {
         Ok((a, _)) => a,
