@@ -13,6 +13,7 @@
 use std::io::Write;
 
 use super::CliError;
+use crate::host::stk::{self, CoordinateSystem, StateRow, StkEphemeris};
 use crate::orbit::sgp4::{Gravity, Sgp4, Sgp4Error};
 use crate::orbit::TemeState;
 use crate::time::{Epoch, TimeSpan, Utc};
@@ -42,13 +43,6 @@ pub struct Args {
     /// Output frame.
     #[arg(long, value_parser = ["teme", "j2000"], default_value = "teme")]
     frame: String,
-}
-
-/// One output row: seconds from the TLE epoch, position (m), velocity (m/s).
-struct Row {
-    t_s: f64,
-    r_m: [f64; 3],
-    v_mps: [f64; 3],
 }
 
 /// The number of rows of `start..=stop` by `step` (minutes), validated.
@@ -93,7 +87,20 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         _ => CliError::Compute(format!("{path}: {e}")),
     })?;
 
-    let mut rows = Vec::new();
+    let frame = if j2000 {
+        CoordinateSystem::J2000
+    } else {
+        CoordinateSystem::TemeOfDate
+    };
+    let mut ephemeris = StkEphemeris::new(tle.epoch, frame);
+    ephemeris.comments.push(format!(
+        "acs propagate: SGP4 {}, NORAD {}; t in seconds from the TLE epoch (= ScenarioEpoch)",
+        match gravity {
+            Gravity::Wgs72 => "WGS72",
+            Gravity::Wgs84 => "WGS84",
+        },
+        tle.catalog_number
+    ));
     let mut failure = None;
     for k in 0..count {
         let t_min = args.start + k as f64 * args.step;
@@ -106,7 +113,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
                 } else {
                     to_f64(&state)
                 };
-                rows.push(Row {
+                ephemeris.rows.push(StateRow {
                     t_s: span.as_seconds_f64(),
                     r_m: state.0.map(|x| x * 1e3),
                     v_mps: state.1.map(|x| x * 1e3),
@@ -120,8 +127,8 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     }
 
     let stdout = std::io::stdout();
-    let mut out = std::io::BufWriter::new(stdout.lock());
-    write_stk(&mut out, &tle, gravity, j2000, &rows)
+    let mut out = stdout.lock();
+    out.write_all(stk::write(&ephemeris).as_bytes())
         .and_then(|()| out.flush())
         .map_err(|e| CliError::Compute(format!("cannot write the output: {e}")))?;
     match failure {
@@ -152,65 +159,6 @@ fn to_j2000(s: &TemeState, utc: &Epoch<Utc>) -> Result<([f64; 3], [f64; 3]), Cli
         &tt,
     );
     Ok(([r.x, r.y, r.z], [v.x, v.y, v.z]))
-}
-
-const MONTHS: [&str; 12] = [
-    "Jan", "Feb", "Mar", "Apr", "May", "Jun", "Jul", "Aug", "Sep", "Oct", "Nov", "Dec",
-];
-
-/// STK `.e` (v11, `EphemerisTimePosVel`, metres) with `ScenarioEpoch` = the TLE epoch (UTC).
-fn write_stk(
-    out: &mut impl Write,
-    tle: &Tle,
-    gravity: Gravity,
-    j2000: bool,
-    rows: &[Row],
-) -> std::io::Result<()> {
-    let c = tle.epoch.to_calendar();
-    let month = MONTHS
-        .get(usize::from(c.month).wrapping_sub(1))
-        .copied()
-        .unwrap_or("???");
-    writeln!(out, "stk.v.11.0")?;
-    writeln!(
-        out,
-        "# acs propagate: SGP4 {}, NORAD {}; time column: seconds from the TLE epoch",
-        match gravity {
-            Gravity::Wgs72 => "WGS72",
-            Gravity::Wgs84 => "WGS84",
-        },
-        tle.catalog_number
-    )?;
-    writeln!(out, "BEGIN Ephemeris")?;
-    writeln!(out, "NumberOfEphemerisPoints {}", rows.len())?;
-    writeln!(
-        out,
-        "ScenarioEpoch {:02} {month} {} {:02}:{:02}:{:02}.{:06}",
-        c.day,
-        c.year,
-        c.hour,
-        c.minute,
-        c.second,
-        c.nano / 1000
-    )?;
-    writeln!(out, "InterpolationMethod Lagrange")?;
-    writeln!(out, "InterpolationSamplesM1 5")?;
-    writeln!(out, "CentralBody Earth")?;
-    writeln!(
-        out,
-        "CoordinateSystem {}",
-        if j2000 { "J2000" } else { "TEMEOfDate" }
-    )?;
-    writeln!(out, "DistanceUnit Meters")?;
-    writeln!(out, "EphemerisTimePosVel")?;
-    for r in rows {
-        writeln!(
-            out,
-            "{:.6} {:.6} {:.6} {:.6} {:.9} {:.9} {:.9}",
-            r.t_s, r.r_m[0], r.r_m[1], r.r_m[2], r.v_mps[0], r.v_mps[1], r.v_mps[2]
-        )?;
-    }
-    writeln!(out, "END Ephemeris")
 }
 
 #[cfg(test)]
