@@ -28,8 +28,8 @@
 //! are defined here (the thesis's text and figures disagree, note 000 §7 item 12): the prism axis
 //! is **V**; side face k has the outward normal `ẑ = (cos φ_k, 0, sin φ_k)` (angle φ_k measured
 //! from U toward W), `ŷ = +V`, `x̂ = ŷ × ẑ`; the two end caps are `ẑ = ±V` with `x̂ = −W`. For the
-//! cube this rule gives exactly the thesis's A0 (+U), A1 (+V), A2 (+W), A4 (−V) and a
-//! different (equally valid) rotation about the normal for −U and −W, so the cube presets use
+//! cube this rule gives exactly the thesis's A0 (+U), A1 (+V), A2 (+W), A4 (−V) and A5 (−W),
+//! and a different (equally valid) rotation about the normal for −U (A3); the cube presets use
 //! the thesis's own matrices.
 
 use crate::attitude::Dcm;
@@ -376,6 +376,11 @@ mod tests {
         assert!((a0.matrix() - CUBE_THESIS_MATRICES[0]).amax() < 1e-7);
         let a2 = side_tile(core::f32::consts::FRAC_PI_2).body_to_tile;
         assert!((a2.matrix() - CUBE_THESIS_MATRICES[2]).amax() < 1e-7);
+        let a5 = side_tile(1.5 * core::f32::consts::PI).body_to_tile;
+        assert!((a5.matrix() - CUBE_THESIS_MATRICES[5]).amax() < 1e-6);
+        let [cap_plus, cap_minus] = caps();
+        assert_eq!(*cap_plus.body_to_tile.matrix(), CUBE_THESIS_MATRICES[1]);
+        assert_eq!(*cap_minus.body_to_tile.matrix(), CUBE_THESIS_MATRICES[4]);
     }
 
     #[test]

@@ -22,7 +22,7 @@ use nalgebra::SVector;
 
 use crate::fmath;
 use crate::linalg::svd::{SvdError, ThinSvd};
-use crate::linalg::{Mat3, Vec3};
+use crate::linalg::Vec3;
 
 /// A least-squares problem `M·X ≈ Y` with 3 unknowns per column and `K` right-hand sides,
 /// accumulated row by row.
@@ -118,15 +118,6 @@ impl<const K: usize> QrLeastSquares<K> {
     pub fn solve(&self, rel_tol: f32) -> Result<nalgebra::SMatrix<f32, 3, K>, SvdError> {
         self.svd()?.solve_matrix(&self.z, rel_tol)
     }
-}
-
-/// `M⁺·F` for a 3-column `F` given by rows, as a 3×3 matrix (helper for the thesis solver).
-pub fn pseudo_inverse_times(rows: &[(Vec3, Vec3)], rel_tol: f32) -> Result<Mat3, SvdError> {
-    let mut ls = QrLeastSquares::<3>::new();
-    for (a, f) in rows {
-        ls.push(a, f)?;
-    }
-    ls.solve(rel_tol)
 }
 
 #[cfg(test)]

@@ -255,35 +255,6 @@ impl ThinSvd {
         Ok(x)
     }
 
-    /// `M⁺·F` for a right-hand side with one row `fᵢ` per row of `M` (the 3×3 product of the
-    /// thesis's generalised solver, eq. 8.28), singular values below `rel_tol · σ₁` treated as
-    /// zero.
-    pub fn solve_rows(&self, f: &[Vec3], rel_tol: f32) -> Result<Mat3, SvdError> {
-        if f.len() != self.rows {
-            return Err(SvdError::RhsLength {
-                rows: self.rows,
-                rhs: f.len(),
-            });
-        }
-        if f.iter().any(|r| !r.iter().all(|x| x.is_finite())) {
-            return Err(SvdError::NonFinite);
-        }
-        let [s1, _, _] = self.sigma;
-        let threshold = rel_tol * s1;
-        let mut x = Mat3::zeros();
-        for ((wj, vj), sj) in self.w.iter().zip(self.v.iter()).zip(self.sigma.iter()) {
-            if *sj > threshold {
-                // wⱼᵀ·F = Σᵢ wᵢⱼ fᵢᵀ
-                let wf: Vec3 = wj
-                    .iter()
-                    .zip(f.iter())
-                    .fold(Vec3::zeros(), |acc, (a, fi)| acc + fi * *a);
-                x += vj * wf.transpose() / (sj * sj);
-            }
-        }
-        Ok(x)
-    }
-
     /// `M⁺·Z` for `K` right-hand sides given as one row `zᵢ` per row of `M` (3×K result),
     /// singular values below `rel_tol · σ₁` treated as zero.
     pub fn solve_matrix<const K: usize>(
