@@ -1,0 +1,154 @@
+//! The `acs` binary against `../shared/cli.md`: `--help` lists every subcommand, usage errors exit
+//! 2, a subcommand that is not built yet exits 3 with a clear message, and `acs propagate` writes
+//! an STK file that `host::stk::read` reads back with the TLE epoch as `ScenarioEpoch`.
+//!
+//! Run: `cargo test --test cli`.
+#![cfg(feature = "host")]
+
+mod common;
+
+use std::process::{Command, Output};
+
+/// The subcommands of cli.md.
+const SUBCOMMANDS: [&str; 6] = ["propagate", "sun", "igrf", "attitude", "demo", "sim"];
+
+fn acs(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_acs"))
+        .args(args)
+        .output()
+        .expect("the acs binary runs")
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+#[test]
+fn help_lists_every_subcommand() {
+    let out = acs(&["--help"]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let help = text(&out.stdout);
+    for sub in SUBCOMMANDS {
+        // clap lists each subcommand at the start of an indented line
+        assert!(
+            help.lines().any(|l| l.trim_start().starts_with(sub)),
+            "`acs --help` does not list {sub}:\n{help}"
+        );
+        let out = acs(&[sub, "--help"]);
+        assert_eq!(out.status.code(), Some(0), "acs {sub} --help");
+    }
+    assert_eq!(acs(&["--version"]).status.code(), Some(0));
+}
+
+#[test]
+fn usage_errors_exit_2() {
+    for args in [
+        &[][..],
+        &["no-such-subcommand"][..],
+        &["--no-such-flag"][..],
+        &["propagate"][..], // required flags missing
+        &[
+            "propagate",
+            "--tle",
+            "x.tle",
+            "--start",
+            "0",
+            "--stop",
+            "1",
+            "--step",
+            "one",
+        ][..],
+        &["sim"][..], // scenario missing
+    ] {
+        let out = acs(args);
+        assert_eq!(
+            out.status.code(),
+            Some(2),
+            "acs {args:?}: {}",
+            text(&out.stderr)
+        );
+        assert!(!out.stderr.is_empty(), "acs {args:?} explains the error");
+    }
+}
+
+/// `acs demo` takes no input: it either runs (0) or is not built yet (3, saying so).
+#[test]
+fn demo_runs_or_says_it_is_not_built() {
+    let out = acs(&["demo"]);
+    let stderr = text(&out.stderr);
+    match out.status.code() {
+        Some(0) => {}
+        Some(3) => assert!(
+            stderr.contains("not implemented yet") || stderr.contains("computation failed"),
+            "{stderr}"
+        ),
+        other => panic!("acs demo exited {other:?}: {stderr}"),
+    }
+}
+
+/// A missing input file is invalid input (2), and the message names it.
+#[test]
+fn missing_tle_file_exits_2() {
+    let out = acs(&[
+        "propagate",
+        "--tle",
+        "/nonexistent/x.tle",
+        "--start",
+        "0",
+        "--stop",
+        "1",
+        "--step",
+        "1",
+    ]);
+    let stderr = text(&out.stderr);
+    match out.status.code() {
+        Some(2) => assert!(stderr.contains("x.tle"), "{stderr}"),
+        // allowed only while propagate is not built
+        Some(3) => assert!(stderr.contains("not implemented yet"), "{stderr}"),
+        other => panic!("exit {other:?}: {stderr}"),
+    }
+}
+
+/// `acs propagate` output is an STK file this crate reads back: `ScenarioEpoch` = the TLE epoch,
+/// rows every step from the TLE epoch, TEME, metres (cli.md).
+#[test]
+fn propagate_output_reads_back() {
+    let tle_path = common::shared_path("ref/sgp4/dtusat.tle");
+    let out = acs(&[
+        "propagate",
+        "--tle",
+        tle_path.to_str().unwrap(),
+        "--start",
+        "0",
+        "--stop",
+        "10",
+        "--step",
+        "1",
+    ]);
+    let stderr = text(&out.stderr);
+    if out.status.code() == Some(3) && stderr.contains("not implemented yet") {
+        return;
+    }
+    assert_eq!(out.status.code(), Some(0), "{stderr}");
+    let e = acs::host::stk::read(&text(&out.stdout)).unwrap();
+    let tle = acs::tle::Tle::parse_text(&common::read_shared("ref/sgp4/dtusat.tle")).unwrap();
+    assert_eq!(e.scenario_epoch, tle.epoch);
+    assert_eq!(e.central_body, "Earth");
+    assert_eq!(
+        e.coordinate_system,
+        acs::host::stk::CoordinateSystem::TemeOfDate
+    );
+    assert_eq!(e.rows.len(), 11);
+    for (i, row) in e.rows.iter().enumerate() {
+        assert_eq!(row.t_s, 60.0 * i as f64);
+    }
+    // the first row is the TLE epoch's state: the reference's t = 0 row (which counts from the
+    // TLE epoch, see host::stk) to the flight SGP4's accuracy, far below the 1.8 km that a
+    // 0.24 s epoch error would give
+    let reference =
+        acs::host::stk::read(&common::read_shared("ref/sgp4/dtusat_wgs72_teme.e")).unwrap();
+    let (a, b) = (e.rows[0].r_m, reference.rows[0].r_m);
+    let d = ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt();
+    println!("acs propagate t=0 vs reference: {d:.3} m");
+    assert!(d < 100.0, "{d} m");
+}
