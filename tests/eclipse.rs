@@ -3,6 +3,8 @@
 //!
 //! `cargo test --test eclipse -- --nocapture` prints the conical model's error statistics.
 
+mod common;
+
 use acs::env::eclipse::{
     conical, cylindrical, EclipseError, Shadow, EARTH_RADIUS_KM, SUN_RADIUS_KM,
 };
@@ -305,12 +307,9 @@ fn cli_acs_eclipses() {
     use acs::time::{Calendar, Epoch, Utc};
     use std::process::Command;
 
-    let tle_path =
-        if std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared")).exists() {
-            concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/ref/sgp4/dtusat.tle").to_string()
-        } else {
-            "/work/shared/ref/sgp4/dtusat.tle".to_string()
-        };
+    let tle_path = common::shared_path("ref/sgp4/dtusat.tle")
+        .to_string_lossy()
+        .into_owned();
     let run = |args: &[&str]| {
         let out = Command::new(env!("CARGO_BIN_EXE_acs"))
             .arg("eclipses")

@@ -3,20 +3,11 @@
 //! Run with `cargo test --test sun -- --nocapture` to read the error statistics quoted in the
 //! README.
 
-use std::path::PathBuf;
+mod common;
 
 use acs::env::sun::{precise, thesis, SunError};
 use acs::time::{Calendar, Epoch, TimeError, Tt, Utc};
-
-/// `../shared/` beside the crate (CI) or `/work/shared/` (worktrees).
-fn shared_dir() -> PathBuf {
-    let beside = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared");
-    if beside.exists() {
-        beside
-    } else {
-        PathBuf::from("/work/shared")
-    }
-}
+use common::shared_dir;
 
 /// Parses `YYYY-MM-DDTHH:MM:SS[.fff]Z`.
 fn parse_utc(s: &str) -> Epoch<Utc> {
