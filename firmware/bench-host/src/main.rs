@@ -1,0 +1,39 @@
+//! Prints the benchmark cases' names and host results as JSON (see `Cargo.toml`).
+
+#[path = "../../src/cases.rs"]
+#[allow(dead_code)]
+mod cases;
+
+#[derive(Default)]
+struct Host {
+    names: Vec<&'static str>,
+    results: Vec<u32>,
+}
+
+impl cases::Sink for Host {
+    fn input(&mut self, x: f32) -> f32 {
+        std::hint::black_box(x)
+    }
+    fn keep(&mut self, x: f32) -> f32 {
+        x
+    }
+    fn begin(&mut self, name: &'static str) {
+        self.names.push(name);
+    }
+    fn end(&mut self) {}
+    fn out(&mut self, x: f32) {
+        self.results.push(x.to_bits());
+    }
+}
+
+fn main() {
+    let mut h = Host::default();
+    cases::run(&mut h);
+    let names: Vec<String> = h.names.iter().map(|n| format!("{n:?}")).collect();
+    let results: Vec<String> = h.results.iter().map(|r| r.to_string()).collect();
+    println!(
+        "{{\"cases\": [{}], \"results\": [{}]}}",
+        names.join(", "),
+        results.join(", ")
+    );
+}

@@ -1,0 +1,64 @@
+//! Runtime: reset handler and interrupt vector table (MSP430x4xx, 16 vectors at 0xFFE0–0xFFFF).
+//!
+//! `Reset` (vector 0xFFFE) runs with no stack and no initialised memory:
+//! 1. stack pointer R1 = `_stack_top` (top of RAM, from `link.x`/`memory.x`);
+//! 2. watchdog held: `WDTCTL` (0x0120) = `WDTPW | WDTHOLD` (0x5A80);
+//! 3. `.data` copied from its load image in flash (`__sidata`) to RAM (`__sdata..__edata`);
+//! 4. `.bss` zeroed (`__sbss..__ebss`);
+//! 5. the stack area `__ebss.._stack_top` painted with [`STACK_PAINT`], so that the stack
+//!    high-water mark can be read back (the lowest word that no longer holds the pattern);
+//! 6. `main` (the binary's `#[no_mangle] extern "C" fn main() -> !`) is called.
+//!
+//! Every other vector goes to `DefaultHandler` → [`crate::fw_unexpected_interrupt`]: safe state,
+//! then halt.
+
+/// The 16-bit pattern the reset handler writes over the whole free stack area.
+pub const STACK_PAINT: u16 = 0xA55A;
+
+core::arch::global_asm!(
+    r#"
+    .section .text.reset,"ax",@progbits
+    .global Reset
+    .type Reset,@function
+Reset:
+    mov #_stack_top, r1
+    mov #0x5a80, &0x0120
+    mov #__sidata, r12
+    mov #__sdata, r13
+    mov #__edata, r14
+1:  cmp r14, r13
+    jc 2f
+    mov @r12+, r15
+    mov r15, 0(r13)
+    add #2, r13
+    jmp 1b
+2:  mov #__sbss, r13
+    mov #__ebss, r14
+3:  cmp r14, r13
+    jc 4f
+    mov #0, 0(r13)
+    add #2, r13
+    jmp 3b
+4:  mov #_stack_top, r14
+5:  cmp r14, r13
+    jc 6f
+    mov #{paint}, 0(r13)
+    add #2, r13
+    jmp 5b
+6:  call #main
+    br #fw_halt
+
+    .section .text.DefaultHandler,"ax",@progbits
+    .global DefaultHandler
+    .type DefaultHandler,@function
+DefaultHandler:
+    br #fw_unexpected_interrupt
+
+    .section .vector_table,"a",@progbits
+    .rept 15
+    .word DefaultHandler
+    .endr
+    .word Reset
+"#,
+    paint = const STACK_PAINT,
+);
