@@ -52,13 +52,22 @@ macro_rules! case2 {
 pub fn run<S: Sink>(s: &mut S) {
     case2!(s, "overhead", 1.25, -0.75, |x: f32, _y: f32| x);
     // f32 primitives (the EABI helpers)
-    case2!(s, "f32 mul", 1.234_567_8, -7.654_321, |x: f32, y: f32| x * y);
-    case2!(s, "f32 add", 1.234_567_8, -7.654_321, |x: f32, y: f32| x + y);
-    case2!(s, "f32 div", 1.234_567_8, -7.654_321, |x: f32, y: f32| x / y);
+    case2!(s, "f32 mul", 1.234_567_8, -7.654_321, |x: f32, y: f32| x
+        * y);
+    case2!(s, "f32 add", 1.234_567_8, -7.654_321, |x: f32, y: f32| x
+        + y);
+    case2!(s, "f32 div", 1.234_567_8, -7.654_321, |x: f32, y: f32| x
+        / y);
     // fmath kernels
-    case2!(s, "fmath sqrt", 2.345_678, 0.0, |x: f32, _y: f32| fmath::sqrt(x));
-    case2!(s, "fmath sin", 0.723_4, 0.0, |x: f32, _y: f32| fmath::sin(x));
-    case2!(s, "fmath cos", 0.723_4, 0.0, |x: f32, _y: f32| fmath::cos(x));
+    case2!(s, "fmath sqrt", 2.345_678, 0.0, |x: f32, _y: f32| {
+        fmath::sqrt(x)
+    });
+    case2!(s, "fmath sin", 0.723_4, 0.0, |x: f32, _y: f32| fmath::sin(
+        x
+    ));
+    case2!(s, "fmath cos", 0.723_4, 0.0, |x: f32, _y: f32| fmath::cos(
+        x
+    ));
     {
         s.begin("fmath sincos");
         let x = s.input(2.345_6);

@@ -16,7 +16,7 @@ pub mod rt;
 pub mod tiles;
 
 // The EABI helper functions (`__mspabi_*`, soft-float and integer), linked in by reference.
-use acs_eabi as _;
+use msp430_eabi as _;
 
 /// Puts every actuator in its safe state: reaction wheels commanded to zero torque (they coast
 /// down on their own friction), magnetorquers off (zero current).
@@ -45,6 +45,14 @@ pub extern "C" fn fw_halt() -> ! {
 /// Entered from an unexpected interrupt vector (see [`rt`]): safe state, then halt.
 #[no_mangle]
 pub extern "C" fn fw_unexpected_interrupt() -> ! {
+    safe_state();
+    fw_halt()
+}
+
+/// `abort` (called by compiler-inserted traps and some `core` paths; the EABI crate leaves it to
+/// the firmware): safe state, then halt.
+#[no_mangle]
+pub extern "C" fn abort() -> ! {
     safe_state();
     fw_halt()
 }
