@@ -45,79 +45,77 @@
 //! `pow`, `exp` and `floor` forward to `libm`'s f32 routines (`powf`, `expf` are fdlibm's
 //! f32-only algorithms; `floorf` works on the bits); `abs` clears the sign bit.
 
-use core::f32::consts::{FRAC_PI_2, FRAC_PI_4, PI};
+use core::f32::consts::{FRAC_2_PI, FRAC_PI_2, FRAC_PI_4, PI};
 
 /// `|x|` up to which the sine/cosine range reduction is exact (quadrant count `k < 2¹⁶`).
-pub const TRIG_EXACT_LIMIT: f32 = 102_943.0;
+pub const TRIG_EXACT_LIMIT: f32 = 102943.;
 /// `|x|` beyond which sine and cosine return NaN (quadrant count `k ≥ 2²²`: the f32 spacing of
 /// `x` exceeds 0.5 rad there).
-pub const TRIG_LIMIT: f32 = 6.5e6;
+pub const TRIG_LIMIT: f32 = 6500000.;
 
 /// Below this |x|, sin x rounds to x (x³/6 < ½ ulp) and cos x to 1; keeps sin(−0) = −0.
-const SIN_TINY: f32 = 2.44e-4;
-/// 2/π rounded to f32.
-const FRAC_2_PI: f32 = 0.636_619_77;
+const SIN_TINY: f32 = 0.000244;
 /// 1.5·2²³: adding and subtracting it rounds an f32 of magnitude < 2²² to the nearest integer,
 /// and the low mantissa bits of the sum hold that integer (two's complement).
 const ROUND_MAGIC: f32 = 12_582_912.0;
 /// π/2 = `PIO2_1 + PIO2_2 + PIO2_3 + PIO2_4` (residual 5·10⁻¹⁷); the first three have 8
 /// significant bits.
-const PIO2_1: f32 = 1.570_312_5;
-const PIO2_2: f32 = 0.000_484_466_55;
-const PIO2_3: f32 = -6.407_499_3e-7;
-const PIO2_4: f32 = 9.920_936_3e-10;
+const PIO2_1: f32 = 1.5703125;
+const PIO2_2: f32 = 0.00048446655;
+const PIO2_3: f32 = -6.4074993e-7;
+const PIO2_4: f32 = 9.920936e-10;
 /// π/2 = `PIO2_S1 + PIO2_S2` (residual 1.7·10⁻¹³), `PIO2_S1` with 16 significant bits: the
 /// short reduction for |k| < 2⁸, i.e. |x| ≤ [`PIO2_SHORT_LIMIT`].
-const PIO2_S1: f32 = 1.570_800_8;
-const PIO2_S2: f32 = -4.454_455e-6;
+const PIO2_S1: f32 = 1.5708008;
+const PIO2_S2: f32 = -4.454455e-6;
 /// |x| up to which the two-piece reduction is used (k ≤ 255).
 const PIO2_SHORT_LIMIT: f32 = 400.0;
 /// 2π split the same way (the pieces are 4 × those of π/2).
-const TWO_PI_1: f32 = 6.281_25;
-const TWO_PI_2: f32 = 0.001_937_866_2;
-const TWO_PI_3: f32 = -2.562_999_7e-6;
-const TWO_PI_4: f32 = 3.968_374_5e-9;
+const TWO_PI_1: f32 = 6.28125;
+const TWO_PI_2: f32 = 0.0019378662;
+const TWO_PI_3: f32 = -2.5629997e-6;
+const TWO_PI_4: f32 = 3.9683745e-9;
 /// 1/(2π) rounded to f32.
-const FRAC_1_2PI: f32 = 0.159_154_94;
+const FRAC_1_2PI: f32 = 0.15915494;
 /// `|x|` up to which [`wrap_two_pi`]'s reduction is exact (`k < 2¹⁶`).
 const WRAP_EXACT_LIMIT: f32 = 411_774.0;
 
 /// Low parts: `π − PI`, `π/2 − FRAC_PI_2`, `π/4 − FRAC_PI_4` (f32 `PI` etc. are the rounded
 /// values).
-const PI_LO: f32 = -8.742_278e-8;
-const PI_2_LO: f32 = -4.371_139e-8;
-const PI_4_LO: f32 = -2.185_569_4e-8;
+const PI_LO: f32 = -8.742278e-8;
+const PI_2_LO: f32 = -4.371139e-8;
+const PI_4_LO: f32 = -2.1855694e-8;
 /// 3π/4 = `PI_3_4 + PI_3_4_LO`.
-const PI_3_4: f32 = 2.356_194_5;
-const PI_3_4_LO: f32 = -5.962_440_3e-9;
+const PI_3_4: f32 = 2.3561945;
+const PI_3_4_LO: f32 = -5.9624403e-9;
 
 /// tan(π/8) and tan(3π/8): the [`atan`] reduction thresholds.
-const TAN_PI_8: f32 = 0.414_213_57;
-const TAN_3PI_8: f32 = 2.414_213_7;
+const TAN_PI_8: f32 = 0.41421357;
+const TAN_3PI_8: f32 = 2.4142137;
 
 /// sin r ≈ r + r³·(S0 + r²·(S1 + r²·S2)) on |r| ≤ π/4, max relative approximation error
 /// 8.3·10⁻⁹ (`fmath_coeffs.py`; Cephes `sinf.c`).
-const SIN_P0: f32 = -0.166_666_55;
-const SIN_P1: f32 = 0.008_332_16;
-const SIN_P2: f32 = -0.000_195_152_84;
+const SIN_P0: f32 = -0.16666655;
+const SIN_P1: f32 = 0.00833216;
+const SIN_P2: f32 = -0.00019515284;
 /// cos r ≈ 1 − r²/2 + r⁴·(C0 + r²·(C1 + r²·C2)) on |r| ≤ π/4, max relative approximation error
 /// 1.7·10⁻¹⁰ (`fmath_coeffs.py`; Cephes `sinf.c`).
-const COS_P0: f32 = 0.041_666_646;
-const COS_P1: f32 = -0.001_388_731_6;
-const COS_P2: f32 = 2.443_315_7e-5;
+const COS_P0: f32 = 0.041666646;
+const COS_P1: f32 = -0.0013887316;
+const COS_P2: f32 = 2.4433157e-5;
 /// atan u ≈ u + u³·P(u²) on |u| ≤ tan(π/8), max relative approximation error 2.2·10⁻⁸
 /// (`fmath_coeffs.py`; Cephes `atanf.c`).
-const ATAN_P0: f32 = -0.333_329_5;
-const ATAN_P1: f32 = 0.199_777_1;
-const ATAN_P2: f32 = -0.138_776_8;
-const ATAN_P3: f32 = 0.080_537_23;
+const ATAN_P0: f32 = -0.3333295;
+const ATAN_P1: f32 = 0.1997771;
+const ATAN_P2: f32 = -0.1387768;
+const ATAN_P3: f32 = 0.08053723;
 /// asin x ≈ x + x³·P(x²) on |x| ≤ 1/2, max relative approximation error 5.9·10⁻⁹
 /// (`fmath_coeffs.py`; Cephes `asinf.c`).
-const ASIN_P0: f32 = 0.166_667_52;
-const ASIN_P1: f32 = 0.074_952_975;
-const ASIN_P2: f32 = 0.045_470_376;
-const ASIN_P3: f32 = 0.024_179_516;
-const ASIN_P4: f32 = 0.042_166_304;
+const ASIN_P0: f32 = 0.16666752;
+const ASIN_P1: f32 = 0.074952975;
+const ASIN_P2: f32 = 0.045470376;
+const ASIN_P3: f32 = 0.024179516;
+const ASIN_P4: f32 = 0.042166304;
 
 /// sin r for |r| ≤ π/4 (plus the reduction's rounding slack).
 #[inline(always)]
