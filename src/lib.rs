@@ -32,6 +32,7 @@ pub mod determination;
 pub mod env;
 pub mod fmath;
 pub mod frames;
+pub mod hal;
 pub mod linalg;
 pub mod orbit;
 pub mod tiles;

@@ -1,0 +1,276 @@
+//! Reference tile drivers on `embedded-hal` 1.0: an I²C magnetometer (with an optional
+//! set/reset pulse), an I²C gyro and sun sensor, and PWM + direction-pin drivers for a
+//! magnetorquer coil and a reaction wheel's speed controller.
+//!
+//! The register maps are those of a generic tile sensor board (the thesis does not fix the
+//! parts): each sensor answers a one-byte register address with big-endian `i16` words. A real
+//! part needs only its own address and registers in the constructors.
+//!
+//! Actuator drivers refuse commands beyond their limit or not finite with
+//! [`ErrorKind::OutOfRange`] and switch the device off (the safe state) when they do: a driver
+//! never leaves an actuator on a value it did not accept.
+
+use embedded_hal::delay::DelayNs;
+use embedded_hal::digital::OutputPin;
+use embedded_hal::i2c::{self, I2c};
+use embedded_hal::pwm::SetDutyCycle;
+
+use super::{ErrorKind, ErrorType, Gyro, Magnetometer, Magnetorquer, ReactionWheel, SunSensor};
+
+/// Maps an I²C error to a device error kind (NACK of the address: the device is absent).
+fn i2c_kind<E: i2c::Error>(e: &E) -> ErrorKind {
+    match e.kind() {
+        i2c::ErrorKind::NoAcknowledge(i2c::NoAcknowledgeSource::Address) => ErrorKind::DeviceAbsent,
+        _ => ErrorKind::Bus,
+    }
+}
+
+/// Reads `N` big-endian `i16` words starting at `register`.
+fn read_words<I: I2c, const N: usize>(
+    i2c: &mut I,
+    address: u8,
+    register: u8,
+) -> Result<[i16; N], ErrorKind> {
+    let mut bytes = [0u8; 8];
+    let buf = bytes.get_mut(..2 * N).ok_or(ErrorKind::Other)?;
+    i2c.write_read(address, &[register], buf)
+        .map_err(|e| i2c_kind(&e))?;
+    let mut words = [0i16; N];
+    for (w, pair) in words.iter_mut().zip(buf.chunks_exact(2)) {
+        if let [hi, lo] = pair {
+            *w = i16::from_be_bytes([*hi, *lo]);
+        }
+    }
+    Ok(words)
+}
+
+/// A raw word at either end of the `i16` range means the sensor saturated.
+fn check_saturation(words: &[i16]) -> Result<(), ErrorKind> {
+    if words.iter().any(|w| *w == i16::MIN || *w == i16::MAX) {
+        Err(ErrorKind::OutOfRange)
+    } else {
+        Ok(())
+    }
+}
+
+/// A two-axis magnetometer on I²C: register `data_register` holds x then y in 10 nT.
+pub struct I2cMagnetometer<I> {
+    i2c: I,
+    address: u8,
+    data_register: u8,
+}
+
+impl<I: I2c> I2cMagnetometer<I> {
+    /// A magnetometer at `address` whose field words start at `data_register`.
+    pub fn new(i2c: I, address: u8, data_register: u8) -> Self {
+        Self {
+            i2c,
+            address,
+            data_register,
+        }
+    }
+
+    /// Gives the bus back.
+    pub fn release(self) -> I {
+        self.i2c
+    }
+}
+
+impl<I: I2c> ErrorType for I2cMagnetometer<I> {
+    type Error = ErrorKind;
+}
+
+impl<I: I2c> Magnetometer for I2cMagnetometer<I> {
+    fn read_field_raw(&mut self) -> Result<[i16; 2], ErrorKind> {
+        let words = read_words::<I, 2>(&mut self.i2c, self.address, self.data_register)?;
+        check_saturation(&words)?;
+        Ok(words)
+    }
+}
+
+/// A magnetoresistive magnetometer that needs a set/reset pulse before each reading (note 002
+/// §8.6: a pulse of about 1 µs re-aligns the permalloy domains); wraps any [`Magnetometer`].
+pub struct SetResetMagnetometer<M, P, D> {
+    inner: M,
+    set_pin: P,
+    delay: D,
+    pulse_us: u32,
+    settle_us: u32,
+}
+
+impl<M: Magnetometer, P: OutputPin, D: DelayNs> SetResetMagnetometer<M, P, D> {
+    /// Pulses `set_pin` high for `pulse_us`, waits `settle_us`, then reads.
+    pub fn new(inner: M, set_pin: P, delay: D, pulse_us: u32, settle_us: u32) -> Self {
+        Self {
+            inner,
+            set_pin,
+            delay,
+            pulse_us,
+            settle_us,
+        }
+    }
+}
+
+impl<M: Magnetometer, P: OutputPin, D: DelayNs> ErrorType for SetResetMagnetometer<M, P, D> {
+    type Error = ErrorKind;
+}
+
+impl<M: Magnetometer, P: OutputPin, D: DelayNs> Magnetometer for SetResetMagnetometer<M, P, D> {
+    fn read_field_raw(&mut self) -> Result<[i16; 2], ErrorKind> {
+        self.set_pin.set_high().map_err(|_| ErrorKind::Other)?;
+        self.delay.delay_us(self.pulse_us);
+        self.set_pin.set_low().map_err(|_| ErrorKind::Other)?;
+        self.delay.delay_us(self.settle_us);
+        self.inner
+            .read_field_raw()
+            .map_err(|e| super::Error::kind(&e))
+    }
+}
+
+/// A one-axis gyro on I²C: one word at `data_register`, 1e-4 rad/s.
+pub struct I2cGyro<I> {
+    i2c: I,
+    address: u8,
+    data_register: u8,
+}
+
+impl<I: I2c> I2cGyro<I> {
+    /// A gyro at `address` whose rate word is at `data_register`.
+    pub fn new(i2c: I, address: u8, data_register: u8) -> Self {
+        Self {
+            i2c,
+            address,
+            data_register,
+        }
+    }
+}
+
+impl<I: I2c> ErrorType for I2cGyro<I> {
+    type Error = ErrorKind;
+}
+
+impl<I: I2c> Gyro for I2cGyro<I> {
+    fn read_rate_raw(&mut self) -> Result<i16, ErrorKind> {
+        let [w] = read_words::<I, 1>(&mut self.i2c, self.address, self.data_register)?;
+        check_saturation(&[w])?;
+        Ok(w)
+    }
+}
+
+/// A sun sensor on I²C: at `data_register` a status word (non-zero when a spot is detected)
+/// then the angles `a`, `b` in 1e-4 rad.
+pub struct I2cSunSensor<I> {
+    i2c: I,
+    address: u8,
+    data_register: u8,
+}
+
+impl<I: I2c> I2cSunSensor<I> {
+    /// A sun sensor at `address` whose status and angle words start at `data_register`.
+    pub fn new(i2c: I, address: u8, data_register: u8) -> Self {
+        Self {
+            i2c,
+            address,
+            data_register,
+        }
+    }
+}
+
+impl<I: I2c> ErrorType for I2cSunSensor<I> {
+    type Error = ErrorKind;
+}
+
+impl<I: I2c> SunSensor for I2cSunSensor<I> {
+    fn read_sun_raw(&mut self) -> Result<Option<[i16; 2]>, ErrorKind> {
+        let [status, a, b] = read_words::<I, 3>(&mut self.i2c, self.address, self.data_register)?;
+        if status == 0 {
+            return Ok(None);
+        }
+        check_saturation(&[a, b])?;
+        Ok(Some([a, b]))
+    }
+}
+
+/// Sets a PWM + direction-pin bridge to `value / limit` of full scale, positive = pin high.
+/// Refuses (and switches off) a value beyond `limit` or not finite.
+fn drive_bridge<P: SetDutyCycle, D: OutputPin>(
+    pwm: &mut P,
+    dir: &mut D,
+    value: f32,
+    limit: f32,
+) -> Result<(), ErrorKind> {
+    let magnitude = if value < 0.0 { -value } else { value };
+    if !value.is_finite() || magnitude > limit {
+        pwm.set_duty_cycle_fully_off()
+            .map_err(|_| ErrorKind::Other)?;
+        return Err(ErrorKind::OutOfRange);
+    }
+    const SCALE: u16 = 10_000;
+    // rounded fraction of full scale, 0..=SCALE (magnitude ≤ limit)
+    let num = (magnitude / limit * f32::from(SCALE) + 0.5) as u16;
+    if value >= 0.0 {
+        dir.set_high().map_err(|_| ErrorKind::Other)?;
+    } else {
+        dir.set_low().map_err(|_| ErrorKind::Other)?;
+    }
+    pwm.set_duty_cycle_fraction(num.min(SCALE), SCALE)
+        .map_err(|_| ErrorKind::Other)
+}
+
+/// A magnetorquer coil driven by PWM through an H-bridge with a direction pin: the dipole is
+/// proportional to the duty cycle (air core, `m = N I A`), full scale `max_dipole_am2`.
+pub struct PwmMagnetorquer<P, D> {
+    pwm: P,
+    dir: D,
+    max_dipole_am2: f32,
+}
+
+impl<P: SetDutyCycle, D: OutputPin> PwmMagnetorquer<P, D> {
+    /// A coil whose full PWM duty gives `max_dipole_am2`.
+    pub fn new(pwm: P, dir: D, max_dipole_am2: f32) -> Self {
+        Self {
+            pwm,
+            dir,
+            max_dipole_am2,
+        }
+    }
+}
+
+impl<P: SetDutyCycle, D: OutputPin> ErrorType for PwmMagnetorquer<P, D> {
+    type Error = ErrorKind;
+}
+
+impl<P: SetDutyCycle, D: OutputPin> Magnetorquer for PwmMagnetorquer<P, D> {
+    fn set_dipole(&mut self, m_am2: f32) -> Result<(), ErrorKind> {
+        drive_bridge(&mut self.pwm, &mut self.dir, m_am2, self.max_dipole_am2)
+    }
+}
+
+/// A reaction wheel whose speed controller takes a PWM set-point and a direction pin: the
+/// set-point is proportional to the commanded momentum, full scale `max_momentum_nms`.
+pub struct PwmReactionWheel<P, D> {
+    pwm: P,
+    dir: D,
+    max_momentum_nms: f32,
+}
+
+impl<P: SetDutyCycle, D: OutputPin> PwmReactionWheel<P, D> {
+    /// A wheel whose full PWM set-point is `max_momentum_nms`.
+    pub fn new(pwm: P, dir: D, max_momentum_nms: f32) -> Self {
+        Self {
+            pwm,
+            dir,
+            max_momentum_nms,
+        }
+    }
+}
+
+impl<P: SetDutyCycle, D: OutputPin> ErrorType for PwmReactionWheel<P, D> {
+    type Error = ErrorKind;
+}
+
+impl<P: SetDutyCycle, D: OutputPin> ReactionWheel for PwmReactionWheel<P, D> {
+    fn set_momentum(&mut self, h_nms: f32) -> Result<(), ErrorKind> {
+        drive_bridge(&mut self.pwm, &mut self.dir, h_nms, self.max_momentum_nms)
+    }
+}

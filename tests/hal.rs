@@ -1,0 +1,126 @@
+//! Reference drivers against embedded-hal-mock: register reads, saturation, absent devices,
+//! set/reset pulse, PWM + direction actuators and their refusal of bad commands.
+
+use acs::hal::drivers::{
+    I2cGyro, I2cMagnetometer, I2cSunSensor, PwmMagnetorquer, PwmReactionWheel, SetResetMagnetometer,
+};
+use acs::hal::{ErrorKind, Gyro, Magnetometer, Magnetorquer, ReactionWheel, SunSensor};
+use embedded_hal::i2c::{ErrorKind as I2cErrorKind, NoAcknowledgeSource};
+use embedded_hal_mock::eh1::delay::{CheckedDelay, Transaction as DelayTx};
+use embedded_hal_mock::eh1::digital::{Mock as PinMock, State, Transaction as PinTx};
+use embedded_hal_mock::eh1::i2c::{Mock as I2cMock, Transaction as I2cTx};
+use embedded_hal_mock::eh1::pwm::{Mock as PwmMock, Transaction as PwmTx};
+
+#[test]
+fn magnetometer_reads_big_endian_words() {
+    // x = 1603 (16 030 nT), y = −467 (−4 670 nT)
+    let x = 1603i16.to_be_bytes();
+    let y = (-467i16).to_be_bytes();
+    let i2c = I2cMock::new(&[I2cTx::write_read(
+        0x1e,
+        vec![0x03],
+        vec![x[0], x[1], y[0], y[1]],
+    )]);
+    let mut mag = I2cMagnetometer::new(i2c, 0x1e, 0x03);
+    assert_eq!(mag.read_field_raw(), Ok([1603, -467]));
+    mag.release().done();
+}
+
+#[test]
+fn magnetometer_saturation_and_absent_device() {
+    let max = i16::MAX.to_be_bytes();
+    let i2c = I2cMock::new(&[
+        I2cTx::write_read(0x1e, vec![0x03], vec![max[0], max[1], 0, 5]),
+        I2cTx::write_read(0x1e, vec![0x03], vec![0, 0, 0, 0])
+            .with_error(I2cErrorKind::NoAcknowledge(NoAcknowledgeSource::Address)),
+        I2cTx::write_read(0x1e, vec![0x03], vec![0, 0, 0, 0]).with_error(I2cErrorKind::Bus),
+    ]);
+    let mut mag = I2cMagnetometer::new(i2c, 0x1e, 0x03);
+    assert_eq!(mag.read_field_raw(), Err(ErrorKind::OutOfRange));
+    assert_eq!(mag.read_field_raw(), Err(ErrorKind::DeviceAbsent));
+    assert_eq!(mag.read_field_raw(), Err(ErrorKind::Bus));
+    mag.release().done();
+}
+
+#[test]
+fn set_reset_pulse_precedes_the_reading() {
+    let i2c = I2cMock::new(&[I2cTx::write_read(0x1e, vec![0x03], vec![0, 10, 0, 20])]);
+    let pin = PinMock::new(&[PinTx::set(State::High), PinTx::set(State::Low)]);
+    let delay = CheckedDelay::new(&[DelayTx::delay_us(1), DelayTx::delay_us(50)]);
+    let mut mag = SetResetMagnetometer::new(
+        I2cMagnetometer::new(i2c.clone(), 0x1e, 0x03),
+        pin.clone(),
+        delay.clone(),
+        1,
+        50,
+    );
+    assert_eq!(mag.read_field_raw(), Ok([10, 20]));
+    for mut m in [i2c] {
+        m.done();
+    }
+    pin.clone().done();
+    delay.clone().done();
+}
+
+#[test]
+fn gyro_and_sun_sensor() {
+    let w = (-10000i16).to_be_bytes();
+    let i2c = I2cMock::new(&[I2cTx::write_read(0x68, vec![0x10], vec![w[0], w[1]])]);
+    let mut gyro = I2cGyro::new(i2c.clone(), 0x68, 0x10);
+    assert_eq!(gyro.read_rate_raw(), Ok(-10000));
+    i2c.clone().done();
+
+    let a = 6903i16.to_be_bytes();
+    let b = 4074i16.to_be_bytes();
+    let i2c = I2cMock::new(&[
+        I2cTx::write_read(0x40, vec![0x00], vec![0, 1, a[0], a[1], b[0], b[1]]),
+        I2cTx::write_read(0x40, vec![0x00], vec![0, 0, 0, 0, 0, 0]),
+    ]);
+    let mut sun = I2cSunSensor::new(i2c.clone(), 0x40, 0x00);
+    assert_eq!(sun.read_sun_raw(), Ok(Some([6903, 4074])));
+    assert_eq!(sun.read_sun_raw(), Ok(None)); // no spot: not lit
+    i2c.clone().done();
+}
+
+#[test]
+fn magnetorquer_pwm_and_direction() {
+    // max duty 1000: 0.05 of 0.2 A·m² = 25 % = 250, positive = direction high
+    let pwm = PwmMock::new(&[
+        PwmTx::max_duty_cycle(1000),
+        PwmTx::set_duty_cycle(250),
+        PwmTx::max_duty_cycle(1000),
+        PwmTx::set_duty_cycle(1000),
+        PwmTx::set_duty_cycle(0), // refused command: off
+        PwmTx::set_duty_cycle(0), // NaN: off
+        PwmTx::max_duty_cycle(1000),
+        PwmTx::set_duty_cycle(0), // off()
+    ]);
+    let dir = PinMock::new(&[
+        PinTx::set(State::High),
+        PinTx::set(State::Low),
+        PinTx::set(State::High),
+    ]);
+    let mut coil = PwmMagnetorquer::new(pwm.clone(), dir.clone(), 0.2);
+    assert_eq!(coil.set_dipole(0.05), Ok(()));
+    assert_eq!(coil.set_dipole(-0.2), Ok(()));
+    assert_eq!(coil.set_dipole(0.3), Err(ErrorKind::OutOfRange));
+    assert_eq!(coil.set_dipole(f32::NAN), Err(ErrorKind::OutOfRange));
+    assert_eq!(coil.off(), Ok(()));
+    pwm.clone().done();
+    dir.clone().done();
+}
+
+#[test]
+fn wheel_pwm_and_direction() {
+    let pwm = PwmMock::new(&[
+        PwmTx::max_duty_cycle(2000),
+        PwmTx::set_duty_cycle(500),
+        PwmTx::set_duty_cycle(0),
+    ]);
+    let dir = PinMock::new(&[PinTx::set(State::Low)]);
+    let mut wheel = PwmReactionWheel::new(pwm.clone(), dir.clone(), 0.01);
+    assert_eq!(wheel.set_momentum(-0.0025), Ok(()));
+    assert_eq!(wheel.set_momentum(0.02), Err(ErrorKind::OutOfRange));
+    pwm.clone().done();
+    dir.clone().done();
+}
