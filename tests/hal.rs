@@ -55,9 +55,7 @@ fn set_reset_pulse_precedes_the_reading() {
         50,
     );
     assert_eq!(mag.read_field_raw(), Ok([10, 20]));
-    for mut m in [i2c] {
-        m.done();
-    }
+    i2c.clone().done();
     pin.clone().done();
     delay.clone().done();
 }
