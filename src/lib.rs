@@ -26,6 +26,7 @@
 )]
 #![forbid(unsafe_code)]
 
+pub mod acs_loop;
 pub mod attitude;
 pub mod control;
 pub mod determination;

@@ -1,0 +1,633 @@
+//! The on-board ACS loop: one [`AcsLoop::step`] per control period reads the tiles, propagates
+//! the orbit, evaluates the Sun and field models, determines attitude and rate, runs the active
+//! mode's law and commands the actuators (issue #8; the thesis's synchronous call sequence of
+//! note 000 §1.5, closed).
+//!
+//! Attitudes follow [`crate::attitude`]: `v_body = A · v_ref` with the reference frame TEME of
+//! date; quaternions scalar-first.
+//!
+//! # One step
+//! 1. Magnetorquers off (the magnetometers must not see them, note 002 §8.5), then read every
+//!    working tile: Sun angles (lit or not), magnetometer, gyro. A device that fails
+//!    [`FAILURES_TO_MARK_FAILED`] times in a row has its tile marked failed.
+//! 2. SGP4 position at the step's UTC epoch; precise Sun (TEME); conical eclipse test;
+//!    IGRF field in TEME through GMST (UT1 ≈ UTC).
+//! 3. Body field and rate by least squares over the tiles; Sun direction averaged over the lit
+//!    tiles (only outside the umbra); attitude by QUEST from the Sun and field pairs.
+//! 4. Mode logic (below), the mode's law, wheel momentum and coil dipole commands.
+//!
+//! # Modes and transitions
+//! | mode | law | actuators | leaves when |
+//! |---|---|---|---|
+//! | `Detumble` | B-dot (gyro form if the rate is known, else field derivative) | coils | `|ω| < exit_rate` → `SunSafe` |
+//! | `SunSafe` | Sun pointing + rate damping; damping only in eclipse | wheels (coils if no wheel), coils dump momentum | a ground command → `Slew` or `Tracking` |
+//! | `Slew` | the thesis's open-loop plan (principal-axis rotations at constant momentum), executed by time (it needs no attitude) | wheels | plan done → `Tracking` of the commanded attitude |
+//! | `Tracking` | quaternion feedback | wheels, coils dump momentum | a new command |
+//! From any mode: `|ω| > enter_rate` → `Detumble`. In `Slew` and `Tracking`, an invalid
+//! attitude makes the step hold the wheels (no new momentum command) with the coils off, and
+//! after [`INVALID_STEPS_TO_SAFE`] steps the loop falls back to `SunSafe`.
+//!
+//! # Safe state
+//! Whenever the attitude is not valid and the mode needs it, or any model fails, the coils are
+//! off and the wheels hold their momentum (no torque). [`AcsLoop::safe`] puts all actuators in
+//! the safe state (coils off, wheel momentum held).
+//!
+//! State: about 400 bytes ([`AcsLoop`] without its configuration), no allocation.
+
+use core::fmt;
+
+use crate::attitude::{Dcm, Quaternion};
+use crate::control::bdot::{bdot_from_rates, BdotConfig, BdotState};
+use crate::control::magnetorquer::{dipole_for_torque, dumping_dipole};
+use crate::control::principal_axes::PrincipalAxes;
+use crate::control::slew::{decompose, manoeuvre_matrix, plan, Branch, SlewLimits, SlewPlan};
+use crate::control::sun_safe::{sun_safe_torque, SunSafeGains};
+use crate::control::tracking::{tracking_torque, TrackingGains};
+use crate::control::wheels::{allocate, Wheel};
+use crate::determination::least_squares::{angular_rate_body, magnetic_field_body};
+use crate::determination::sun_sensor::sun_direction_body;
+use crate::determination::{quest, Observation};
+use crate::env::eclipse::{conical, Shadow};
+use crate::env::igrf::{Degree, Igrf, Model};
+use crate::env::sun::precise;
+use crate::hal::TileBus;
+use crate::linalg::{Vec2, Vec3};
+use crate::orbit::sgp4::Sgp4;
+use crate::tiles::{RawGyro, RawMagnetometer, RawSunAngles, TileState, Tiles, MAX_TILES};
+use crate::time::{gmst_rad, Epoch, Utc};
+
+/// Consecutive read failures after which a tile is marked failed.
+pub const FAILURES_TO_MARK_FAILED: u8 = 3;
+/// Consecutive steps without a valid attitude after which `Slew`/`Tracking` fall back to
+/// `SunSafe`.
+pub const INVALID_STEPS_TO_SAFE: u16 = 30;
+/// Maximum number of magnetorquer coils.
+pub const MAX_COILS: usize = 6;
+
+/// The operating mode.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Mode {
+    /// Rate damping with the magnetorquers (B-dot).
+    Detumble,
+    /// Sun pointing of the array normal, rate damping in eclipse.
+    SunSafe,
+    /// The thesis's open-loop slew in progress.
+    Slew,
+    /// Closed-loop tracking of a commanded attitude.
+    Tracking,
+}
+
+/// What went wrong in a step (several may be set); the step still commands safe actuators.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Faults {
+    /// At least one device read failed this step.
+    pub device_read: bool,
+    /// At least one actuator refused or failed a command.
+    pub actuator: bool,
+    /// The orbit could not be propagated (decayed, out of range...).
+    pub orbit: bool,
+    /// The Sun or field model failed (date out of range...).
+    pub model: bool,
+    /// The field could not be determined from the magnetometers.
+    pub field: bool,
+    /// The rate could not be determined from the gyros.
+    pub rate: bool,
+    /// No attitude this step (eclipse, no lit tile, degenerate geometry...).
+    pub attitude: bool,
+    /// A wheel or coil command was scaled down to its limit.
+    pub saturated: bool,
+}
+
+/// Gains, limits and geometry of the loop.
+#[derive(Clone, Debug)]
+pub struct AcsConfig {
+    /// The satellite's tiles (their state is updated at run time in [`AcsLoop`]).
+    pub tiles: Tiles,
+    /// Principal axes and inertia (kg·m², body).
+    pub axes: PrincipalAxes,
+    /// Magnetorquer coils: axis in body, dipole limit (A·m²), working flag.
+    pub coils: heapless::Vec<Wheel, MAX_COILS>,
+    /// Momentum limit of each reaction wheel, kg·m²/s.
+    pub wheel_limit_nms: f32,
+    /// B-dot gain and dipole limits.
+    pub bdot: BdotConfig,
+    /// Tracking gains.
+    pub tracking: TrackingGains,
+    /// Sun-safe gains.
+    pub sun_safe: SunSafeGains,
+    /// Body axis pointed at the Sun in `SunSafe` (unit).
+    pub sun_axis_body: Vec3,
+    /// Momentum-planner limits of the thesis's slew.
+    pub slew_limits: SlewLimits,
+    /// Momentum dumping gain, 1/s (0 disables dumping).
+    pub dumping_gain_per_s: f32,
+    /// Rate above which the loop detumbles, rad/s.
+    pub detumble_enter_radps: f32,
+    /// Rate below which detumbling ends, rad/s.
+    pub detumble_exit_radps: f32,
+    /// Geomagnetic model and degree used on board.
+    pub igrf_model: &'static Model,
+    /// Degree of the on-board field model.
+    pub igrf_degree: Degree,
+    /// Weights of the Sun and field observations in QUEST (`σ⁻²`, rad⁻²).
+    pub weights: (f32, f32),
+}
+
+/// A ground command.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub enum Command {
+    /// Slew to `target` (reference → body, [`crate::attitude`]) within `within_s` seconds by the
+    /// thesis's open-loop plan, then track it.
+    Slew {
+        /// Commanded attitude `A_d`.
+        target: Dcm,
+        /// Commanded time `t_m`, s.
+        within_s: f32,
+    },
+    /// Track `target` (reference → body) with the closed-loop law.
+    Track {
+        /// Commanded attitude.
+        target: Quaternion,
+    },
+    /// Back to sun-safe.
+    SunSafe,
+}
+
+/// What one step measured, decided and commanded.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct StepReport {
+    /// The mode after this step's transitions.
+    pub mode: Mode,
+    /// The attitude determined this step (reference TEME → body), if any.
+    pub attitude: Option<Quaternion>,
+    /// Body rate from the gyros, rad/s.
+    pub omega_body_radps: Option<Vec3>,
+    /// Body field from the magnetometers, nT.
+    pub b_body_nt: Option<Vec3>,
+    /// Sun direction in body axes (unit), if seen.
+    pub sun_body: Option<Vec3>,
+    /// Visible fraction of the solar disc from the orbit and Sun models (0 = umbra).
+    pub sun_fraction: Option<f32>,
+    /// Commanded body dipole, A·m².
+    pub dipole_body_am2: Vec3,
+    /// Commanded total wheel momentum (body), kg·m²/s.
+    pub h_wheels_body: Vec3,
+    /// Faults of this step.
+    pub faults: Faults,
+}
+
+#[derive(Copy, Clone, Debug, PartialEq)]
+struct SlewProgress {
+    plan: SlewPlan,
+    target: Quaternion,
+    started: Epoch<Utc>,
+    /// Wheel momentum (body) before the slew: the plan's momenta are added to it.
+    h_base: Vec3,
+}
+
+/// The loop's state: mode, estimator memories, commands in force, device health.
+#[derive(Clone, Debug)]
+pub struct AcsLoop {
+    config: AcsConfig,
+    orbit: Sgp4,
+    mode: Mode,
+    bdot: BdotState,
+    slew: Option<SlewProgress>,
+    target: Option<Quaternion>,
+    invalid_steps: u16,
+    last_time: Option<Epoch<Utc>>,
+    /// Commanded momentum of each tile's wheel, kg·m²/s along the tile normal.
+    wheel_h: [f32; MAX_TILES],
+    failures: [u8; MAX_TILES],
+}
+
+/// Errors of [`AcsLoop::new`] and [`AcsLoop::command`].
+#[derive(Copy, Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum AcsError {
+    /// A configuration value is not finite or not positive where it must be.
+    InvalidConfig,
+    /// A slew cannot be planned now (no valid attitude, or the planner refused).
+    CannotSlew,
+}
+
+impl fmt::Display for AcsError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::InvalidConfig => write!(f, "invalid ACS configuration"),
+            Self::CannotSlew => write!(f, "slew cannot be planned now"),
+        }
+    }
+}
+
+/// Seconds from `earlier` to `later` in f32 (a control period: exact enough).
+fn span_s(later: &Epoch<Utc>, earlier: &Epoch<Utc>) -> f32 {
+    let (whole, frac) = later.span_since(earlier).split_seconds();
+    whole + frac
+}
+
+/// Per-tile readings of one step.
+struct Readings {
+    sun: [Option<crate::tiles::SunAngles>; MAX_TILES],
+    mag: [Option<Vec2>; MAX_TILES],
+    gyro: [Option<f32>; MAX_TILES],
+}
+
+impl AcsLoop {
+    /// A loop in `Detumble` for the given configuration and orbit.
+    pub fn new(config: AcsConfig, orbit: Sgp4) -> Result<Self, AcsError> {
+        let finite = config.detumble_enter_radps.is_finite()
+            && config.detumble_exit_radps.is_finite()
+            && config.wheel_limit_nms.is_finite()
+            && config.dumping_gain_per_s.is_finite();
+        if !finite || config.detumble_exit_radps >= config.detumble_enter_radps {
+            return Err(AcsError::InvalidConfig);
+        }
+        Ok(Self {
+            config,
+            orbit,
+            mode: Mode::Detumble,
+            bdot: BdotState::default(),
+            slew: None,
+            target: None,
+            invalid_steps: 0,
+            last_time: None,
+            wheel_h: [0.0; MAX_TILES],
+            failures: [0; MAX_TILES],
+        })
+    }
+
+    /// The current mode.
+    pub fn mode(&self) -> Mode {
+        self.mode
+    }
+
+    /// The tiles with their run-time state.
+    pub fn tiles(&self) -> &Tiles {
+        &self.config.tiles
+    }
+
+    /// Marks a tile failed (ground command or fault detection); its devices are no longer used
+    /// and its wheel is stopped at the next step.
+    pub fn mark_failed(&mut self, tile: usize) {
+        if let Some(t) = self.config.tiles.get_mut(tile) {
+            t.state = TileState::Failed;
+        }
+    }
+
+    /// Accepts a ground command. A slew is planned from the last determined attitude
+    /// (`attitude`, reference → body), so it needs one.
+    pub fn command(
+        &mut self,
+        command: Command,
+        attitude: Option<&Quaternion>,
+        now: Epoch<Utc>,
+    ) -> Result<(), AcsError> {
+        match command {
+            Command::SunSafe => {
+                self.mode = Mode::SunSafe;
+                self.slew = None;
+                self.target = None;
+            }
+            Command::Track { target } => {
+                self.target = Some(target);
+                self.slew = None;
+                self.mode = Mode::Tracking;
+            }
+            Command::Slew { target, within_s } => {
+                let a = attitude.ok_or(AcsError::CannotSlew)?.to_dcm();
+                let m = manoeuvre_matrix(&a, &target, &self.config.axes);
+                let angles = decompose(&m, Branch::Shortest).map_err(|_| AcsError::CannotSlew)?;
+                let p = plan(&self.config.axes, &angles, &self.config.slew_limits, within_s)
+                    .map_err(|_| AcsError::CannotSlew)?;
+                self.slew = Some(SlewProgress {
+                    plan: p,
+                    target: target.to_quaternion(),
+                    started: now,
+                    h_base: self.wheels_body(),
+                });
+                self.target = Some(target.to_quaternion());
+                self.mode = Mode::Slew;
+            }
+        }
+        Ok(())
+    }
+
+    /// Total commanded wheel momentum in body axes, kg·m²/s.
+    fn wheels_body(&self) -> Vec3 {
+        self.config
+            .tiles
+            .iter()
+            .zip(self.wheel_h.iter())
+            .filter(|(t, _)| t.has_working_wheel())
+            .fold(Vec3::zeros(), |acc, (t, h)| acc + t.normal_body() * *h)
+    }
+
+    /// Puts every actuator in the safe state: coils off, wheels hold their momentum.
+    pub fn safe<B: TileBus>(&mut self, bus: &mut B) -> Faults {
+        let mut faults = Faults::default();
+        for i in 0..self.config.coils.len() {
+            faults.actuator |= bus.set_dipole(i, 0.0).is_err();
+        }
+        faults
+    }
+
+    fn read_tiles<B: TileBus>(&mut self, bus: &mut B, faults: &mut Faults) -> Readings {
+        let mut r = Readings {
+            sun: [None; MAX_TILES],
+            mag: [None; MAX_TILES],
+            gyro: [None; MAX_TILES],
+        };
+        let tiles = &mut self.config.tiles;
+        for (i, tile) in tiles.iter_mut().enumerate() {
+            if tile.state != TileState::Working {
+                continue;
+            }
+            let mut failed = false;
+            if tile.equipment.sun_sensor {
+                match bus.read_sun(i) {
+                    Ok(Some([a, b])) => {
+                        if let Some(s) = r.sun.get_mut(i) {
+                            *s = Some(RawSunAngles { a, b }.to_rad());
+                        }
+                    }
+                    Ok(None) => {}
+                    Err(_) => failed = true,
+                }
+            }
+            if tile.equipment.magnetometer {
+                match bus.read_magnetometer(i) {
+                    Ok([x, y]) => {
+                        if let Some(m) = r.mag.get_mut(i) {
+                            *m = Some(RawMagnetometer { x, y }.to_nt());
+                        }
+                    }
+                    Err(_) => failed = true,
+                }
+            }
+            if tile.equipment.gyro {
+                match bus.read_gyro(i) {
+                    Ok(w) => {
+                        if let Some(g) = r.gyro.get_mut(i) {
+                            *g = Some(RawGyro(w).to_radps());
+                        }
+                    }
+                    Err(_) => failed = true,
+                }
+            }
+            if let Some(count) = self.failures.get_mut(i) {
+                if failed {
+                    faults.device_read = true;
+                    *count = count.saturating_add(1);
+                    if *count >= FAILURES_TO_MARK_FAILED {
+                        tile.state = TileState::Failed;
+                    }
+                } else {
+                    *count = 0;
+                }
+            }
+        }
+        r
+    }
+
+    /// One control step at UTC epoch `now`, `dt_s` seconds after the previous one.
+    pub fn step<B: TileBus>(&mut self, bus: &mut B, now: Epoch<Utc>, dt_s: f32) -> StepReport {
+        let mut faults = self.safe(bus);
+        let readings = self.read_tiles(bus, &mut faults);
+        let n = self.config.tiles.len();
+        let tiles = self.config.tiles.as_slice();
+
+        // models
+        let orbit = self.orbit.propagate(now.span_since(&self.orbit.epoch())).ok();
+        faults.orbit = orbit.is_none();
+        let sun = precise::sun(&now).ok();
+        let field_model = Igrf::at_epoch(self.config.igrf_model, &now, self.config.igrf_degree).ok();
+        let gmst = now.to_ut1(None).ok().map(|ut1| gmst_rad(&ut1));
+        faults.model = sun.is_none() || field_model.is_none() || gmst.is_none();
+        let illumination = match (&orbit, &sun) {
+            (Some(o), Some(s)) => conical(&o.r_teme_km, s).ok(),
+            _ => None,
+        };
+        let b_teme_nt = match (&orbit, &field_model, gmst) {
+            (Some(o), Some(f), Some(g)) => f.teme(&o.r_teme_km, g).ok(),
+            _ => None,
+        };
+
+        // determination
+        let b_body_nt = readings
+            .mag
+            .get(..n)
+            .and_then(|m| magnetic_field_body(tiles, m).ok());
+        let omega = readings.gyro.get(..n).and_then(|g| angular_rate_body(tiles, g).ok());
+        faults.field = b_body_nt.is_none();
+        faults.rate = omega.is_none();
+        let in_umbra = illumination.is_some_and(|i| i.shadow == Shadow::Umbra);
+        let sun_body = if in_umbra {
+            None
+        } else {
+            readings.sun.get(..n).and_then(|s| sun_direction_body(tiles, s).ok())
+        };
+        let attitude = match (sun_body, b_body_nt, &sun, b_teme_nt) {
+            (Some(s_b), Some(b_b), Some(s_r), Some(b_r)) => {
+                let (w_sun, w_mag) = self.config.weights;
+                let obs = [
+                    Observation { body: s_b, reference: s_r.direction, weight: w_sun },
+                    Observation { body: b_b, reference: b_r, weight: w_mag },
+                ];
+                quest::solve(&obs).ok().map(|s| s.quaternion)
+            }
+            _ => None,
+        };
+        faults.attitude = attitude.is_none();
+
+        // mode transitions on rate
+        let rate = omega.map(|w| w.norm());
+        if let Some(r) = rate {
+            if r > self.config.detumble_enter_radps && self.mode != Mode::Detumble {
+                self.mode = Mode::Detumble;
+                self.slew = None;
+            } else if r < self.config.detumble_exit_radps && self.mode == Mode::Detumble {
+                self.mode = Mode::SunSafe;
+                self.bdot.reset();
+            }
+        }
+        if matches!(self.mode, Mode::Slew | Mode::Tracking) {
+            if attitude.is_some() {
+                self.invalid_steps = 0;
+            } else {
+                self.invalid_steps = self.invalid_steps.saturating_add(1);
+                if self.invalid_steps >= INVALID_STEPS_TO_SAFE {
+                    self.mode = Mode::SunSafe;
+                    self.slew = None;
+                }
+            }
+        }
+        let elapsed = self.last_time.map(|t| span_s(&now, &t));
+        self.last_time = Some(now);
+        let dt = elapsed.unwrap_or(dt_s);
+
+        // laws
+        let mut dipole = Vec3::zeros();
+        let mut torque: Option<Vec3> = None;
+        let mut h_target: Option<Vec3> = None;
+        match self.mode {
+            Mode::Detumble => {
+                dipole = match (omega, b_body_nt) {
+                    (Some(w), Some(b)) => bdot_from_rates(&self.config.bdot, &w, &b).unwrap_or_else(|_| Vec3::zeros()),
+                    (None, Some(b)) => self
+                        .bdot
+                        .update(&self.config.bdot, &b, dt)
+                        .ok()
+                        .flatten()
+                        .unwrap_or_else(Vec3::zeros),
+                    _ => Vec3::zeros(),
+                };
+            }
+            Mode::SunSafe => {
+                if let Some(w) = omega {
+                    torque = sun_safe_torque(
+                        &self.config.sun_safe,
+                        sun_body.as_ref(),
+                        &self.config.sun_axis_body,
+                        &w,
+                    )
+                    .ok();
+                }
+            }
+            Mode::Slew => {
+                if let Some(p) = self.slew {
+                    let t = span_s(&now, &p.started);
+                    let mut t0 = 0.0f32;
+                    let mut h = p.h_base;
+                    let mut done = true;
+                    for s in p.plan.steps.iter() {
+                        if t < t0 + s.duration_s {
+                            h = p.h_base - s.h_body;
+                            done = false;
+                            break;
+                        }
+                        t0 += s.duration_s;
+                    }
+                    if done {
+                        self.mode = Mode::Tracking;
+                        self.target = Some(p.target);
+                        self.slew = None;
+                    } else {
+                        h_target = Some(h);
+                    }
+                }
+            }
+            Mode::Tracking => {}
+        }
+        if self.mode == Mode::Tracking {
+            if let (Some(q), Some(w), Some(target)) = (attitude, omega, self.target) {
+                let h_w = self.wheels_body();
+                torque = tracking_torque(
+                    &self.config.tracking,
+                    &self.config.axes.inertia_body,
+                    &q,
+                    &w,
+                    &target,
+                    &Vec3::zeros(),
+                    &h_w,
+                )
+                .ok();
+            }
+        }
+
+        // wheels: a torque law integrates into momentum (ḣ = −τ); a slew sets momentum
+        let have_wheels = tiles.iter().any(|t| t.has_working_wheel());
+        if let Some(tau) = torque {
+            if have_wheels {
+                h_target = Some(self.wheels_body() - tau * dt);
+            } else if let Some(b) = b_body_nt {
+                dipole = dipole_for_torque(&tau, &b).unwrap_or_else(|_| Vec3::zeros());
+            }
+        }
+        if let Some(h) = h_target {
+            faults.saturated |= self.command_wheels(bus, &h, &mut faults);
+        } else {
+            // hold: re-send the momentum in force (stops failed tiles' wheels)
+            let h = self.wheels_body();
+            faults.saturated |= self.command_wheels(bus, &h, &mut faults);
+        }
+        // momentum dumping through the coils outside detumble
+        if self.mode != Mode::Detumble && self.config.dumping_gain_per_s > 0.0 && have_wheels {
+            if let Some(b) = b_body_nt {
+                let dump = dumping_dipole(
+                    &self.wheels_body(),
+                    &Vec3::zeros(),
+                    self.config.dumping_gain_per_s,
+                    &b,
+                )
+                .unwrap_or_else(|_| Vec3::zeros());
+                dipole += dump;
+            }
+        }
+        let dipole = self.command_coils(bus, &dipole, &mut faults);
+        StepReport {
+            mode: self.mode,
+            attitude,
+            omega_body_radps: omega,
+            b_body_nt,
+            sun_body,
+            sun_fraction: illumination.map(|i| i.fraction),
+            dipole_body_am2: dipole,
+            h_wheels_body: self.wheels_body(),
+            faults,
+        }
+    }
+
+    /// Allocates a total body momentum to the wheels (the wheels hold `h`, the body the
+    /// opposite) and commands them. Returns true if saturated.
+    fn command_wheels<B: TileBus>(&mut self, bus: &mut B, h: &Vec3, faults: &mut Faults) -> bool {
+        let mut wheels = [Wheel { axis_body: Vec3::z(), limit: 1.0, working: false }; MAX_TILES];
+        for (w, t) in wheels.iter_mut().zip(self.config.tiles.iter()) {
+            *w = Wheel {
+                axis_body: t.normal_body(),
+                limit: self.config.wheel_limit_nms,
+                working: t.has_working_wheel(),
+            };
+        }
+        // allocate() gives the wheels −W⁺L: ask for the body momentum −h so they hold +h
+        let Ok(alloc) = allocate(&wheels, &(-h)) else {
+            return false;
+        };
+        for (i, (cmd, tile)) in self.wheel_h.iter_mut().zip(self.config.tiles.iter()).enumerate() {
+            if !tile.equipment.reaction_wheel {
+                continue;
+            }
+            let value = if tile.has_working_wheel() {
+                alloc.wheel.get(i).copied().unwrap_or(0.0)
+            } else {
+                0.0
+            };
+            *cmd = value;
+            faults.actuator |= bus.set_wheel_momentum(i, value).is_err();
+        }
+        alloc.scale < 1.0
+    }
+
+    /// Allocates a body dipole to the coils (least squares over their axes, saturated keeping
+    /// direction) and commands them; returns the dipole commanded.
+    fn command_coils<B: TileBus>(&mut self, bus: &mut B, m: &Vec3, faults: &mut Faults) -> Vec3 {
+        let mut coils = [Wheel { axis_body: Vec3::z(), limit: 1.0, working: false }; MAX_COILS];
+        for (c, cfg) in coils.iter_mut().zip(self.config.coils.iter()) {
+            *c = *cfg;
+        }
+        let Ok(alloc) = allocate(&coils, &(-m)) else {
+            return Vec3::zeros();
+        };
+        faults.saturated |= alloc.scale < 1.0;
+        let mut produced = Vec3::zeros();
+        for (i, (value, coil)) in alloc.wheel.iter().zip(self.config.coils.iter()).enumerate() {
+            if coil.working {
+                faults.actuator |= bus.set_dipole(i, *value).is_err();
+                produced += coil.axis_body * *value;
+            }
+        }
+        produced
+    }
+}
