@@ -13,7 +13,9 @@
 //! 2. SGP4 position at the step's UTC epoch; precise Sun (TEME); conical eclipse test;
 //!    IGRF field in TEME through GMST (UT1 ≈ UTC).
 //! 3. Body field and rate by least squares over the tiles; Sun direction averaged over the lit
-//!    tiles (only outside the umbra); attitude by QUEST from the Sun and field pairs.
+//!    tiles (only outside the umbra); attitude by QUEST from the Sun and field pairs, filtered
+//!    with the gyros (a complementary filter that also bridges short gaps, e.g. eclipse entry,
+//!    for at most `max_propagation_s`).
 //! 4. Mode logic (below), the mode's law, wheel momentum and coil dipole commands.
 //!
 //! # Modes and transitions
@@ -133,6 +135,11 @@ pub struct AcsConfig {
     pub igrf_degree: Degree,
     /// Weights of the Sun and field observations in QUEST (`σ⁻²`, rad⁻²).
     pub weights: (f32, f32),
+    /// Gain of the attitude filter, 0 < k ≤ 1: the fraction of the measured-minus-predicted
+    /// rotation taken each step (1 = raw measurements; about 0.1 averages ten steps of noise).
+    pub filter_gain: f32,
+    /// Longest time the attitude may be propagated with the gyros alone, s.
+    pub max_propagation_s: f32,
 }
 
 /// A ground command.
@@ -160,7 +167,9 @@ pub enum Command {
 pub struct StepReport {
     /// The mode after this step's transitions.
     pub mode: Mode,
-    /// The attitude determined this step (reference TEME → body), if any.
+    /// The attitude measured this step by QUEST (reference TEME → body), if any.
+    pub measured_attitude: Option<Quaternion>,
+    /// The filtered attitude the laws used (reference TEME → body), if valid.
     pub attitude: Option<Quaternion>,
     /// Body rate from the gyros, rad/s.
     pub omega_body_radps: Option<Vec3>,
@@ -198,6 +207,8 @@ pub struct AcsLoop {
     target: Option<Quaternion>,
     invalid_steps: u16,
     last_time: Option<Epoch<Utc>>,
+    /// Filtered attitude and the seconds since it last saw a measurement.
+    estimate: Option<(Quaternion, f32)>,
     /// Commanded momentum of each tile's wheel, kg·m²/s along the tile normal.
     wheel_h: [f32; MAX_TILES],
     failures: [u8; MAX_TILES],
@@ -238,7 +249,10 @@ struct Readings {
 impl AcsLoop {
     /// A loop in `Detumble` for the given configuration and orbit.
     pub fn new(config: AcsConfig, orbit: Sgp4) -> Result<Self, AcsError> {
-        let finite = config.detumble_enter_radps.is_finite()
+        let gain_ok = config.filter_gain > 0.0 && config.filter_gain <= 1.0;
+        let finite = gain_ok
+            && config.max_propagation_s.is_finite()
+            && config.detumble_enter_radps.is_finite()
             && config.detumble_exit_radps.is_finite()
             && config.wheel_limit_nms.is_finite()
             && config.dumping_gain_per_s.is_finite();
@@ -254,6 +268,7 @@ impl AcsLoop {
             target: None,
             invalid_steps: 0,
             last_time: None,
+            estimate: None,
             wheel_h: [0.0; MAX_TILES],
             failures: [0; MAX_TILES],
         })
@@ -429,7 +444,7 @@ impl AcsLoop {
         } else {
             readings.sun.get(..n).and_then(|s| sun_direction_body(tiles, s).ok())
         };
-        let attitude = match (sun_body, b_body_nt, &sun, b_teme_nt) {
+        let measured = match (sun_body, b_body_nt, &sun, b_teme_nt) {
             (Some(s_b), Some(b_b), Some(s_r), Some(b_r)) => {
                 let (w_sun, w_mag) = self.config.weights;
                 let obs = [
@@ -440,6 +455,10 @@ impl AcsLoop {
             }
             _ => None,
         };
+        let elapsed = self.last_time.map(|t| span_s(&now, &t));
+        self.last_time = Some(now);
+        let dt = elapsed.unwrap_or(dt_s);
+        let attitude = self.filter(measured, omega, dt);
         faults.attitude = attitude.is_none();
 
         // mode transitions on rate
@@ -464,10 +483,6 @@ impl AcsLoop {
                 }
             }
         }
-        let elapsed = self.last_time.map(|t| span_s(&now, &t));
-        self.last_time = Some(now);
-        let dt = elapsed.unwrap_or(dt_s);
-
         // laws
         let mut dipole = Vec3::zeros();
         let mut torque: Option<Vec3> = None;
@@ -538,7 +553,7 @@ impl AcsLoop {
         }
 
         // wheels: a torque law integrates into momentum (ḣ = −τ); a slew sets momentum
-        let have_wheels = tiles.iter().any(|t| t.has_working_wheel());
+        let have_wheels = self.config.tiles.iter().any(|t| t.has_working_wheel());
         if let Some(tau) = torque {
             if have_wheels {
                 h_target = Some(self.wheels_body() - tau * dt);
@@ -569,6 +584,7 @@ impl AcsLoop {
         let dipole = self.command_coils(bus, &dipole, &mut faults);
         StepReport {
             mode: self.mode,
+            measured_attitude: measured,
             attitude,
             omega_body_radps: omega,
             b_body_nt,
@@ -578,6 +594,36 @@ impl AcsLoop {
             h_wheels_body: self.wheels_body(),
             faults,
         }
+    }
+
+    /// The gyro-aided complementary filter: predict `q ⊗ δq(ω dt)` (kinematics
+    /// `q̇ = ½ q ⊗ (0, ω)`), then move a fraction `filter_gain` of the way to the measurement.
+    /// Without a measurement the prediction is kept for at most `max_propagation_s`.
+    fn filter(&mut self, measured: Option<Quaternion>, omega: Option<Vec3>, dt: f32) -> Option<Quaternion> {
+        let predicted = match (self.estimate, omega) {
+            (Some((q, age)), Some(w)) => {
+                let half = w * (0.5 * dt);
+                let dq = Quaternion { q0: 1.0, q1: half.x, q2: half.y, q3: half.z };
+                let p = q.mul(&dq);
+                Quaternion::new_normalize(p.q0, p.q1, p.q2, p.q3).map(|p| (p, age + dt))
+            }
+            _ => None,
+        };
+        self.estimate = match (predicted, measured) {
+            (Some((p, _)), Some(m)) => {
+                // δ = p* ⊗ m, the small correction in body axes; take a fraction of it
+                let d = p.conjugate().mul(&m);
+                let sign = if d.q0 < 0.0 { -1.0 } else { 1.0 };
+                let k = self.config.filter_gain * sign;
+                let c = Quaternion { q0: 1.0, q1: k * d.q1, q2: k * d.q2, q3: k * d.q3 };
+                let q = p.mul(&c);
+                Quaternion::new_normalize(q.q0, q.q1, q.q2, q.q3).map(|q| (q, 0.0))
+            }
+            (None, Some(m)) => Some((m, 0.0)),
+            (Some((p, age)), None) if age <= self.config.max_propagation_s => Some((p, age)),
+            _ => None,
+        };
+        self.estimate.map(|(q, _)| q)
     }
 
     /// Allocates a total body momentum to the wheels (the wheels hold `h`, the body the
