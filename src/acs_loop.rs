@@ -123,6 +123,14 @@ pub struct AcsConfig {
     pub sun_axis_body: Vec3,
     /// Momentum-planner limits of the thesis's slew.
     pub slew_limits: SlewLimits,
+    /// The control period, s: slew durations are rounded up to whole periods (the loop can only
+    /// change a wheel command on a tick) with the momentum scaled to keep each angle exact.
+    pub control_period_s: f32,
+    /// Pause after each rotation of a slew, s: the wheels return to their momentum before the
+    /// slew, so the body stops before it turns about the next axis (the thesis spaces its three
+    /// rotations 5 s apart; without a stop, a torque-limited wheel would turn the body about an
+    /// intermediate axis during the hand-over).
+    pub slew_pause_s: f32,
     /// Momentum dumping gain, 1/s (0 disables dumping).
     pub dumping_gain_per_s: f32,
     /// Rate above which the loop detumbles, rad/s.
@@ -255,7 +263,11 @@ impl AcsLoop {
             && config.detumble_enter_radps.is_finite()
             && config.detumble_exit_radps.is_finite()
             && config.wheel_limit_nms.is_finite()
-            && config.dumping_gain_per_s.is_finite();
+            && config.dumping_gain_per_s.is_finite()
+            && config.slew_pause_s.is_finite()
+            && config.control_period_s > 0.0
+            && config.control_period_s.is_finite()
+            && config.slew_pause_s >= 0.0;
         if !finite || config.detumble_exit_radps >= config.detumble_enter_radps {
             return Err(AcsError::InvalidConfig);
         }
@@ -315,8 +327,25 @@ impl AcsLoop {
                 let a = attitude.ok_or(AcsError::CannotSlew)?.to_dcm();
                 let m = manoeuvre_matrix(&a, &target, &self.config.axes);
                 let angles = decompose(&m, Branch::Shortest).map_err(|_| AcsError::CannotSlew)?;
-                let p = plan(&self.config.axes, &angles, &self.config.slew_limits, within_s)
-                    .map_err(|_| AcsError::CannotSlew)?;
+                let mut p = plan(
+                    &self.config.axes,
+                    &angles,
+                    &self.config.slew_limits,
+                    within_s,
+                )
+                .map_err(|_| AcsError::CannotSlew)?;
+                // whole control periods, same angle: L·t constant
+                let period = self.config.control_period_s;
+                for s in p.steps.iter_mut() {
+                    if s.duration_s > 0.0 {
+                        let ticks = (s.duration_s / period - 1e-4).max(0.0) as u32 + 1;
+                        let rounded = ticks as f32 * period;
+                        let k = s.duration_s / rounded;
+                        s.h_body *= k;
+                        s.omega_body_radps *= k;
+                        s.duration_s = rounded;
+                    }
+                }
                 self.slew = Some(SlewProgress {
                     plan: p,
                     target: target.to_quaternion(),
@@ -415,10 +444,14 @@ impl AcsLoop {
         let tiles = self.config.tiles.as_slice();
 
         // models
-        let orbit = self.orbit.propagate(now.span_since(&self.orbit.epoch())).ok();
+        let orbit = self
+            .orbit
+            .propagate(now.span_since(&self.orbit.epoch()))
+            .ok();
         faults.orbit = orbit.is_none();
         let sun = precise::sun(&now).ok();
-        let field_model = Igrf::at_epoch(self.config.igrf_model, &now, self.config.igrf_degree).ok();
+        let field_model =
+            Igrf::at_epoch(self.config.igrf_model, &now, self.config.igrf_degree).ok();
         let gmst = now.to_ut1(None).ok().map(|ut1| gmst_rad(&ut1));
         faults.model = sun.is_none() || field_model.is_none() || gmst.is_none();
         let illumination = match (&orbit, &sun) {
@@ -435,21 +468,35 @@ impl AcsLoop {
             .mag
             .get(..n)
             .and_then(|m| magnetic_field_body(tiles, m).ok());
-        let omega = readings.gyro.get(..n).and_then(|g| angular_rate_body(tiles, g).ok());
+        let omega = readings
+            .gyro
+            .get(..n)
+            .and_then(|g| angular_rate_body(tiles, g).ok());
         faults.field = b_body_nt.is_none();
         faults.rate = omega.is_none();
         let in_umbra = illumination.is_some_and(|i| i.shadow == Shadow::Umbra);
         let sun_body = if in_umbra {
             None
         } else {
-            readings.sun.get(..n).and_then(|s| sun_direction_body(tiles, s).ok())
+            readings
+                .sun
+                .get(..n)
+                .and_then(|s| sun_direction_body(tiles, s).ok())
         };
         let measured = match (sun_body, b_body_nt, &sun, b_teme_nt) {
             (Some(s_b), Some(b_b), Some(s_r), Some(b_r)) => {
                 let (w_sun, w_mag) = self.config.weights;
                 let obs = [
-                    Observation { body: s_b, reference: s_r.direction, weight: w_sun },
-                    Observation { body: b_b, reference: b_r, weight: w_mag },
+                    Observation {
+                        body: s_b,
+                        reference: s_r.direction,
+                        weight: w_sun,
+                    },
+                    Observation {
+                        body: b_b,
+                        reference: b_r,
+                        weight: w_mag,
+                    },
                 ];
                 quest::solve(&obs).ok().map(|s| s.quaternion)
             }
@@ -490,7 +537,9 @@ impl AcsLoop {
         match self.mode {
             Mode::Detumble => {
                 dipole = match (omega, b_body_nt) {
-                    (Some(w), Some(b)) => bdot_from_rates(&self.config.bdot, &w, &b).unwrap_or_else(|_| Vec3::zeros()),
+                    (Some(w), Some(b)) => {
+                        bdot_from_rates(&self.config.bdot, &w, &b).unwrap_or_else(|_| Vec3::zeros())
+                    }
                     (None, Some(b)) => self
                         .bdot
                         .update(&self.config.bdot, &b, dt)
@@ -513,17 +562,24 @@ impl AcsLoop {
             }
             Mode::Slew => {
                 if let Some(p) = self.slew {
-                    let t = span_s(&now, &p.started);
+                    // half a period of margin: boundaries fall on ticks
+                    let t = span_s(&now, &p.started) + 0.5 * self.config.control_period_s;
                     let mut t0 = 0.0f32;
                     let mut h = p.h_base;
                     let mut done = true;
                     for s in p.plan.steps.iter() {
                         if t < t0 + s.duration_s {
+                            // rotating: the body holds the step's momentum
                             h = p.h_base - s.h_body;
                             done = false;
                             break;
                         }
-                        t0 += s.duration_s;
+                        if t < t0 + s.duration_s + self.config.slew_pause_s {
+                            // stopping before the next axis
+                            done = false;
+                            break;
+                        }
+                        t0 += s.duration_s + self.config.slew_pause_s;
                     }
                     if done {
                         self.mode = Mode::Tracking;
@@ -599,11 +655,21 @@ impl AcsLoop {
     /// The gyro-aided complementary filter: predict `q ⊗ δq(ω dt)` (kinematics
     /// `q̇ = ½ q ⊗ (0, ω)`), then move a fraction `filter_gain` of the way to the measurement.
     /// Without a measurement the prediction is kept for at most `max_propagation_s`.
-    fn filter(&mut self, measured: Option<Quaternion>, omega: Option<Vec3>, dt: f32) -> Option<Quaternion> {
+    fn filter(
+        &mut self,
+        measured: Option<Quaternion>,
+        omega: Option<Vec3>,
+        dt: f32,
+    ) -> Option<Quaternion> {
         let predicted = match (self.estimate, omega) {
             (Some((q, age)), Some(w)) => {
                 let half = w * (0.5 * dt);
-                let dq = Quaternion { q0: 1.0, q1: half.x, q2: half.y, q3: half.z };
+                let dq = Quaternion {
+                    q0: 1.0,
+                    q1: half.x,
+                    q2: half.y,
+                    q3: half.z,
+                };
                 let p = q.mul(&dq);
                 Quaternion::new_normalize(p.q0, p.q1, p.q2, p.q3).map(|p| (p, age + dt))
             }
@@ -615,7 +681,12 @@ impl AcsLoop {
                 let d = p.conjugate().mul(&m);
                 let sign = if d.q0 < 0.0 { -1.0 } else { 1.0 };
                 let k = self.config.filter_gain * sign;
-                let c = Quaternion { q0: 1.0, q1: k * d.q1, q2: k * d.q2, q3: k * d.q3 };
+                let c = Quaternion {
+                    q0: 1.0,
+                    q1: k * d.q1,
+                    q2: k * d.q2,
+                    q3: k * d.q3,
+                };
                 let q = p.mul(&c);
                 Quaternion::new_normalize(q.q0, q.q1, q.q2, q.q3).map(|q| (q, 0.0))
             }
@@ -629,7 +700,11 @@ impl AcsLoop {
     /// Allocates a total body momentum to the wheels (the wheels hold `h`, the body the
     /// opposite) and commands them. Returns true if saturated.
     fn command_wheels<B: TileBus>(&mut self, bus: &mut B, h: &Vec3, faults: &mut Faults) -> bool {
-        let mut wheels = [Wheel { axis_body: Vec3::z(), limit: 1.0, working: false }; MAX_TILES];
+        let mut wheels = [Wheel {
+            axis_body: Vec3::z(),
+            limit: 1.0,
+            working: false,
+        }; MAX_TILES];
         for (w, t) in wheels.iter_mut().zip(self.config.tiles.iter()) {
             *w = Wheel {
                 axis_body: t.normal_body(),
@@ -641,7 +716,12 @@ impl AcsLoop {
         let Ok(alloc) = allocate(&wheels, &(-h)) else {
             return false;
         };
-        for (i, (cmd, tile)) in self.wheel_h.iter_mut().zip(self.config.tiles.iter()).enumerate() {
+        for (i, (cmd, tile)) in self
+            .wheel_h
+            .iter_mut()
+            .zip(self.config.tiles.iter())
+            .enumerate()
+        {
             if !tile.equipment.reaction_wheel {
                 continue;
             }
@@ -659,7 +739,11 @@ impl AcsLoop {
     /// Allocates a body dipole to the coils (least squares over their axes, saturated keeping
     /// direction) and commands them; returns the dipole commanded.
     fn command_coils<B: TileBus>(&mut self, bus: &mut B, m: &Vec3, faults: &mut Faults) -> Vec3 {
-        let mut coils = [Wheel { axis_body: Vec3::z(), limit: 1.0, working: false }; MAX_COILS];
+        let mut coils = [Wheel {
+            axis_body: Vec3::z(),
+            limit: 1.0,
+            working: false,
+        }; MAX_COILS];
         for (c, cfg) in coils.iter_mut().zip(self.config.coils.iter()) {
             *c = *cfg;
         }

@@ -5,4 +5,5 @@
 #![allow(clippy::indexing_slicing)]
 
 pub mod cli;
+pub mod sim;
 pub mod stk;

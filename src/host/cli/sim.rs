@@ -1,18 +1,81 @@
-//! `acs sim`: closed-loop simulation scenarios.
+//! `acs sim`: closed-loop simulation scenarios with CSV and SVG output.
+
+use std::path::PathBuf;
 
 use super::CliError;
+use crate::host::sim::{plot, scenarios};
 
 /// Arguments of `acs sim`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
-    /// Built-in scenario name or scenario file.
+    /// Built-in scenario: detumble, thesis-slew, thesis-slew-noisy, sun-safe, tracking,
+    /// failed-tile.
     scenario: String,
-    /// Output folder for CSV and SVG files.
+    /// Output folder for CSV and SVG files (default: `acs-sim-<scenario>`).
     #[arg(long)]
-    out: Option<std::path::PathBuf>,
+    out: Option<PathBuf>,
 }
 
 /// Runs `acs sim`.
-pub fn run(_args: &Args) -> Result<(), CliError> {
-    Err(CliError::NotImplemented("sim"))
+pub fn run(args: &Args) -> Result<(), CliError> {
+    let scenario = match scenarios::by_name(&args.scenario) {
+        Some(s) => s.map_err(|e| CliError::Compute(e.to_string()))?,
+        None => {
+            return Err(CliError::Input(format!(
+                "scenario `{}`: not a built-in scenario ({}); scenario files are not supported yet",
+                args.scenario,
+                scenarios::NAMES.join(", ")
+            )))
+        }
+    };
+    let samples = scenario
+        .run()
+        .map_err(|e| CliError::Compute(e.to_string()))?;
+    let dir = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(format!("acs-sim-{}", scenario.name)));
+    let files = plot::write_all(&dir, &samples).map_err(CliError::Compute)?;
+    let last = samples
+        .last()
+        .ok_or_else(|| CliError::Compute("no samples".into()))?;
+    let max_pointing_tail = samples
+        .iter()
+        .filter(|s| s.t_s >= 0.5 * last.t_s)
+        .filter_map(|s| s.pointing_error_deg)
+        .fold(None, |acc: Option<f64>, e| {
+            Some(acc.map_or(e, |a| a.max(e)))
+        });
+    let below = samples
+        .iter()
+        .find(|s| s.omega_true.norm().to_degrees() < 0.5)
+        .map(|s| s.t_s);
+    let dark = samples.iter().filter(|s| s.sun_fraction < 0.5).count();
+    println!("scenario: {} — {}", scenario.name, scenario.description);
+    println!("duration_s: {:.1}", last.t_s + scenario.dt_s);
+    println!("control_period_s: {}", scenario.dt_s);
+    println!("final_mode: {:?}", last.mode);
+    println!(
+        "final_rate_degps: {:.9}",
+        last.omega_true.norm().to_degrees()
+    );
+    println!(
+        "first_below_0.5_degps_s: {}",
+        below.map_or("never".into(), |t| format!("{t:.1}"))
+    );
+    if let Some(p) = last.pointing_error_deg {
+        println!("final_pointing_error_deg: {p:.9}");
+    }
+    if let Some(p) = max_pointing_tail {
+        println!("max_pointing_error_second_half_deg: {p:.9}");
+    }
+    println!("eclipse_steps: {dark}");
+    println!(
+        "nan_free: {}",
+        samples
+            .iter()
+            .all(|s| s.omega_true.iter().all(|x| x.is_finite()))
+    );
+    println!("files: {} in {}", files.join(", "), dir.display());
+    Ok(())
 }

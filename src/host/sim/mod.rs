@@ -1,0 +1,708 @@
+//! The host simulator: f64 truth dynamics, environment and simulated tiles that fly the flight
+//! loop ([`crate::acs_loop`]) unchanged, through the same [`TileBus`] trait as the hardware.
+//!
+//! # Truth models
+//! | what | model |
+//! |---|---|
+//! | orbit | the `sgp4` crate (f64, Vallado's SGP4, WGS-72), independent of the flight SGP4 |
+//! | attitude | `q̇ = ½ q ⊗ (0, ω)` (scalar-first, reference TEME → body, [`crate::attitude`]) |
+//! | rigid body + wheels | `I ω̇ = τ − ω × (I ω + h) − ḣ`, RK4 at [`SimConfig::substep_s`] |
+//! | wheels | each wheel slews to its commanded momentum at up to `wheel_max_torque_nm` |
+//! | magnetic torque | `m × B`, B from IGRF-14 (degree 13) in TEME through GMST |
+//! | gravity gradient | `3μ/r³ ô × (I ô)` (seed 004 eq. A.13) |
+//! | aerodynamic | `½ ρ C_d A v² (c_p × v̂)`, exponential atmosphere |
+//! | solar pressure | `p_R A (1+q) (c_p × ŝ)`, off in the umbra |
+//! | residual dipole | `m_res × B` |
+//! Defaults follow seed 004 (3U: `C_d = 2.5`, 1.5× the largest face, 72.8 mm lever arm,
+//! `m_res = 4e-3 A·m²`).
+//!
+//! The Sun and IGRF truth use the crate's own f32 models (15″ and 1 nT, far below what the
+//! attitude tests resolve), evaluated once per control period.
+//!
+//! # Simulated tiles
+//! Each tile's sensors see the truth through its orientation: Sun angles (only within
+//! `sun_fov_rad` of the normal and outside the umbra), magnetometer, gyro, with Gaussian noise,
+//! constant bias, int16 quantisation in the units of note 000 §1.3, random dropouts and failures
+//! from a given time. Random numbers come from a seeded generator: runs are reproducible.
+
+pub mod plot;
+pub mod scenarios;
+
+use std::f64::consts::PI;
+
+use crate::acs_loop::{AcsLoop, Command, Mode, StepReport};
+use crate::attitude::Quaternion;
+use crate::env::eclipse::conical;
+use crate::env::igrf::{Degree, Igrf, FULL};
+use crate::env::sun::precise;
+use crate::hal::{ErrorKind, TileBus};
+use crate::linalg::{Mat3d, Vec3, Vec3d};
+use crate::tiles::{sun_angles_of_direction, Tiles};
+use crate::time::{gmst_rad_f64, Epoch, TimeSpan, Utc};
+
+/// Earth's gravitational parameter for the truth dynamics, m³/s².
+const MU_M3_S2: f64 = 3.986_004_418e14;
+
+/// A seeded xorshift64* generator with Gaussian samples (Box–Muller).
+#[derive(Clone, Debug)]
+pub struct Rng(u64);
+
+impl Rng {
+    /// A generator from a non-zero seed.
+    pub fn new(seed: u64) -> Self {
+        Self(seed.max(1))
+    }
+    /// Uniform in [0, 1).
+    pub fn uniform(&mut self) -> f64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        let x = self.0.wrapping_mul(0x2545_F491_4F6C_DD1D);
+        (x >> 11) as f64 / (1u64 << 53) as f64
+    }
+    /// Standard normal.
+    pub fn normal(&mut self) -> f64 {
+        let u1 = self.uniform().max(1e-300);
+        let u2 = self.uniform();
+        (-2.0 * u1.ln()).sqrt() * (2.0 * PI * u2).cos()
+    }
+}
+
+/// Sensor imperfections (1σ noise, constant bias drawn once per device).
+#[derive(Clone, Debug)]
+pub struct SensorNoise {
+    /// Sun-sensor angle noise, rad.
+    pub sun_rad: f64,
+    /// Magnetometer noise per component, nT.
+    pub mag_nt: f64,
+    /// Magnetometer bias 1σ per component, nT.
+    pub mag_bias_nt: f64,
+    /// Gyro noise, rad/s.
+    pub gyro_radps: f64,
+    /// Gyro bias 1σ, rad/s.
+    pub gyro_bias_radps: f64,
+    /// Probability that one read of one device times out.
+    pub dropout: f64,
+}
+
+impl SensorNoise {
+    /// Perfect sensors (only the int16 quantisation remains).
+    pub const IDEAL: Self = Self {
+        sun_rad: 0.0,
+        mag_nt: 0.0,
+        mag_bias_nt: 0.0,
+        gyro_radps: 0.0,
+        gyro_bias_radps: 0.0,
+        dropout: 0.0,
+    };
+}
+
+/// Disturbance models (seed 004 defaults).
+#[derive(Clone, Debug)]
+pub struct Disturbances {
+    /// Drag coefficient.
+    pub cd: f64,
+    /// Cross-section, m².
+    pub area_m2: f64,
+    /// Centre of pressure relative to the centre of mass, body, m.
+    pub cp_body_m: Vec3d,
+    /// Residual dipole, body, A·m².
+    pub residual_dipole_am2: Vec3d,
+    /// Solar reflectance factor q.
+    pub reflectance: f64,
+    /// Gravity gradient on.
+    pub gravity_gradient: bool,
+}
+
+impl Disturbances {
+    /// Seed 004's 3U values (C_d 2.5, 1.5 × 0.1 × 0.3405 m², 72.8 mm arm, 4e-3 A·m²).
+    pub fn seed004() -> Self {
+        Self {
+            cd: 2.5,
+            area_m2: 1.5 * 0.1 * 0.3405,
+            cp_body_m: Vec3d::new(0.02, 0.0, 0.07),
+            residual_dipole_am2: Vec3d::new(
+                4e-3 / 3f64.sqrt(),
+                4e-3 / 3f64.sqrt(),
+                4e-3 / 3f64.sqrt(),
+            ),
+            reflectance: 0.6,
+            gravity_gradient: true,
+        }
+    }
+    /// No disturbance.
+    pub fn none() -> Self {
+        Self {
+            cd: 0.0,
+            area_m2: 0.0,
+            cp_body_m: Vec3d::zeros(),
+            residual_dipole_am2: Vec3d::zeros(),
+            reflectance: 0.0,
+            gravity_gradient: false,
+        }
+    }
+}
+
+/// Everything the truth side needs.
+#[derive(Clone, Debug)]
+pub struct SimConfig {
+    /// Two-line element set of the orbit (the truth's and the flight's).
+    pub tle: (String, String),
+    /// UTC start of the run.
+    pub start: Epoch<Utc>,
+    /// Body inertia, kg·m².
+    pub inertia: Mat3d,
+    /// Tile geometry (the same as the flight configuration's).
+    pub tiles: Tiles,
+    /// Magnetorquer coils: body axis, limit A·m² (the same as the flight's).
+    pub coils: Vec<(Vec3d, f64)>,
+    /// Wheel momentum limit, kg·m²/s.
+    pub wheel_max_h_nms: f64,
+    /// Wheel torque limit, N·m.
+    pub wheel_max_torque_nm: f64,
+    /// Sun-sensor field of view (half angle from the normal), rad.
+    pub sun_fov_rad: f64,
+    /// Sensor imperfections.
+    pub noise: SensorNoise,
+    /// Disturbance torques.
+    pub disturbances: Disturbances,
+    /// Tiles that fail, with the time (s from start).
+    pub failures: Vec<(usize, f64)>,
+    /// RK4 step, s.
+    pub substep_s: f64,
+    /// Random seed.
+    pub seed: u64,
+}
+
+/// The true state.
+#[derive(Clone, Debug)]
+pub struct Truth {
+    /// Seconds since the start.
+    pub t_s: f64,
+    /// Attitude, scalar-first, reference TEME → body.
+    pub q: [f64; 4],
+    /// Body rate, rad/s.
+    pub omega: Vec3d,
+    /// Momentum of each tile's wheel along its normal, kg·m²/s.
+    pub wheel_h: Vec<f64>,
+}
+
+/// The environment at one instant (truth).
+#[derive(Clone, Debug)]
+pub struct Environment {
+    /// Position, TEME, km.
+    pub r_teme_km: Vec3d,
+    /// Velocity, TEME, km/s.
+    pub v_teme_kmps: Vec3d,
+    /// Unit Sun direction, TEME.
+    pub sun_teme: Vec3d,
+    /// Visible fraction of the solar disc.
+    pub sun_fraction: f64,
+    /// Field, TEME, nT.
+    pub b_teme_nt: Vec3d,
+}
+
+/// Errors of the simulator set-up.
+#[derive(Debug)]
+pub enum SimError {
+    /// The TLE could not be read by the truth propagator.
+    Tle(String),
+    /// The truth orbit or a model failed at some time.
+    Model(String),
+}
+
+impl std::fmt::Display for SimError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Tle(m) => write!(f, "TLE: {m}"),
+            Self::Model(m) => write!(f, "model: {m}"),
+        }
+    }
+}
+
+/// `A(q)` of a scalar-first f64 quaternion, `v_body = A v_ref` ([`crate::attitude`]).
+pub fn dcm_of(q: &[f64; 4]) -> Mat3d {
+    let [q0, q1, q2, q3] = *q;
+    Mat3d::new(
+        q0 * q0 + q1 * q1 - q2 * q2 - q3 * q3,
+        2.0 * (q1 * q2 + q0 * q3),
+        2.0 * (q1 * q3 - q0 * q2),
+        2.0 * (q1 * q2 - q0 * q3),
+        q0 * q0 - q1 * q1 + q2 * q2 - q3 * q3,
+        2.0 * (q2 * q3 + q0 * q1),
+        2.0 * (q1 * q3 + q0 * q2),
+        2.0 * (q2 * q3 - q0 * q1),
+        q0 * q0 - q1 * q1 - q2 * q2 + q3 * q3,
+    )
+}
+
+fn qmul(p: &[f64; 4], r: &[f64; 4]) -> [f64; 4] {
+    [
+        p[0] * r[0] - p[1] * r[1] - p[2] * r[2] - p[3] * r[3],
+        p[1] * r[0] + p[2] * r[3] - p[3] * r[2] + p[0] * r[1],
+        -p[1] * r[3] + p[2] * r[0] + p[3] * r[1] + p[0] * r[2],
+        p[1] * r[2] - p[2] * r[1] + p[3] * r[0] + p[0] * r[3],
+    ]
+}
+
+/// The rotation angle between a true attitude and an f32 one, degrees.
+pub fn angle_between_deg(truth: &[f64; 4], q: &Quaternion) -> f64 {
+    let other = [
+        f64::from(q.q0),
+        f64::from(q.q1),
+        f64::from(q.q2),
+        f64::from(q.q3),
+    ];
+    let conj = [truth[0], -truth[1], -truth[2], -truth[3]];
+    let d = qmul(&conj, &other);
+    let v = (d[1] * d[1] + d[2] * d[2] + d[3] * d[3]).sqrt();
+    2.0 * v.atan2(d[0].abs()).to_degrees()
+}
+
+/// The simulator: truth, environment and simulated tiles.
+pub struct Simulator {
+    config: SimConfig,
+    constants: sgp4::Constants,
+    epoch_offset_min: f64,
+    truth: Truth,
+    env: Environment,
+    rng: Rng,
+    mag_bias: Vec<Vec3d>,
+    gyro_bias: Vec<f64>,
+    wheel_cmd: Vec<f64>,
+    coil_cmd: Vec<f64>,
+}
+
+impl Simulator {
+    /// A simulator at `config.start` with attitude `q0` and body rate `omega0`.
+    pub fn new(config: SimConfig, q0: [f64; 4], omega0: Vec3d) -> Result<Self, SimError> {
+        let elements =
+            sgp4::Elements::from_tle(None, config.tle.0.as_bytes(), config.tle.1.as_bytes())
+                .map_err(|e| SimError::Tle(e.to_string()))?;
+        let constants = sgp4::Constants::from_elements_afspc_compatibility_mode(&elements)
+            .map_err(|e| SimError::Tle(e.to_string()))?;
+        let tle = crate::tle::Tle::parse(&config.tle.0, &config.tle.1)
+            .map_err(|e| SimError::Tle(e.to_string()))?;
+        let epoch_offset_min = config.start.span_since(&tle.epoch).as_seconds_f64() / 60.0;
+        let mut rng = Rng::new(config.seed);
+        let n = config.tiles.len();
+        let mag_bias = (0..n)
+            .map(|_| {
+                let s = config.noise.mag_bias_nt;
+                Vec3d::new(rng.normal() * s, rng.normal() * s, 0.0)
+            })
+            .collect();
+        let gyro_bias = (0..n)
+            .map(|_| rng.normal() * config.noise.gyro_bias_radps)
+            .collect();
+        let truth = Truth {
+            t_s: 0.0,
+            q: q0,
+            omega: omega0,
+            wheel_h: vec![0.0; n],
+        };
+        let coils = config.coils.len();
+        let mut sim = Self {
+            env: Environment {
+                r_teme_km: Vec3d::zeros(),
+                v_teme_kmps: Vec3d::zeros(),
+                sun_teme: Vec3d::x(),
+                sun_fraction: 1.0,
+                b_teme_nt: Vec3d::zeros(),
+            },
+            config,
+            constants,
+            epoch_offset_min,
+            truth,
+            rng,
+            mag_bias,
+            gyro_bias,
+            wheel_cmd: vec![0.0; n],
+            coil_cmd: vec![0.0; coils],
+        };
+        sim.env = sim.environment(0.0)?;
+        Ok(sim)
+    }
+
+    /// The truth now.
+    pub fn truth(&self) -> &Truth {
+        &self.truth
+    }
+
+    /// The environment now.
+    pub fn env(&self) -> &Environment {
+        &self.env
+    }
+
+    /// The UTC epoch `t_s` seconds after the start.
+    pub fn epoch_at(&self, t_s: f64) -> Epoch<Utc> {
+        let span = TimeSpan::from_seconds_f64(t_s).unwrap_or(TimeSpan::ZERO);
+        self.config.start.add(span)
+    }
+
+    fn environment(&self, t_s: f64) -> Result<Environment, SimError> {
+        let p = self
+            .constants
+            .propagate_afspc_compatibility_mode(sgp4::MinutesSinceEpoch(
+                self.epoch_offset_min + t_s / 60.0,
+            ))
+            .map_err(|e| SimError::Model(e.to_string()))?;
+        let r = Vec3d::from(p.position);
+        let v = Vec3d::from(p.velocity);
+        let epoch = self.epoch_at(t_s);
+        let sun = precise::sun(&epoch).map_err(|e| SimError::Model(format!("{e:?}")))?;
+        let r32 = r.cast::<f32>();
+        let fraction = conical(&r32, &sun)
+            .map(|i| f64::from(i.fraction))
+            .unwrap_or(1.0);
+        let igrf = Igrf::at_epoch(&FULL, &epoch, Degree::FULL)
+            .map_err(|e| SimError::Model(format!("{e:?}")))?;
+        let ut1 = epoch
+            .to_ut1(None)
+            .map_err(|e| SimError::Model(format!("{e:?}")))?;
+        let gmst = gmst_rad_f64(&ut1) as f32;
+        let b = igrf
+            .teme(&r32, gmst)
+            .map_err(|e| SimError::Model(format!("{e:?}")))?;
+        Ok(Environment {
+            r_teme_km: r,
+            v_teme_kmps: v,
+            sun_teme: sun.direction.cast::<f64>().normalize(),
+            sun_fraction: fraction,
+            b_teme_nt: b.cast::<f64>(),
+        })
+    }
+
+    /// The external torque on the body now (magnetic + disturbances), N·m, body axes.
+    fn external_torque(&self, q: &[f64; 4]) -> Vec3d {
+        let a = dcm_of(q);
+        let b_body_t = a * self.env.b_teme_nt * 1e-9;
+        let dipole: Vec3d = self
+            .config
+            .coils
+            .iter()
+            .zip(self.coil_cmd.iter())
+            .fold(Vec3d::zeros(), |acc, ((axis, _), m)| acc + axis * *m);
+        let d = &self.config.disturbances;
+        let mut tau = (dipole + d.residual_dipole_am2).cross(&b_body_t);
+        let r_m = self.env.r_teme_km * 1e3;
+        let r = r_m.norm();
+        if d.gravity_gradient {
+            let nadir_body = a * (-r_m / r);
+            let i = &self.config.inertia;
+            tau += 3.0 * MU_M3_S2 / (r * r * r) * nadir_body.cross(&(i * nadir_body));
+        }
+        if d.area_m2 > 0.0 {
+            // exponential atmosphere (scale height 60 km, 4.4e-12 kg/m³ at 500 km: seed 004)
+            let h_km = r / 1e3 - 6378.137;
+            let rho = 4.38e-12 * ((500.0 - h_km) / 60.0).exp();
+            let v_body = a * (self.env.v_teme_kmps * 1e3);
+            let v = v_body.norm();
+            if v > 0.0 {
+                let force = -v_body / v * (0.5 * rho * d.cd * d.area_m2 * v * v);
+                tau += d.cp_body_m.cross(&force);
+            }
+            if self.env.sun_fraction > 0.0 {
+                let s_body = a * self.env.sun_teme;
+                let force =
+                    -s_body * (4.56e-6 * d.area_m2 * (1.0 + d.reflectance) * self.env.sun_fraction);
+                tau += d.cp_body_m.cross(&force);
+            }
+        }
+        tau
+    }
+
+    /// Advances the truth by `dt_s` with the actuator commands in force.
+    pub fn advance(&mut self, dt_s: f64) -> Result<(), SimError> {
+        let steps = (dt_s / self.config.substep_s).ceil().max(1.0) as usize;
+        let h = dt_s / steps as f64;
+        let i = self.config.inertia;
+        let inv = i.try_inverse().unwrap_or_else(Mat3d::identity);
+        let axes: Vec<Vec3d> = self
+            .config
+            .tiles
+            .iter()
+            .map(|t| t.normal_body().cast::<f64>())
+            .collect();
+        let wheel_ok: Vec<bool> = self
+            .config
+            .tiles
+            .iter()
+            .map(|t| t.equipment.reaction_wheel)
+            .collect();
+        for _ in 0..steps {
+            // wheel torques this substep: slew toward the command at the torque limit
+            let hdot: Vec<f64> = self
+                .truth
+                .wheel_h
+                .iter()
+                .zip(self.wheel_cmd.iter())
+                .zip(wheel_ok.iter())
+                .map(|((hw, cmd), ok)| {
+                    if !ok {
+                        return 0.0;
+                    }
+                    ((cmd - hw) / h).clamp(
+                        -self.config.wheel_max_torque_nm,
+                        self.config.wheel_max_torque_nm,
+                    )
+                })
+                .collect();
+            let hdot_body: Vec3d = axes
+                .iter()
+                .zip(hdot.iter())
+                .fold(Vec3d::zeros(), |a, (z, d)| a + z * *d);
+            let deriv = |q: &[f64; 4], w: &Vec3d, hw: &[f64], sim: &Self| {
+                let h_body: Vec3d = axes
+                    .iter()
+                    .zip(hw.iter())
+                    .fold(Vec3d::zeros(), |a, (z, x)| a + z * *x);
+                let tau = sim.external_torque(q);
+                let wdot = inv * (tau - w.cross(&(i * w + h_body)) - hdot_body);
+                let qd = qmul(q, &[0.0, w.x, w.y, w.z]);
+                ([0.5 * qd[0], 0.5 * qd[1], 0.5 * qd[2], 0.5 * qd[3]], wdot)
+            };
+            let q0 = self.truth.q;
+            let w0 = self.truth.omega;
+            let hw0 = self.truth.wheel_h.clone();
+            let hw_at = |k: f64| -> Vec<f64> {
+                hw0.iter()
+                    .zip(hdot.iter())
+                    .map(|(x, d)| x + d * k)
+                    .collect()
+            };
+            let add = |q: &[f64; 4], d: &[f64; 4], k: f64| {
+                [
+                    q[0] + k * d[0],
+                    q[1] + k * d[1],
+                    q[2] + k * d[2],
+                    q[3] + k * d[3],
+                ]
+            };
+            let (k1q, k1w) = deriv(&q0, &w0, &hw0, self);
+            let (k2q, k2w) = deriv(
+                &add(&q0, &k1q, 0.5 * h),
+                &(w0 + k1w * 0.5 * h),
+                &hw_at(0.5 * h),
+                self,
+            );
+            let (k3q, k3w) = deriv(
+                &add(&q0, &k2q, 0.5 * h),
+                &(w0 + k2w * 0.5 * h),
+                &hw_at(0.5 * h),
+                self,
+            );
+            let (k4q, k4w) = deriv(&add(&q0, &k3q, h), &(w0 + k3w * h), &hw_at(h), self);
+            let mut q = [0.0; 4];
+            for (k, qk) in q.iter_mut().enumerate() {
+                *qk = q0[k] + h / 6.0 * (k1q[k] + 2.0 * k2q[k] + 2.0 * k3q[k] + k4q[k]);
+            }
+            let n = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]).sqrt();
+            self.truth.q = [q[0] / n, q[1] / n, q[2] / n, q[3] / n];
+            self.truth.omega = w0 + (k1w + k2w * 2.0 + k3w * 2.0 + k4w) * (h / 6.0);
+            self.truth.wheel_h = hw_at(h);
+            self.truth.t_s += h;
+        }
+        self.env = self.environment(self.truth.t_s)?;
+        Ok(())
+    }
+
+    fn failed(&self, tile: usize) -> bool {
+        self.config
+            .failures
+            .iter()
+            .any(|(i, t)| *i == tile && self.truth.t_s >= *t)
+    }
+
+    fn dropout(&mut self) -> bool {
+        self.config.noise.dropout > 0.0 && self.rng.uniform() < self.config.noise.dropout
+    }
+
+    fn tile_check(&mut self, tile: usize) -> Result<(), ErrorKind> {
+        if tile >= self.config.tiles.len() || self.failed(tile) {
+            return Err(ErrorKind::DeviceAbsent);
+        }
+        if self.dropout() {
+            return Err(ErrorKind::Timeout);
+        }
+        Ok(())
+    }
+
+    fn tile_matrix(&self, tile: usize) -> Mat3d {
+        self.config
+            .tiles
+            .get(tile)
+            .map_or_else(Mat3d::identity, |t| t.body_to_tile.matrix().cast::<f64>())
+    }
+}
+
+/// Rounds to an int16 count, or `OutOfRange`.
+fn quantise(value: f64, lsb: f64) -> Result<i16, ErrorKind> {
+    let counts = (value / lsb).round();
+    if !counts.is_finite() || counts <= f64::from(i16::MIN) || counts >= f64::from(i16::MAX) {
+        Err(ErrorKind::OutOfRange)
+    } else {
+        Ok(counts as i16)
+    }
+}
+
+impl TileBus for Simulator {
+    fn read_sun(&mut self, tile: usize) -> Result<Option<[i16; 2]>, ErrorKind> {
+        self.tile_check(tile)?;
+        if self.env.sun_fraction < 0.5 {
+            return Ok(None);
+        }
+        let s_tile = self.tile_matrix(tile) * dcm_of(&self.truth.q) * self.env.sun_teme;
+        if s_tile.z < self.config.sun_fov_rad.cos() {
+            return Ok(None);
+        }
+        let angles = sun_angles_of_direction(&s_tile.cast::<f32>());
+        let sigma = self.config.noise.sun_rad;
+        let a = f64::from(angles.a_rad) + self.rng.normal() * sigma;
+        let b = f64::from(angles.b_rad) + self.rng.normal() * sigma;
+        Ok(Some([quantise(a, 1e-4)?, quantise(b, 1e-4)?]))
+    }
+
+    fn read_magnetometer(&mut self, tile: usize) -> Result<[i16; 2], ErrorKind> {
+        self.tile_check(tile)?;
+        let b_tile = self.tile_matrix(tile) * dcm_of(&self.truth.q) * self.env.b_teme_nt;
+        let bias = self
+            .mag_bias
+            .get(tile)
+            .copied()
+            .unwrap_or_else(Vec3d::zeros);
+        let sigma = self.config.noise.mag_nt;
+        let x = b_tile.x + bias.x + self.rng.normal() * sigma;
+        let y = b_tile.y + bias.y + self.rng.normal() * sigma;
+        Ok([quantise(x, 10.0)?, quantise(y, 10.0)?])
+    }
+
+    fn read_gyro(&mut self, tile: usize) -> Result<i16, ErrorKind> {
+        self.tile_check(tile)?;
+        let z = self.tile_matrix(tile).row(2).transpose();
+        let bias = self.gyro_bias.get(tile).copied().unwrap_or(0.0);
+        let w = z.dot(&self.truth.omega) + bias + self.rng.normal() * self.config.noise.gyro_radps;
+        quantise(w, 1e-4)
+    }
+
+    fn set_wheel_momentum(&mut self, tile: usize, h_nms: f32) -> Result<(), ErrorKind> {
+        if tile >= self.wheel_cmd.len() || self.failed(tile) {
+            return Err(ErrorKind::DeviceAbsent);
+        }
+        let h = f64::from(h_nms);
+        if !h.is_finite() || h.abs() > self.config.wheel_max_h_nms * (1.0 + 1e-6) {
+            return Err(ErrorKind::OutOfRange);
+        }
+        if let Some(c) = self.wheel_cmd.get_mut(tile) {
+            *c = h;
+        }
+        Ok(())
+    }
+
+    fn set_dipole(&mut self, coil: usize, m_am2: f32) -> Result<(), ErrorKind> {
+        let limit = self
+            .config
+            .coils
+            .get(coil)
+            .map(|c| c.1)
+            .ok_or(ErrorKind::DeviceAbsent)?;
+        let m = f64::from(m_am2);
+        if !m.is_finite() || m.abs() > limit * (1.0 + 1e-6) {
+            if let Some(c) = self.coil_cmd.get_mut(coil) {
+                *c = 0.0;
+            }
+            return Err(ErrorKind::OutOfRange);
+        }
+        if let Some(c) = self.coil_cmd.get_mut(coil) {
+            *c = m;
+        }
+        Ok(())
+    }
+}
+
+/// One logged sample of a run.
+#[derive(Clone, Debug)]
+pub struct Sample {
+    /// Seconds since the start.
+    pub t_s: f64,
+    /// Mode after the step.
+    pub mode: Mode,
+    /// True body rate, rad/s.
+    pub omega_true: Vec3d,
+    /// True attitude error to the target, degrees (None without a target).
+    pub pointing_error_deg: Option<f64>,
+    /// Error of the loop's filtered attitude against the truth, degrees.
+    pub estimate_error_deg: Option<f64>,
+    /// True wheel momentum (body), kg·m²/s.
+    pub h_wheels_body: Vec3d,
+    /// Commanded dipole, A·m².
+    pub dipole_am2: Vec3,
+    /// Visible fraction of the solar disc.
+    pub sun_fraction: f64,
+    /// Any fault flag.
+    pub report: StepReport,
+}
+
+/// Runs the loop against the simulator for `duration_s` at `dt_s`, applying `commands` (time
+/// in s from the start) and measuring the pointing error against `target(t)`.
+pub fn run(
+    sim: &mut Simulator,
+    acs: &mut AcsLoop,
+    duration_s: f64,
+    dt_s: f64,
+    commands: &[(f64, Command)],
+    target: impl Fn(f64) -> Option<[f64; 4]>,
+) -> Result<Vec<Sample>, SimError> {
+    let steps = (duration_s / dt_s).round() as usize;
+    let mut out = Vec::with_capacity(steps);
+    let mut pending: Vec<(f64, Command)> = commands.to_vec();
+    let mut last_attitude: Option<Quaternion> = None;
+    for _ in 0..steps {
+        let t = sim.truth().t_s;
+        let now = sim.epoch_at(t);
+        let mut k = 0;
+        while k < pending.len() {
+            if pending[k].0 <= t {
+                let (_, c) = pending.remove(k);
+                let _ = acs.command(c, last_attitude.as_ref(), now);
+            } else {
+                k += 1;
+            }
+        }
+        let report = acs.step(sim, now, dt_s as f32);
+        last_attitude = report.attitude;
+        let truth = sim.truth().clone();
+        let axes: Vec<Vec3d> = sim
+            .config
+            .tiles
+            .iter()
+            .map(|t| t.normal_body().cast::<f64>())
+            .collect();
+        let h_body = axes
+            .iter()
+            .zip(truth.wheel_h.iter())
+            .fold(Vec3d::zeros(), |a, (z, h)| a + z * *h);
+        let pointing_error_deg = target(t).map(|q| {
+            let q32 = Quaternion {
+                q0: q[0] as f32,
+                q1: q[1] as f32,
+                q2: q[2] as f32,
+                q3: q[3] as f32,
+            };
+            angle_between_deg(&truth.q, &q32)
+        });
+        out.push(Sample {
+            t_s: t,
+            mode: report.mode,
+            omega_true: truth.omega,
+            pointing_error_deg,
+            estimate_error_deg: report.attitude.map(|q| angle_between_deg(&truth.q, &q)),
+            h_wheels_body: h_body,
+            dipole_am2: report.dipole_body_am2,
+            sun_fraction: sim.env().sun_fraction,
+            report,
+        });
+        sim.advance(dt_s)?;
+    }
+    Ok(out)
+}
