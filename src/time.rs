@@ -498,10 +498,11 @@ pub const TT_MINUS_TAI_NS: i64 = 32_184_000_000;
 /// instant up to the end of this day (inclusive) has its TAI − UTC in the table.
 ///
 /// Basis: IERS Bulletin C. The last leap second was 2016-12-31 23:59:60 (TAI − UTC = 37 s from
-/// 2017-01-01). Bulletin C 70 (July 2025) announced none at the end of December 2025; a leap
-/// second at the end of June or December 2026 would have been announced in Bulletin C 71
-/// (January 2026) or C 72 (July 2026), and none was. Extend the table and this date when IERS
-/// publishes the next bulletin.
+/// 2017-01-01). Bulletin C 70 (July 2025) announced none at the end of December 2025 (the last
+/// bulletin the author checked directly); a leap second at the end of June or December 2026
+/// would have been announced in Bulletin C 71 (January 2026) or C 72 (July 2026), and the
+/// project's information (2026-11) is that none was. Check C 71/C 72 and extend the table and
+/// this date when IERS publishes the next bulletin (C 73, January 2027).
 pub const LEAP_SECONDS_VALID_UNTIL: (i32, u8, u8) = (2026, 12, 31);
 
 /// Days since 2000-01-01 of the first UTC day after [`LEAP_SECONDS_VALID_UNTIL`].
