@@ -197,7 +197,7 @@ pub(crate) fn unit(index: usize, o: &Observation) -> Result<Unit, DeterminationE
     })
 }
 
-/// The attitude profile matrix `B = Σ aᵢ b̂ᵢ r̂ᵢᵀ` (Markley 1988 eq. 3) with weights normalised to
+/// The attitude profile matrix `B = Σ aᵢ b̂ᵢ r̂ᵢᵀ` (Markley 1988) with weights normalised to
 /// `Σ aᵢ = 1` (so its entries are O(1) whatever the caller's weight scale), after validating
 /// every observation. Needs at least `needed` observations.
 pub(crate) fn attitude_profile(
@@ -239,8 +239,8 @@ pub(crate) fn loss(a: &Dcm, observations: &[Observation]) -> f32 {
 pub const COVARIANCE_MIN_RATIO: f32 = 1.0e-6;
 
 /// The attitude-error covariance (rad², body frame) of the optimal solution, from the Fisher
-/// information `F = Σ aᵢ (I − b̂ᵢ b̂ᵢᵀ)`, `P = F⁻¹` (Shuster and Oh 1981 eq. 96; Markley 1988
-/// eq. 17). It assumes `aᵢ = σᵢ⁻²` with σᵢ each vector's angular measurement noise (rad, per
+/// information `F = Σ aᵢ (I − b̂ᵢ b̂ᵢᵀ)`, `P = F⁻¹` (the Fisher information
+/// of Shuster and Oh 1981 and Markley 1988). It assumes `aᵢ = σᵢ⁻²` with σᵢ each vector's angular measurement noise (rad, per
 /// axis): scale it by the ratio if the weights are only relative. The attitude error `δθ`
 /// (small rotation, body frame) has covariance `P`; the 1σ error about body axis k is `√P_kk`.
 /// Errors as for the solvers (at least two non-parallel directions).
@@ -296,7 +296,7 @@ pub const REFINE_MAX_STEP_RAD: f32 = 0.01;
 /// terms (relative size = the residuals) times the starting error. (Accepting the step only
 /// if the f32 loss decreases was tried and is worse: the loss cannot resolve steps of 1e-6
 /// rad.) Skipped if `H` is singular or the step exceeds [`REFINE_MAX_STEP_RAD`].
-pub(crate) fn refine(start: &Solution, observations: &[Observation]) -> Solution {
+pub fn refine(start: &Solution, observations: &[Observation]) -> Solution {
     let mut sum_w = 0.0f32;
     let mut g = Vec3::zeros();
     let mut h = Mat3::zeros();

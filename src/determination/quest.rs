@@ -1,5 +1,7 @@
 //! Optimal attitude from weighted vector pairs by QUEST (Shuster and Oh, *Three-axis attitude
-//! determination from vector observations*, J. Guidance Control 4(1), 1981, §IV–V).
+//! determination from vector observations*, J. Guidance and Control 4(1), 1981, pp. 70–77; equation
+//! numbers are not cited because the paper was not at hand: the formulas below are the standard
+//! statement of the method and are checked numerically by the tests).
 //!
 //! # Method
 //! Davenport's q-method: the optimal quaternion (scalar first, [`crate::attitude`]) is the
@@ -8,8 +10,8 @@
 //! K = [[σ, zᵀ], [z, S − σI]],  S = B + Bᵀ,  σ = tr B,  z = (B23 − B32, B31 − B13, B12 − B21)
 //! ```
 //! with `B = Σ aᵢ b̂ᵢ r̂ᵢᵀ` (weights normalised to Σaᵢ = 1, so λ_max = 1 − L_min ≤ 1).
-//! QUEST finds λ_max by Newton's method on the characteristic equation (Shuster and Oh
-//! eqs. 70–73)
+//! QUEST finds λ_max by Newton's method on the characteristic equation (Shuster and
+//! Oh)
 //! ```text
 //! λ⁴ − (a + b)λ² − cλ + (ab + cσ − d) = 0,
 //! a = σ² − κ,  b = σ² + zᵀz,  c = Δ + zᵀSz,  d = zᵀS²z,  κ = tr(adj S),  Δ = det S
@@ -29,7 +31,7 @@
 //! |---|---|
 //! | `B`, `S`, `σ`, `z` | `b`, `s`, `sigma`, `z` |
 //! | `K` | rows `k0..k3` |
-//! | `a, b, c, d` of eq. 71 | `ca, cb, cc, cd` |
+//! | `a, b, c, d` of the characteristic equation | `ca, cb, cc, cd` |
 //!
 //! [`solve`] adds one Gauss–Newton step on Wahba's loss ([`super::refine`]), which removes
 //! the f32 rounding of the characteristic polynomial and of the adjugate; [`solve_raw`] is
@@ -114,7 +116,7 @@ fn eigenvector(k: &[Vector4<f32>; 4], lambda: f32) -> Vector4<f32> {
         })
 }
 
-/// λ_max by Newton's method on the characteristic equation (Shuster and Oh eqs. 70–73).
+/// λ_max by Newton's method on the characteristic equation (Shuster and Oh).
 fn lambda_max(b: &Mat3) -> f32 {
     let s = b + b.transpose();
     let sigma = b.trace();

@@ -1,8 +1,8 @@
 //! Attitude from two vector pairs by TRIAD (Black, *A passive system for determining the
 //! attitude of a satellite*, AIAA J. 2(7), 1964; Shuster and Oh, *Three-axis attitude
-//! determination from vector observations*, J. Guidance Control 4(1), 1981, §II).
+//! determination from vector observations*, J. Guidance and Control 4(1), 1981, pp. 70–77).
 //!
-//! # Algorithm (Shuster and Oh eqs. 1–6)
+//! # Algorithm (Black 1964; Shuster and Oh 1981)
 //! ```text
 //! t̂₁ = b̂₁,  t̂₂ = (b̂₁ × b̂₂)/|b̂₁ × b̂₂|,  t̂₃ = t̂₁ × t̂₂        (body triad)
 //! ŝ₁ = r̂₁,  ŝ₂ = (r̂₁ × r̂₂)/|r̂₁ × r̂₂|,  ŝ₃ = ŝ₁ × ŝ₂        (reference triad)

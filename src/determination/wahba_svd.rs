@@ -5,9 +5,9 @@
 //! # Problem (Wahba 1965)
 //! Find the rotation `A` (`v_body = A·v_ref`, [`crate::attitude`]) minimising
 //! `L(A) = ½ Σ aᵢ |b̂ᵢ − A r̂ᵢ|² = Σ aᵢ − tr(A Bᵀ)`, with the attitude profile matrix
-//! `B = Σ aᵢ b̂ᵢ r̂ᵢᵀ` (Markley eqs. 1–3).
+//! `B = Σ aᵢ b̂ᵢ r̂ᵢᵀ` (Markley 1988).
 //!
-//! # Solution (Markley eqs. 9–12)
+//! # Solution (Markley 1988)
 //! `B = U·S·Vᵀ`, `A = U·diag(1, 1, det U·det V)·Vᵀ`. The SVD is the one-sided Jacobi of
 //! [`crate::linalg::svd::nearest_rotation`] (bounded sweeps, allocation-free), which takes the
 //! third left singular vector as `u₁ × u₂`, so two observations (rank-2 `B`) are exact.
