@@ -473,46 +473,24 @@ fn nutation_truncation_and_f32() {
     assert!(lib32_dpsi < 0.5 && lib32 < 0.5);
 }
 
-/// A minimal reader of STK `.e` files: the `ScenarioEpoch` line and the `EphemerisTimePosVel`
-/// rows `t x y z vx vy vz` (s, m, m/s) up to `END Ephemeris`.
-fn read_stk(path: &std::path::Path) -> (String, Vec<[f64; 7]>) {
-    let text = std::fs::read_to_string(path).unwrap();
-    let mut epoch = String::new();
-    let mut rows = Vec::new();
-    let mut in_data = false;
-    for line in text.lines() {
-        let line = line.trim();
-        if let Some(rest) = line.strip_prefix("ScenarioEpoch") {
-            epoch = rest.trim().to_string();
-        } else if line == "EphemerisTimePosVel" {
-            in_data = true;
-        } else if line.starts_with("END Ephemeris") {
-            break;
-        } else if in_data && !line.is_empty() {
-            let v: Vec<f64> = line
-                .split_whitespace()
-                .map(|x| x.parse().unwrap())
-                .collect();
-            rows.push([v[0], v[1], v[2], v[3], v[4], v[5], v[6]]);
-        }
-    }
-    (epoch, rows)
-}
-
 /// Every row of the DTUSAT week in TEME rotated to J2000 must match the J2000 file within 20 m
 /// (0.6″ at 7000 km). Epoch of each row: the TLE epoch 09166.20608466 UTC + t; precession and
 /// nutation arguments in TT (UTC + 66.184 s in 2009).
 #[test]
 fn teme_to_j2000_dtusat_week() {
-    let dir = common::shared_path("ref/sgp4");
-    let (epoch_teme, teme) = read_stk(&dir.join("dtusat_wgs72_teme.e"));
-    let (epoch_j2000, j2000) = read_stk(&dir.join("dtusat_wgs72_j2000.e"));
-    assert_eq!(epoch_teme, epoch_j2000);
+    let read = |name: &str| {
+        acs::host::stk::read(&common::read_shared(&format!("ref/sgp4/{name}"))).unwrap()
+    };
+    let teme_file = read("dtusat_wgs72_teme.e");
+    let j2000_file = read("dtusat_wgs72_j2000.e");
+    let (teme, j2000) = (&teme_file.rows, &j2000_file.rows);
+    assert_eq!(teme_file.scenario_epoch, j2000_file.scenario_epoch);
     assert_eq!(teme.len(), 10_081);
     assert_eq!(teme.len(), j2000.len());
     let tle_epoch = Epoch::<Utc>::from_tle_epoch(9, 166, 20_608_466).unwrap();
     println!(
-        "ScenarioEpoch {epoch_teme}; TLE epoch {:?}",
+        "ScenarioEpoch {:?}; TLE epoch {:?}",
+        teme_file.scenario_epoch.to_calendar(),
         tle_epoch.to_calendar()
     );
     // Diagnostic only: the frame bias J2000 → GCRS (IERS Conventions 2003 eq. 8, ξ0 = −16.617
@@ -523,18 +501,20 @@ fn teme_to_j2000_dtusat_week() {
     let bias = Matrix3::new(1.0, da0, -xi0, -da0, 1.0, -eta0, xi0, eta0, 1.0);
     let mut max_biased = 0f64;
     let (mut max_r, mut sum_r, mut max_v, mut max_r32) = (0f64, 0f64, 0f64, 0f64);
-    for (a, b) in teme.iter().zip(&j2000) {
-        assert_eq!(a[0], b[0]);
-        let utc = tle_epoch.add(TimeSpan::from_seconds_f64(a[0]).unwrap());
+    for (a, b) in teme.iter().zip(j2000) {
+        assert_eq!(a.t_s, b.t_s);
+        let utc = tle_epoch.add(TimeSpan::from_seconds_f64(a.t_s).unwrap());
         let tt = utc.to_tt().unwrap();
-        let r_teme = Vec3d::new(a[1], a[2], a[3]);
-        let v_teme = Vec3d::new(a[4], a[5], a[6]);
+        let r_teme = Vec3d::from(a.r_m);
+        let v_teme = Vec3d::from(a.v_mps);
+        let r_ref = Vec3d::from(b.r_m);
+        let v_ref = Vec3d::from(b.v_mps);
         let (r, v) = teme_to_j2000(&r_teme, &v_teme, &tt);
-        let err_r = (r - Vec3d::new(b[1], b[2], b[3])).norm();
-        let err_v = (v - Vec3d::new(b[4], b[5], b[6])).norm();
+        let err_r = (r - r_ref).norm();
+        let err_v = (v - v_ref).norm();
         max_r = max_r.max(err_r);
         sum_r += err_r * err_r;
-        max_biased = max_biased.max((bias.transpose() * r - Vec3d::new(b[1], b[2], b[3])).norm());
+        max_biased = max_biased.max((bias.transpose() * r - r_ref).norm());
         max_v = max_v.max(err_v);
         // f32 matrix on f32 km.
         let (r32, _) = teme_to_j2000(
@@ -542,7 +522,7 @@ fn teme_to_j2000_dtusat_week() {
             &(v_teme / 1e3).cast::<f32>(),
             &tt,
         );
-        max_r32 = max_r32.max((r32.cast::<f64>() * 1e3 - Vec3d::new(b[1], b[2], b[3])).norm());
+        max_r32 = max_r32.max((r32.cast::<f64>() * 1e3 - r_ref).norm());
         // Inverse.
         let (r_back, _) = j2000_to_teme(&r, &v, &tt);
         assert!((r_back - r_teme).norm() < 1e-6);
