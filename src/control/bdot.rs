@@ -35,6 +35,7 @@ pub struct BdotConfig {
     /// Gain `k` (see the [module docs](self) for its unit in each form).
     pub gain: f32,
     /// Per-axis dipole limit, A·m².
+    #[cfg_attr(feature = "defmt", defmt(Debug2Format))]
     pub max_dipole_am2: Vec3,
 }
 
@@ -42,6 +43,7 @@ pub struct BdotConfig {
 #[derive(Copy, Clone, Debug, PartialEq, Default)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct BdotState {
+    #[cfg_attr(feature = "defmt", defmt(Debug2Format))]
     previous_b_nt: Option<Vec3>,
 }
 

@@ -254,9 +254,11 @@ pub struct SlewStep {
     /// Duration, s (0 for a null rotation).
     pub duration_s: f32,
     /// Body rate during the step, rad/s, body UVW: `Eᵀ ω_abc` (eq. 10.28).
+    #[cfg_attr(feature = "defmt", defmt(Debug2Format))]
     pub omega_body_radps: Vec3,
     /// Body angular momentum during the step, kg·m²/s, body UVW: `I · ω_uvw` (eq. 10.29). The
     /// wheels hold the opposite momentum.
+    #[cfg_attr(feature = "defmt", defmt(Debug2Format))]
     pub h_body: Vec3,
 }
 

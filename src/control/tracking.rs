@@ -34,8 +34,10 @@ use crate::linalg::{Mat3, Vec3};
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct TrackingGains {
     /// `K_p`, N·m per unit of quaternion vector part.
+    #[cfg_attr(feature = "defmt", defmt(Debug2Format))]
     pub kp_nm: Vec3,
     /// `K_d`, N·m·s/rad.
+    #[cfg_attr(feature = "defmt", defmt(Debug2Format))]
     pub kd_nms: Vec3,
 }
 

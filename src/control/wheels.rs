@@ -42,6 +42,7 @@ pub const RANK_TOLERANCE: f32 = 1e-5;
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Wheel {
     /// Unit spin axis in body UVW (the tile's `ẑ`, row 3 of its orientation matrix).
+    #[cfg_attr(feature = "defmt", defmt(Debug2Format))]
     pub axis_body: Vec3,
     /// Largest angular momentum magnitude, kg·m²/s (or torque, N·m, when allocating torque).
     pub limit: f32,
@@ -83,6 +84,7 @@ pub struct WheelAllocation<const N: usize> {
     pub scale: f32,
     /// The part of the requested body vector no combination of working wheels can produce
     /// (zero when they span the space), before saturation; same unit as the request.
+    #[cfg_attr(feature = "defmt", defmt(Debug2Format))]
     pub unrealised: Vec3,
     /// Number of independent directions the working wheels span (0..=3).
     pub rank: u8,
