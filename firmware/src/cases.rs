@@ -51,6 +51,15 @@ macro_rules! case2 {
 #[inline(always)]
 pub fn run<S: Sink>(s: &mut S) {
     case2!(s, "overhead", 1.25, -0.75, |x: f32, _y: f32| x);
+    if cfg!(feature = "group-core") {
+        run_core(s);
+    }
+    run_flight(s);
+}
+
+/// f32 primitives, the fmath kernels and the libm routines they replace.
+#[inline(always)]
+fn run_core<S: Sink>(s: &mut S) {
     // f32 primitives (the EABI helpers)
     case2!(s, "f32 mul", 1.234_567_8, -7.654_321, |x: f32, y: f32| x
         * y);
@@ -89,4 +98,233 @@ pub fn run<S: Sink>(s: &mut S) {
     case1!(s, "libm sinf", 0.723_4, libm::sinf);
     case2!(s, "libm atan2f", -0.383_1, -1.279_4, libm::atan2f);
     case1!(s, "libm sqrtf", 2.345_678, libm::sqrtf);
+}
+
+/// The flight modules' cases (inputs: the AraMiS thesis cube, a LEO state, 2025).
+#[inline(always)]
+pub fn run_flight<S: Sink>(s: &mut S) {
+    use acs::determination::{self, least_squares, Observation};
+    use acs::linalg::{Vec2, Vec3};
+    use acs::time::{Epoch, Ut1, Utc};
+
+    let nan3 = Vec3::new(f32::NAN, f32::NAN, f32::NAN);
+    let out3 = |s: &mut S, v: &Vec3| {
+        s.out(v.x);
+        s.out(v.y);
+        s.out(v.z);
+    };
+
+    // ---- time and frames
+    if cfg!(feature = "group-orbit") {
+        let ut1: Option<Epoch<Ut1>> = Epoch::from_parts(9_300, 43_210, 123_000_000).ok();
+        s.begin("GMST (IAU-82)");
+        let ut1 = core::hint::black_box(ut1);
+        let g = ut1.as_ref().map_or(f32::NAN, acs::time::gmst_rad);
+        let g = s.keep(g);
+        s.end();
+        s.out(g);
+    }
+
+    if cfg!(feature = "group-orbit") {
+        let m = s.input(1.234_5);
+        let e = s.input(0.185_966_7);
+        s.begin("Kepler equation");
+        let ea = s.keep(acs::orbit::kepler::solve_kepler(m, e));
+        s.end();
+        s.out(ea);
+    }
+    // ---- orbit (SGP4 alone in its image: see README, it does not fit with anything else)
+    if cfg!(feature = "group-sgp4") {
+        // The test TLE of Vallado et al. (2006), satellite 00005, built field by field (parsing
+        // text pulls f64 decimal parsing, 20 KB, into the image):
+        // 1 00005U 58002B   00179.78495062  .00000023  00000-0  28098-4 0  4753
+        // 2 00005  34.2682 348.7242 1859667 331.7664  19.3264 10.82419157413667
+        let tle = Epoch::from_tle_epoch(0, 179, 78_495_062)
+            .ok()
+            .map(|epoch| acs::tle::Tle {
+                name: None,
+                catalog_number: 5,
+                classification: b'U',
+                international_designator: heapless::String::new(),
+                epoch,
+                mean_motion_dot: 0.000_000_23,
+                mean_motion_ddot: 0.0,
+                bstar: 0.280_98e-4,
+                ephemeris_type: 0,
+                element_set_number: 475,
+                inclination_deg: 34.268_2,
+                raan_deg: 348.724_2,
+                eccentricity: 0.185_966_7,
+                arg_perigee_deg: 331.766_4,
+                mean_anomaly_deg: 19.326_4,
+                mean_motion_rev_per_day: 10.824_191_574,
+                revolution_number: 41_366,
+            });
+        s.begin("SGP4 init");
+        let sgp4 = tle
+            .as_ref()
+            .and_then(|t| acs::orbit::sgp4::Sgp4::new(t, acs::orbit::sgp4::Gravity::Wgs72).ok());
+        core::hint::black_box(&sgp4);
+        s.end();
+        let whole = s.input(360.0);
+        let frac = s.input(0.123_4);
+        s.begin("SGP4 propagate");
+        let st = sgp4
+            .as_ref()
+            .and_then(|p| p.propagate_split(whole, frac).ok());
+        let st = core::hint::black_box(st);
+        s.end();
+        let r = st.map_or(nan3, |st| st.r_teme_km);
+        out3(s, &r);
+    }
+
+    // ---- environment
+    if cfg!(feature = "group-env") {
+        let utc: Option<Epoch<Utc>> = Epoch::from_parts(9_300, 43_210, 0).ok();
+        s.begin("sun (thesis)");
+        let sun = utc
+            .as_ref()
+            .and_then(|e| acs::env::sun::thesis::sun(e).ok());
+        let sun = core::hint::black_box(sun);
+        s.end();
+        out3(s, &sun.map_or(nan3, |x| x.direction));
+        s.begin("sun (precise)");
+        let sun = utc
+            .as_ref()
+            .and_then(|e| acs::env::sun::precise::sun(e).ok());
+        let sun = core::hint::black_box(sun);
+        s.end();
+        out3(s, &sun.map_or(nan3, |x| x.direction));
+    }
+    if cfg!(feature = "group-env") {
+        for (name, degree) in [
+            ("IGRF deg 8", 8u8),
+            ("IGRF deg 10", 10),
+            ("IGRF deg 13", 13),
+        ] {
+            use acs::env::igrf::{Degree, Igrf, RECENT};
+            let year = s.input(2025.5);
+            let field = Degree::new(degree)
+                .ok()
+                .and_then(|d| Igrf::new(&RECENT, year, d).ok());
+            let r = Vec3::new(s.input(4_000.0), s.input(-3_500.0), s.input(4_200.0));
+            let gmst = s.input(1.234);
+            s.begin(name);
+            let b = field.as_ref().and_then(|f| f.teme(&r, gmst).ok());
+            let b = core::hint::black_box(b);
+            s.end();
+            out3(s, &b.unwrap_or(nan3));
+        }
+    }
+
+    // ---- determination
+    if cfg!(feature = "group-det") {
+        let tiles = acs::tiles::cube_thesis();
+        {
+            let readings: [Option<Vec2>; 6] = [
+                Some(Vec2::new(s.input(12_000.0), s.input(-8_000.0))),
+                Some(Vec2::new(s.input(-3_000.0), s.input(20_000.0))),
+                Some(Vec2::new(s.input(7_000.0), s.input(1_000.0))),
+                Some(Vec2::new(s.input(-15_000.0), s.input(4_000.0))),
+                Some(Vec2::new(s.input(2_500.0), s.input(-9_000.0))),
+                Some(Vec2::new(s.input(5_000.0), s.input(6_000.0))),
+            ];
+            s.begin("magnetometer least squares");
+            let b = least_squares::magnetic_field_body(&tiles, &readings).ok();
+            let b = core::hint::black_box(b);
+            s.end();
+            out3(s, &b.unwrap_or(nan3));
+            let rates: [Option<f32>; 6] = [
+                Some(s.input(0.01)),
+                Some(s.input(-0.02)),
+                Some(s.input(0.03)),
+                Some(s.input(-0.011)),
+                Some(s.input(0.019)),
+                Some(s.input(-0.031)),
+            ];
+            s.begin("gyro least squares");
+            let w = least_squares::angular_rate_body(&tiles, &rates).ok();
+            let w = core::hint::black_box(w);
+            s.end();
+            out3(s, &w.unwrap_or(nan3));
+        }
+        {
+            let obs = [
+                Observation {
+                    body: Vec3::new(s.input(0.2673), s.input(0.5345), s.input(0.8018)),
+                    reference: Vec3::new(s.input(0.7448), s.input(-0.6383), s.input(-0.1949)),
+                    weight: 0.5,
+                },
+                Observation {
+                    body: Vec3::new(s.input(-0.3124), s.input(0.9370), s.input(0.1562)),
+                    reference: Vec3::new(s.input(0.2), s.input(0.4), s.input(0.8944)),
+                    weight: 0.5,
+                },
+            ];
+            for (name, solver) in [
+                (
+                    "Wahba SVD",
+                    determination::wahba_svd::solve as fn(&[Observation]) -> _,
+                ),
+                ("QUEST", determination::quest::solve),
+                ("TRIAD", determination::triad::solve),
+            ] {
+                s.begin(name);
+                let sol = solver(&obs).ok();
+                let sol = core::hint::black_box(sol);
+                s.end();
+                let q = sol.map(|x| x.quaternion);
+                s.out(q.map_or(f32::NAN, |q| q.q0));
+                s.out(q.map_or(f32::NAN, |q| q.q1));
+            }
+        }
+    }
+
+    // ---- control
+    if cfg!(feature = "group-ctl") {
+        use acs::control::{bdot, slew, wheels};
+        let q = acs::attitude::Quaternion::new_normalize(
+            s.input(0.9),
+            s.input(0.3),
+            s.input(-0.2),
+            s.input(0.25),
+        );
+        let m = q.map(|q| *q.to_dcm().matrix());
+        s.begin("slew quaternion decomposition");
+        let d = m.and_then(|m| slew::decompose(&m, slew::Branch::Shortest).ok());
+        let d = core::hint::black_box(d);
+        s.end();
+        s.out(d.map_or(f32::NAN, |a| a.phi_a));
+        s.out(d.map_or(f32::NAN, |a| a.theta_b));
+        s.out(d.map_or(f32::NAN, |a| a.psi_c));
+        let wheel = |x: f32, y: f32, z: f32| wheels::Wheel {
+            axis_body: Vec3::new(x, y, z),
+            limit: 0.005,
+            working: true,
+        };
+        let ws = [
+            wheel(1.0, 0.0, 0.0),
+            wheel(0.0, 1.0, 0.0),
+            wheel(0.0, 0.0, 1.0),
+            wheel(0.577, 0.577, 0.577),
+        ];
+        let l = Vec3::new(s.input(0.001), s.input(-0.002), s.input(0.0005));
+        s.begin("wheel allocation");
+        let a = wheels::allocate(&ws, &l).ok();
+        let a = core::hint::black_box(a);
+        s.end();
+        s.out(a.as_ref().map_or(f32::NAN, |a| a.wheel[0]));
+        s.out(a.as_ref().map_or(f32::NAN, |a| a.wheel[3]));
+        let cfg = bdot::BdotConfig {
+            gain: 2.0e4,
+            max_dipole_am2: Vec3::new(0.2, 0.2, 0.2),
+        };
+        let w = Vec3::new(s.input(0.01), s.input(-0.02), s.input(0.03));
+        let b = Vec3::new(s.input(12_000.0), s.input(-30_000.0), s.input(18_000.0));
+        s.begin("B-dot (gyro form)");
+        let m = bdot::bdot_from_rates(&cfg, &w, &b).ok();
+        let m = core::hint::black_box(m);
+        s.end();
+        out3(s, &m.unwrap_or(nan3));
+    }
 }
