@@ -264,7 +264,7 @@ pub fn covariance_rad2(observations: &[Observation]) -> Result<Mat3, Determinati
         Vec3::new(fisher.m21, fisher.m22, fisher.m23),
         Vec3::new(fisher.m31, fisher.m32, fisher.m33),
     ];
-    let svd = crate::linalg::svd::ThinSvd::new(&rows)?;
+    let svd = crate::linalg::svd::ThinSvd::<3>::new(&rows)?;
     let s = svd.singular_values();
     if s.z <= COVARIANCE_MIN_RATIO * s.x {
         return Err(DeterminationError::Parallel {

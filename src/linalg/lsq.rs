@@ -91,8 +91,8 @@ impl<const K: usize> QrLeastSquares<K> {
     }
 
     /// The singular values of `M` (equal to those of `R`) and its SVD.
-    fn svd(&self) -> Result<ThinSvd, SvdError> {
-        ThinSvd::new(&self.r)
+    fn svd(&self) -> Result<ThinSvd<3>, SvdError> {
+        ThinSvd::<3>::new(&self.r)
     }
 
     /// The rank of `M` with the relative threshold `rel_tol` on its singular values.

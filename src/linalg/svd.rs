@@ -25,13 +25,16 @@
 //! others. It is applied without storing `U`: `M⁺·y = Σⱼ vⱼ (wⱼ·y)/σⱼ²`.
 //!
 //! # Cost
-//! Allocation-free; the working copy of the matrix is 3 × [`MAX_ROWS`] f32 on the stack (144 B)
-//! plus `V`. No recursion; every loop is bounded by [`MAX_ROWS`] and [`MAX_SWEEPS`].
+//! Allocation-free; the working copy of the matrix is 3 × `M` f32 on the stack (144 B for
+//! `M` = [`MAX_ROWS`], 36 B for the 3×3 matrices the crate's solvers decompose) plus `V`.
+//! No recursion; every loop is bounded by `M` and [`MAX_SWEEPS`].
 
 use crate::fmath;
 use crate::linalg::{Mat3, Vec3};
 
-/// The largest number of rows [`ThinSvd::new`] accepts (12 tiles or 12 two-axis rows).
+/// The default row capacity of [`ThinSvd`] (12 tiles or 12 two-axis rows). The crate's own
+/// solvers use `ThinSvd<3>` (the 3×3 triangular factor of [`crate::linalg::lsq`], or the
+/// attitude profile matrix), whose working copy is 36 B instead of 144 B.
 pub const MAX_ROWS: usize = 12;
 
 /// Iteration cap of the Jacobi sweeps.
@@ -45,7 +48,7 @@ const ORTHO_TOL: f32 = 4.0 * f32::EPSILON;
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[non_exhaustive]
 pub enum SvdError {
-    /// More rows than [`MAX_ROWS`].
+    /// More rows than the decomposition's capacity.
     TooManyRows {
         /// Rows given.
         rows: usize,
@@ -72,7 +75,7 @@ impl core::fmt::Display for SvdError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         match self {
             Self::TooManyRows { rows } => {
-                write!(f, "{rows} rows, at most {MAX_ROWS} are supported")
+                write!(f, "{rows} rows, more than the capacity")
             }
             Self::NonFinite => write!(f, "NaN or infinite entry"),
             Self::RhsLength { rows, rhs } => {
@@ -86,25 +89,28 @@ impl core::fmt::Display for SvdError {
     }
 }
 
-type Column = [f32; MAX_ROWS];
-
-/// The thin SVD `M = U·Σ·Vᵀ` of an m×3 matrix, m ≤ [`MAX_ROWS`], singular values in
-/// descending order. `U` is kept as `W = M·V = U·Σ` (see the [module docs](self)).
+/// The thin SVD `M = U·Σ·Vᵀ` of an m×3 matrix, m ≤ `M` (default [`MAX_ROWS`]), singular
+/// values in descending order. `U` is kept as `W = M·V = U·Σ` (see the [module docs](self)).
 #[derive(Clone, Debug)]
-pub struct ThinSvd {
-    w: [Column; 3],
+pub struct ThinSvd<const M: usize = MAX_ROWS> {
+    w: [[f32; M]; 3],
     v: [Vec3; 3],
     sigma: [f32; 3],
     rows: usize,
 }
 
-fn dot(a: &Column, b: &Column) -> f32 {
+fn dot<const M: usize>(a: &[f32; M], b: &[f32; M]) -> f32 {
     a.iter().zip(b.iter()).map(|(x, y)| x * y).sum()
 }
 
 /// One Jacobi rotation of the column pair `(wp, wq)` and of `(vp, vq)`. Returns whether it
 /// rotated.
-fn rotate(wp: &mut Column, wq: &mut Column, vp: &mut Vec3, vq: &mut Vec3) -> bool {
+fn rotate<const M: usize>(
+    wp: &mut [f32; M],
+    wq: &mut [f32; M],
+    vp: &mut Vec3,
+    vq: &mut Vec3,
+) -> bool {
     let alpha = dot(wp, wp);
     let beta = dot(wq, wq);
     let gamma = dot(wp, wq);
@@ -134,18 +140,18 @@ fn rotate(wp: &mut Column, wq: &mut Column, vp: &mut Vec3, vq: &mut Vec3) -> boo
     true
 }
 
-impl ThinSvd {
-    /// Decomposes the matrix whose rows are `rows` (at most [`MAX_ROWS`]).
+impl<const M: usize> ThinSvd<M> {
+    /// Decomposes the matrix whose rows are `rows` (at most `M`).
     pub fn new(rows: &[Vec3]) -> Result<Self, SvdError> {
-        if rows.len() > MAX_ROWS {
+        if rows.len() > M {
             return Err(SvdError::TooManyRows { rows: rows.len() });
         }
         if rows.iter().any(|r| !r.iter().all(|x| x.is_finite())) {
             return Err(SvdError::NonFinite);
         }
-        let mut w0: Column = [0.0; MAX_ROWS];
-        let mut w1: Column = [0.0; MAX_ROWS];
-        let mut w2: Column = [0.0; MAX_ROWS];
+        let mut w0 = [0.0f32; M];
+        let mut w1 = [0.0f32; M];
+        let mut w2 = [0.0f32; M];
         for (r, (a, (b, c))) in rows
             .iter()
             .zip(w0.iter_mut().zip(w1.iter_mut().zip(w2.iter_mut())))
@@ -297,7 +303,10 @@ impl ThinSvd {
         if self.rows != 3 || sj.is_nan() || sj <= 0.0 {
             return None;
         }
-        Some(Vec3::new(wj[0], wj[1], wj[2]) / sj)
+        match wj.get(..3)? {
+            [a, b, c] => Some(Vec3::new(*a, *b, *c) / sj),
+            _ => None,
+        }
     }
 }
 
@@ -315,7 +324,7 @@ pub fn nearest_rotation(b: &Mat3, min_ratio: f32) -> Result<(Mat3, Vec3), SvdErr
         Vec3::new(b.m21, b.m22, b.m23),
         Vec3::new(b.m31, b.m32, b.m33),
     ];
-    let svd = ThinSvd::new(&rows)?;
+    let svd = ThinSvd::<3>::new(&rows)?;
     svd.require_rank(2, min_ratio)?;
     let (u1, u2) = match (svd.left3(0), svd.left3(1)) {
         (Some(a), Some(b)) => (a, b),
@@ -349,7 +358,7 @@ mod tests {
             Vec3::new(0.3, -0.7, 0.1),
             Vec3::new(4.0, 1.0, -2.0),
         ];
-        let svd = ThinSvd::new(&rows).unwrap();
+        let svd = ThinSvd::<12>::new(&rows).unwrap();
         let s = svd.singular_values();
         assert!(s.x >= s.y && s.y >= s.z && s.z > 0.0);
         // M⁺ M = I for full column rank.
@@ -365,7 +374,7 @@ mod tests {
     #[test]
     fn rank_deficient() {
         let rows = [Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0)];
-        let svd = ThinSvd::new(&rows).unwrap();
+        let svd = ThinSvd::<12>::new(&rows).unwrap();
         assert_eq!(svd.rank(1e-6), 2);
         assert!(matches!(
             svd.require_rank(3, 1e-6),
@@ -378,10 +387,10 @@ mod tests {
     #[test]
     fn refuses_bad_input() {
         let rows = [Vec3::new(f32::NAN, 0.0, 0.0)];
-        assert_eq!(ThinSvd::new(&rows).unwrap_err(), SvdError::NonFinite);
+        assert_eq!(ThinSvd::<12>::new(&rows).unwrap_err(), SvdError::NonFinite);
         let many = [Vec3::x(); 13];
         assert!(matches!(
-            ThinSvd::new(&many),
+            ThinSvd::<12>::new(&many),
             Err(SvdError::TooManyRows { rows: 13 })
         ));
     }
