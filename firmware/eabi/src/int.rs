@@ -12,6 +12,7 @@ use core::arch::global_asm;
 
 // ---------------------------------------------------------------------------------------------
 // 16-bit multiply: r12 = r12 * r13 (mod 2^16).
+#[cfg(not(feature = "hwmult16"))]
 global_asm!(
     r#"
     .section .text.__mspabi_mpyi,"ax",@progbits
@@ -38,6 +39,7 @@ __mspabi_mpyi:
 // a*b mod 2^32 = alo*blo + ((ahi*blo + alo*bhi) mod 2^16) << 16.
 // The cross sum is formed msb-first (shift-left), the full 16x16 product alo*blo by the
 // shift-right method (product high word in r10, low word shifted into the multiplier r14).
+#[cfg(not(feature = "hwmult16"))]
 global_asm!(
     r#"
     .section .text.__mspabi_mpyl,"ax",@progbits
@@ -108,6 +110,54 @@ __mspabi_mpyl:
     add r11, r10
     mov r10, r13
     pop r10
+    ret
+    .size __mspabi_mpyl, .-__mspabi_mpyl
+"#
+);
+
+// ---------------------------------------------------------------------------------------------
+// Hardware-multiplier variants (16-bit MPY peripheral: MPY 0x0130, OP2 0x0138, RESLO 0x013A,
+// RESHI 0x013C). Interrupts are disabled around each use (SR saved and restored), so interrupt
+// handlers may use the multiplier too.
+#[cfg(feature = "hwmult16")]
+global_asm!(
+    r#"
+    .section .text.__mspabi_mpyi,"ax",@progbits
+    .globl __mspabi_mpyi
+    .type __mspabi_mpyi,@function
+    .p2align 1
+__mspabi_mpyi:
+    push r2
+    dint
+    nop
+    mov r12, &0x0130
+    mov r13, &0x0138
+    mov &0x013a, r12
+    pop r2
+    ret
+    .size __mspabi_mpyi, .-__mspabi_mpyi
+
+    .section .text.__mspabi_mpyl,"ax",@progbits
+    .globl __mspabi_mpyl
+    .type __mspabi_mpyl,@function
+    .p2align 1
+__mspabi_mpyl:
+    push r2
+    dint
+    nop
+    mov r12, &0x0130
+    mov r14, &0x0138
+    mov &0x013a, r11
+    mov r12, &0x0130
+    mov &0x013c, r12
+    mov r15, &0x0138
+    add &0x013a, r12
+    mov r13, &0x0130
+    mov r14, &0x0138
+    add &0x013a, r12
+    pop r2
+    mov r12, r13
+    mov r11, r12
     ret
     .size __mspabi_mpyl, .-__mspabi_mpyl
 "#

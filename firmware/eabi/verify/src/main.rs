@@ -31,7 +31,7 @@ struct Variant {
     elf: String,
 }
 
-fn mspdebug(v: &Variant, params: &[u16], extra: &[String]) -> Result<String, String> {
+fn mspdebug(v: &Variant, params: &[u16], extra: &[String], timeout_s: u64) -> Result<String, String> {
     let mut mw = format!("mw 0x{IO:04x}");
     for p in params {
         mw.push_str(&format!(" {:02x} {:02x}", p & 0xff, p >> 8));
@@ -47,13 +47,35 @@ fn mspdebug(v: &Variant, params: &[u16], extra: &[String]) -> Result<String, Str
         args.push("simio add hwmult mpy".to_string());
     }
     args.extend(extra.iter().cloned());
-    let out = Command::new("mspdebug")
+    // Output goes to a file (no pipe to fill); a run that does not stop in time is killed.
+    static SEQ: AtomicUsize = AtomicUsize::new(0);
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../../target/eabi/runs");
+    std::fs::create_dir_all(dir).map_err(|e| e.to_string())?;
+    let path = format!("{dir}/run-{}-{}.txt", std::process::id(), SEQ.fetch_add(1, Ordering::SeqCst));
+    let file = std::fs::File::create(&path).map_err(|e| e.to_string())?;
+    let err = file.try_clone().map_err(|e| e.to_string())?;
+    let mut child = Command::new("mspdebug")
         .args(&args)
-        .output()
+        .stdin(std::process::Stdio::null())
+        .stdout(file)
+        .stderr(err)
+        .spawn()
         .map_err(|e| format!("cannot run mspdebug: {e} (apt-get install mspdebug)"))?;
-    let text =
-        String::from_utf8_lossy(&out.stdout).into_owned() + &String::from_utf8_lossy(&out.stderr);
-    if !out.status.success() {
+    let t0 = Instant::now();
+    let status = loop {
+        if let Some(st) = child.try_wait().map_err(|e| e.to_string())? {
+            break st;
+        }
+        if t0.elapsed().as_secs() > timeout_s {
+            let _ = child.kill();
+            let _ = child.wait();
+            return Err(format!("mspdebug did not stop within {timeout_s} s (a helper that loops?): {args:?}"));
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    };
+    let text = std::fs::read_to_string(&path).unwrap_or_default();
+    let _ = std::fs::remove_file(&path);
+    if !status.success() {
         return Err(format!("mspdebug failed: {text}"));
     }
     Ok(text)
@@ -100,7 +122,7 @@ fn run_firmware(v: &Variant, params: &[u16], nwords: u32) -> Result<Vec<u32>, St
         format!("md 0x{IO:04x} 16"),
         format!("md 0x{RES:04x} {}", nwords * 4),
     ];
-    let text = mspdebug(v, params, &extra)?;
+    let text = mspdebug(v, params, &extra, 120 + 4 * nwords as u64)?;
     let io = parse_md(&text, IO, 16);
     let status = u16::from_le_bytes([io[14], io[15]]);
     if status != 0xd00e {
@@ -213,7 +235,7 @@ fn bench(variants: &[Variant], ops: &[String]) -> Result<(), String> {
                 "simio info t".to_string(),
             ];
             let reps = bench_ops::REPS;
-            let text = mspdebug(v, &[0, 3, k as u16, 0, 0, 0, 0, 0, reps], &extra)?;
+            let text = mspdebug(v, &[0, 3, k as u16, 0, 0, 0, 0, 0, reps], &extra, 600)?;
             let mut c = Vec::new();
             let mut n = Vec::new();
             for line in text.lines() {
