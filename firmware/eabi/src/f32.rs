@@ -1052,3 +1052,33 @@ acs_sqrtf:
     .size acs_sqrtf, .-acs_sqrtf
 "#
 );
+
+// Unordered test (LLVM calls it by its compiler-builtins name for `is_nan`-like folds, for
+// `partial_cmp` and around every saturating `as` conversion): r12 = 1 if a or b is NaN, else 0.
+// Defined here (before compiler-builtins in link order) because the generic one costs ~100 cycles.
+global_asm!(
+    r#"
+    .section .text.__unordsf2,"ax",@progbits
+    .globl __unordsf2
+    .type __unordsf2,@function
+    .p2align 1
+__unordsf2:
+    and #0x7fff, r13
+    cmp #0x7f80, r13
+    jlo 1f
+    jne 3f
+    tst r12
+    jnz 3f
+1:  and #0x7fff, r15
+    cmp #0x7f80, r15
+    jlo 2f
+    jne 3f
+    tst r14
+    jnz 3f
+2:  clr r12
+    ret
+3:  mov #1, r12
+    ret
+    .size __unordsf2, .-__unordsf2
+"#
+);

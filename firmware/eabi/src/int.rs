@@ -11,7 +11,7 @@
 use core::arch::global_asm;
 
 // ---------------------------------------------------------------------------------------------
-// 16-bit multiply: r12 = r12 * r13 (mod 2^16).
+// 16-bit multiply: r12 = r12 * r13 (mod 2^16), msb-first shift-and-add, unrolled.
 #[cfg(not(feature = "hwmult16"))]
 global_asm!(
     r#"
@@ -22,23 +22,24 @@ global_asm!(
 __mspabi_mpyi:
     mov r12, r14
     clr r12
-1:  clrc
-    rrc r13
-    jnc 2f
+    .rept 16
+    rla r12
+    rla r13
+    jnc 1f
     add r14, r12
-2:  rla r14
-    tst r13
-    jnz 1b
+1:
+    .endr
     ret
     .size __mspabi_mpyi, .-__mspabi_mpyi
 "#
 );
 
 // ---------------------------------------------------------------------------------------------
-// 32-bit multiply: r13:r12 = r13:r12 * r15:r14 (mod 2^32).
-// a*b mod 2^32 = alo*blo + ((ahi*blo + alo*bhi) mod 2^16) << 16.
-// The cross sum is formed msb-first (shift-left), the full 16x16 product alo*blo by the
-// shift-right method (product high word in r10, low word shifted into the multiplier r14).
+// 32-bit multiply: r13:r12 = r13:r12 * r15:r14 (mod 2^32), shift-right method over the 16 bits
+// of blo and bhi at once: window {r10, r11, r14} (top, high, low words) shifted right each step;
+// blo bit i adds a (32 bits) at the high word, bhi bit i adds alo at the top word. Everything
+// above bit 31 of the product is discarded, so the top word needs no carry-in. When both high
+// words are zero, a plain 16x16->32 product (window {r11, r14}).
 #[cfg(not(feature = "hwmult16"))]
 global_asm!(
     r#"
@@ -47,68 +48,39 @@ global_asm!(
     .type __mspabi_mpyl,@function
     .p2align 1
 __mspabi_mpyl:
-    push r10
     clr r11
     tst r13
-    jz 5f
+    jnz 2f
     tst r15
-    jz 7f
-    ; both high words non-zero: r11 = ahi*blo + alo*bhi, msb-first over ahi and bhi
-    mov #4, r10
-1:
-    .rept 4
-    rla r11
-    rla r13
-    jnc 2f
-    add r14, r11
-2:  rla r15
-    jnc 3f
+    jnz 2f
+    clrc
+    rrc r14
+    .rept 16
+    jnc 1f
     add r12, r11
-3:
+1:  rrc r11
+    rrc r14
     .endr
-    dec r10
-    jnz 1b
-    jmp 8f
-7:  ; bhi == 0: r11 = ahi*blo
-    mov #4, r10
-1:
-    .rept 4
-    rla r11
-    rla r13
-    jnc 2f
-    add r14, r11
-2:
-    .endr
-    dec r10
-    jnz 1b
-    jmp 8f
-5:  ; ahi == 0: r11 = alo*bhi
-    tst r15
-    jz 8f
-    mov #4, r10
-1:
-    .rept 4
-    rla r11
-    rla r15
-    jnc 2f
-    add r12, r11
-2:
-    .endr
-    dec r10
-    jnz 1b
-8:  ; r10:r14 = alo*blo
+    mov r14, r12
+    mov r11, r13
+    ret
+2:  push r10
     clr r10
     clrc
     rrc r14
     .rept 16
-    jnc 2f
+    jnc 1f
+    add r12, r11
+    addc r13, r10
+1:  rra r15
+    jnc 3f
     add r12, r10
-2:  rrc r10
+3:  rra r10
+    rrc r11
     rrc r14
     .endr
     mov r14, r12
-    add r11, r10
-    mov r10, r13
+    mov r11, r13
     pop r10
     ret
     .size __mspabi_mpyl, .-__mspabi_mpyl

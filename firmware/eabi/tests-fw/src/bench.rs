@@ -14,6 +14,7 @@ pub extern "C" fn tf_mark() {
 extern "C" {
     fn __mspabi_cmpf(a: f32, b: f32) -> i16;
     fn acs_sqrtf(a: f32) -> f32;
+    fn __mspabi_fixfli(a: f32) -> i32;
 }
 
 static mut SINK: u32 = 0;
@@ -57,7 +58,8 @@ pub fn run(op: u16, reps: u16) {
         "cmpf" => timed!(s32, reps, |a, b| unsafe { __mspabi_cmpf(f(a), f(b)) }
             as u32),
         "sqrtf" => timed!(s32, reps, |a, _b| unsafe { acs_sqrtf(f(a)) }.to_bits()),
-        "fixfli" => timed!(s32, reps, |a, _b| f(a) as i32 as u32),
+        "fixfli" => timed!(s32, reps, |a, _b| unsafe { __mspabi_fixfli(f(a)) } as u32),
+        "f32_as_i32" => timed!(s32, reps, |a, _b| f(a) as i32 as u32),
         "fltlif" => timed!(s32, reps, |a, _b| (a as i32 as f32).to_bits()),
         "mpyi" => timed!(s32, reps, |a, b| (a as u16).wrapping_mul(b as u16) as u32),
         "mpyl" => timed!(s32, reps, |a, b| a.wrapping_mul(b)),

@@ -8,8 +8,26 @@ pub const SETS: usize = 16;
 
 /// Operations timed by bench mode (index = operation number of bench mode).
 pub const BENCH: &[&str] = &[
-    "empty", "addf", "subf", "mpyf", "divf", "cmpf", "sqrtf", "fixfli", "fltlif", "mpyi", "mpyl",
-    "mpyl16", "divu", "divul", "divli", "srll", "addd", "mpyd", "divd",
+    "empty",
+    "addf",
+    "subf",
+    "mpyf",
+    "divf",
+    "cmpf",
+    "sqrtf",
+    "fixfli",
+    "f32_as_i32",
+    "fltlif",
+    "mpyi",
+    "mpyl",
+    "mpyl16",
+    "divu",
+    "divul",
+    "divli",
+    "srll",
+    "addd",
+    "mpyd",
+    "divd",
 ];
 
 fn typical_f32(r: &mut Rng) -> u32 {
@@ -23,7 +41,7 @@ pub fn operands(name: &str, r: &mut Rng) -> (u64, u64) {
     match name {
         "sqrtf" => ((typical_f32(r) & 0x7fff_ffff) as u64, 0),
         "fltlif" => ((r.next() >> (r.next() & 15)) as u64, 0),
-        "fixfli" => ((typical_f32(r) + (8 << 23)) as u64, 0),
+        "fixfli" | "f32_as_i32" => ((typical_f32(r) + (8 << 23)) as u64, 0),
         "mpyi" | "divu" => ((r.next() & 0xffff) as u64, (r.next() & 0xffff | 1) as u64),
         "mpyl" | "divli" => (r.next() as u64, r.next() as u64),
         "mpyl16" => ((r.next() & 0xffff) as u64, (r.next() & 0xffff) as u64),

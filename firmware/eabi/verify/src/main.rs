@@ -31,7 +31,12 @@ struct Variant {
     elf: String,
 }
 
-fn mspdebug(v: &Variant, params: &[u16], extra: &[String], timeout_s: u64) -> Result<String, String> {
+fn mspdebug(
+    v: &Variant,
+    params: &[u16],
+    extra: &[String],
+    timeout_s: u64,
+) -> Result<String, String> {
     let mut mw = format!("mw 0x{IO:04x}");
     for p in params {
         mw.push_str(&format!(" {:02x} {:02x}", p & 0xff, p >> 8));
@@ -51,7 +56,11 @@ fn mspdebug(v: &Variant, params: &[u16], extra: &[String], timeout_s: u64) -> Re
     static SEQ: AtomicUsize = AtomicUsize::new(0);
     let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../../target/eabi/runs");
     std::fs::create_dir_all(dir).map_err(|e| e.to_string())?;
-    let path = format!("{dir}/run-{}-{}.txt", std::process::id(), SEQ.fetch_add(1, Ordering::SeqCst));
+    let path = format!(
+        "{dir}/run-{}-{}.txt",
+        std::process::id(),
+        SEQ.fetch_add(1, Ordering::SeqCst)
+    );
     let file = std::fs::File::create(&path).map_err(|e| e.to_string())?;
     let err = file.try_clone().map_err(|e| e.to_string())?;
     let mut child = Command::new("mspdebug")
@@ -69,7 +78,9 @@ fn mspdebug(v: &Variant, params: &[u16], extra: &[String], timeout_s: u64) -> Re
         if t0.elapsed().as_secs() > timeout_s {
             let _ = child.kill();
             let _ = child.wait();
-            return Err(format!("mspdebug did not stop within {timeout_s} s (a helper that loops?): {args:?}"));
+            return Err(format!(
+                "mspdebug did not stop within {timeout_s} s (a helper that loops?): {args:?}"
+            ));
         }
         std::thread::sleep(std::time::Duration::from_millis(20));
     };
