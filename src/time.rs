@@ -197,20 +197,33 @@ pub struct Calendar {
 /// Days from 2000-01-01 to the given Gregorian date (proleptic), exact integer arithmetic.
 ///
 /// The algorithm is the "days from civil" of H. Hinnant (public domain), shifted to 2000-01-01.
+///
+/// Computed in `i64`; the result saturates at the ends of `i32` (years beyond ±5.8 million).
 pub const fn days_from_civil(year: i32, month: u8, day: u8) -> i32 {
+    let year = year as i64;
     let y = if month <= 2 { year - 1 } else { year };
     let era = if y >= 0 { y } else { y - 399 } / 400;
     let yoe = y - era * 400;
-    let m = month as i32;
+    let m = month as i64;
     let mp = if m > 2 { m - 3 } else { m + 9 };
-    let doy = (153 * mp + 2) / 5 + day as i32 - 1;
+    let doy = (153 * mp + 2) / 5 + day as i64 - 1;
     let doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
-    era * 146_097 + doe - 719_468 - 10_957
+    let days = era * 146_097 + doe - 719_468 - 10_957;
+    if days > i32::MAX as i64 {
+        i32::MAX
+    } else if days < i32::MIN as i64 {
+        i32::MIN
+    } else {
+        days as i32
+    }
 }
 
 /// The Gregorian (year, month, day) of a day count from 2000-01-01 (inverse of [`days_from_civil`]).
+///
+/// Exact for every `i32` day count (the arithmetic is done in `i64`, so the extreme day counts a
+/// saturated [`Epoch::add`] can produce do not overflow).
 pub const fn civil_from_days(days: i32) -> (i32, u8, u8) {
-    let z = days + 10_957 + 719_468;
+    let z = days as i64 + 10_957 + 719_468;
     let era = if z >= 0 { z } else { z - 146_096 } / 146_097;
     let doe = z - era * 146_097;
     let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
@@ -220,7 +233,8 @@ pub const fn civil_from_days(days: i32) -> (i32, u8, u8) {
     let d = doy - (153 * mp + 2) / 5 + 1;
     let m = if mp < 10 { mp + 3 } else { mp - 9 };
     let year = if m <= 2 { y + 1 } else { y };
-    (year, m as u8, d as u8)
+    // |year| ≤ 5.9 million for any i32 day count: fits i32
+    (year as i32, m as u8, d as u8)
 }
 
 /// True for a Gregorian leap year.

@@ -420,3 +420,20 @@ fn gmst_rate_and_continuity() {
     let rate = angle_diff(gmst_rad_f64(&later), gmst_rad_f64(&e)) / 2.0;
     assert!((rate - 7.292_115_855e-5).abs() < 1e-12, "{rate}");
 }
+
+#[test]
+fn calendar_of_extreme_day_counts_does_not_overflow() {
+    for day in [i32::MIN, i32::MIN + 1, -1, 0, 1, i32::MAX - 1, i32::MAX] {
+        let (y, m, d) = acs::time::civil_from_days(day);
+        assert!(
+            (1..=12).contains(&m) && (1..=31).contains(&d),
+            "{day}: {y}-{m}-{d}"
+        );
+    }
+    assert_eq!(acs::time::days_from_civil(i32::MAX, 12, 31), i32::MAX);
+    assert_eq!(acs::time::days_from_civil(i32::MIN, 1, 1), i32::MIN);
+    // a saturated add then a conversion: no panic in debug builds
+    let e = acs::time::Epoch::<acs::time::Utc>::from_parts(i32::MAX, 0, 0).unwrap();
+    let _ = e.to_calendar();
+    assert!(e.to_tt().is_err());
+}
