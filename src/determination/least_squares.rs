@@ -18,8 +18,11 @@
 //! thesis suggests "about 1e-6·σ_max", which is within 10 f32 ulps of the rounding floor of
 //! a rank-deficient 12-row matrix; 1e-5 keeps a margin). Rank < 3 is
 //! [`DeterminationError::NotObservable`]: the working tiles do not span the space.
-//! For the presets of [`crate::tiles`] the condition number is 1 (cube) to 1.7 (hexagon), so
-//! the f32 result is within a few ulps of the exact least-squares solution.
+//! For the presets of [`crate::tiles`] with every tile working, the condition number of the
+//! stacked matrix is 1.0 (cube with 4 tiles per face), 1.10 / 1.22 (hexagonal prism, magnetometers
+//! / gyros), 1.15 / 1.41 (the thesis cube's tiles 1–5 and the octagonal prism), so the f32
+//! result is within a few ulps of the exact least-squares solution (measured: relative error
+//! ≤ 3e-7 on all presets, `cargo test --test determination least_squares -- --nocapture`).
 //!
 //! Units: whatever the readings are in (nT for [`crate::tiles::RawMagnetometer::to_nt`];
 //! the thesis used 10 nT), rad/s for the rates.
