@@ -14,7 +14,7 @@ use acs_firmware as _;
 mod cases;
 
 /// Capacity of [`BENCH_RESULTS`] in f32 words.
-const MAX_RESULTS: usize = 128;
+const MAX_RESULTS: usize = 32;
 
 /// Results of every case, as f32 bit patterns, in order.
 #[no_mangle]
