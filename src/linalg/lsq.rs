@@ -3,8 +3,8 @@
 //!
 //! # Method
 //! Each row `aᵢᵀ x ≈ yᵢ` is folded into an upper-triangular `R` (3×3) and `z = Qᵀy` (3 rows of
-//! `K` right-hand sides) by three Givens rotations (Golub and Van Loan, *Matrix Computations*,
-//! 4th ed., §5.1.8 and §5.3.3 "updating"): for k = 1, 2, 3
+//! `K` right-hand sides) by three Givens rotations (Golub and Van Loan, *Matrix Computations*:
+//! Givens rotations and QR updating): for k = 1, 2, 3
 //! ```text
 //! ρ = √(R_kk² + a_k²),  c = R_kk/ρ,  s = a_k/ρ
 //! R_k ← c·R_k + s·aᵀ,  aᵀ ← −s·R_k + c·aᵀ,  z_k ← c·z_k + s·y,  y ← −s·z_k + c·y

@@ -3,7 +3,7 @@
 //!
 //! # Method
 //! One-sided Jacobi (Hestenes 1958; Demmel and Veselić, *Jacobi's method is more accurate than
-//! QR*, SIAM J. Matrix Anal. Appl. 13(4), 1992, Algorithm 4.1): plane rotations `J` applied to
+//! QR*, SIAM J. Matrix Anal. Appl. 13(4), 1992): plane rotations `J` applied to
 //! the columns of `M` until they are mutually orthogonal, `M·V = W`, `V = J₁J₂…` orthogonal.
 //! Then `σⱼ = |wⱼ|` and `uⱼ = wⱼ/σⱼ`, so `M = U·Σ·Vᵀ` (the thin SVD). For a pair of columns
 //! `(p, q)` with `α = |w_p|²`, `β = |w_q|²`, `γ = w_p·w_q`:
@@ -12,8 +12,8 @@
 //! w_p ← c·w_p − s·w_q,   w_q ← s·w_p + c·w_q          (and the same on the columns of V)
 //! ```
 //! makes `w_p·w_q = 0`. Sweeps over the pairs (1,2), (1,3), (2,3) stop when no pair has
-//! `|γ| > 4ε·√(αβ)` (ε = `f32::EPSILON`) or after [`MAX_SWEEPS`] sweeps (three columns converge
-//! quadratically, in 3–6 sweeps; at the cap the columns are orthogonal to rounding anyway, so the
+//! `|γ| > 4ε·√(αβ)` (ε = `f32::EPSILON`) or after [`MAX_SWEEPS`] sweeps (Jacobi converges
+//! quadratically once the columns are nearly orthogonal; at the cap the columns are orthogonal to rounding anyway, so the
 //! result is returned, not an error).
 //!
 //! One-sided Jacobi never forms `MᵀM`, so small singular values keep their relative accuracy
