@@ -34,7 +34,10 @@
 //! off and the wheels hold their momentum (no torque). [`AcsLoop::safe`] puts all actuators in
 //! the safe state (coils off, wheel momentum held).
 //!
-//! State: about 400 bytes ([`AcsLoop`] without its configuration), no allocation.
+//! Memory (measured by `tests/closed_loop.rs::loop_state_size` on the 64-bit host): the mutable
+//! state is 368 B; with the configuration (1 408 B, 24 tile slots) and the SGP4 elements (240 B)
+//! [`AcsLoop`] is 2 016 B. No allocation. On a 2 KB part the configuration belongs in flash
+//! (fewer tile slots shrink it).
 
 use core::fmt;
 

@@ -147,3 +147,13 @@ fn sun_safe_through_a_whole_eclipse() {
     // in the umbra no attitude is measured: the loop runs gyro/magnetometer laws, never NaN
     assert!(dark.iter().all(|s| s.report.measured_attitude.is_none()));
 }
+
+#[test]
+fn loop_state_size() {
+    use acs::acs_loop::{AcsConfig, AcsLoop};
+    let total = std::mem::size_of::<AcsLoop>();
+    let config = std::mem::size_of::<AcsConfig>();
+    let orbit = std::mem::size_of::<acs::orbit::sgp4::Sgp4>();
+    println!("AcsLoop {total} B = configuration {config} B + SGP4 elements {orbit} B + state {} B (host, 64-bit)", total - config - orbit);
+    assert!(total - config - orbit <= 512);
+}
