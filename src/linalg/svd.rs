@@ -13,8 +13,8 @@
 //! ```
 //! makes `w_p·w_q = 0`. Sweeps over the pairs (1,2), (1,3), (2,3) stop when no pair has
 //! `|γ| > 4ε·√(αβ)` (ε = `f32::EPSILON`) or after [`MAX_SWEEPS`] sweeps (Jacobi converges
-//! quadratically once the columns are nearly orthogonal; at the cap the columns are orthogonal to rounding anyway, so the
-//! result is returned, not an error).
+//! quadratically once the columns are nearly orthogonal; at the cap the columns are orthogonal
+//! to rounding anyway, so the result is returned, not an error).
 //!
 //! One-sided Jacobi never forms `MᵀM`, so small singular values keep their relative accuracy
 //! (the error of a least-squares solution grows like `ε·κ`, not `ε·κ²` as with the normal
