@@ -36,6 +36,7 @@ pub mod frames;
 pub mod hal;
 pub mod linalg;
 pub mod orbit;
+pub mod planning;
 pub mod tiles;
 pub mod time;
 pub mod tle;
