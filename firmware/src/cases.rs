@@ -55,6 +55,34 @@ pub fn run<S: Sink>(s: &mut S) {
         run_core(s);
     }
     run_flight(s);
+    #[cfg(feature = "group-step")]
+    run_step(s);
+}
+
+/// One full ACS step (`crate::flight`: the loop over the mailbox tile bus).
+#[cfg(feature = "group-step")]
+#[inline(always)]
+fn run_step<S: Sink>(s: &mut S) {
+    let mut acs = crate::flight::new_loop();
+    let mut bus = crate::flight::MailboxBus;
+    for tick in 0..2u32 {
+        let now = core::hint::black_box(crate::flight::tick_epoch(tick));
+        s.begin(if tick == 0 {
+            "ACS step (first)"
+        } else {
+            "ACS step"
+        });
+        let report = match (acs.as_mut(), now) {
+            (Some(a), Some(now)) => Some(a.step(&mut bus, now, 1.0)),
+            _ => None,
+        };
+        let report = core::hint::black_box(report);
+        s.end();
+        let d = report.map_or(Default::default(), |r| r.dipole_body_am2);
+        s.out(d.x);
+        s.out(d.y);
+        s.out(d.z);
+    }
 }
 
 /// f32 primitives, the fmath kernels and the libm routines they replace.

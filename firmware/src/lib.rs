@@ -12,14 +12,16 @@
 #![no_std]
 #![feature(asm_experimental_arch)]
 
+#[cfg(feature = "acs-loop")]
+pub mod flight;
 pub mod rt;
 pub mod tiles;
 
 // The EABI helper functions (`__mspabi_*`, soft-float and integer), linked in by reference.
 use msp430_eabi as _;
 
-/// Puts every actuator in its safe state: reaction wheels commanded to zero torque (they coast
-/// down on their own friction), magnetorquers off (zero current).
+/// Puts every actuator in its safe state: reaction wheels commanded to zero momentum (they spin
+/// down), magnetorquers off (zero current).
 ///
 /// This is the hook the panic handler and the unexpected-interrupt handler call before halting.
 /// It must not fail and must not depend on any state that a fault may have corrupted: it writes

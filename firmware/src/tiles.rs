@@ -25,16 +25,16 @@ pub struct TileSensors {
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 #[repr(C)]
 pub struct TileCommands {
-    /// Reaction-wheel torque, N·m (0: coast).
-    pub wheel_torque_nm: f32,
+    /// Reaction-wheel momentum command, kg·m²/s (0: stop).
+    pub wheel_momentum_nms: f32,
     /// Magnetorquer dipole, A·m² (0: off).
     pub dipole_am2: f32,
 }
 
 impl TileCommands {
-    /// The safe state: wheel at zero torque, magnetorquer off.
+    /// The safe state: wheel commanded to zero momentum, magnetorquer off.
     pub const SAFE: TileCommands = TileCommands {
-        wheel_torque_nm: 0.0,
+        wheel_momentum_nms: 0.0,
         dipole_am2: 0.0,
     };
 }
@@ -62,6 +62,22 @@ pub fn read_sensors() -> [TileSensors; TILES] {
 pub fn command(cmds: &[TileCommands; TILES]) {
     // SAFETY: as in `read_sensors`.
     unsafe { core::ptr::write_volatile(&raw mut ACTUATORS, *cmds) }
+}
+
+/// Commands one tile's wheel momentum and/or dipole (`None`: unchanged); `None` if there is no
+/// such tile.
+pub fn command_one(tile: usize, wheel: Option<f32>, dipole: Option<f32>) -> Option<()> {
+    // SAFETY: as in `read_sensors`.
+    let mut all = unsafe { core::ptr::read_volatile(&raw const ACTUATORS) };
+    let t = all.get_mut(tile)?;
+    if let Some(h) = wheel {
+        t.wheel_momentum_nms = h;
+    }
+    if let Some(m) = dipole {
+        t.dipole_am2 = m;
+    }
+    command(&all);
+    Some(())
 }
 
 /// Commands every actuator to its safe state ([`TileCommands::SAFE`]); used by

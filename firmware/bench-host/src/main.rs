@@ -1,5 +1,13 @@
 //! Prints the benchmark cases' names and host results as JSON (see `Cargo.toml`).
 
+#[cfg(feature = "group-step")]
+#[path = "../../src/flight.rs"]
+mod flight;
+#[cfg(feature = "group-step")]
+#[path = "../../src/tiles.rs"]
+#[allow(dead_code)]
+mod tiles;
+
 #[path = "../../src/cases.rs"]
 #[allow(dead_code)]
 mod cases;

@@ -8,6 +8,8 @@
 #![no_main]
 
 use acs_firmware as _;
+#[cfg(feature = "group-step")]
+use acs_firmware::flight;
 
 #[path = "../cases.rs"]
 #[allow(dead_code)]

@@ -1,0 +1,142 @@
+//! The flight loop on the target: [`acs::acs_loop::AcsLoop`] over the stubbed tile bus.
+//!
+//! Shared by the flight firmware (`src/main.rs`, feature `acs-loop`) and the benchmark's "ACS
+//! step" case (`src/cases.rs`, group `step`). Configuration: the thesis's cube of six tiles
+//! (`acs::tiles::cube_thesis`), three 0.2 A·m² coils, 1 mN·m·s wheels, IGRF degree 8 of the
+//! recent-epochs table, SGP4 on the test TLE 00005 (Vallado et al. 2006).
+
+use acs::acs_loop::{AcsConfig, AcsLoop};
+use acs::control::bdot::BdotConfig;
+use acs::control::principal_axes::principal_axes;
+use acs::control::slew::SlewLimits;
+use acs::control::sun_safe::SunSafeGains;
+use acs::control::tracking::TrackingGains;
+use acs::control::wheels::Wheel;
+use acs::env::igrf::{Degree, RECENT};
+use acs::hal::{ErrorKind, TileBus};
+use acs::linalg::{Mat3, Vec3};
+use acs::orbit::sgp4::{Gravity, Sgp4};
+use acs::time::{Epoch, Utc};
+
+/// Raw sensor mailboxes (written by the simulator or a debugger), one entry per tile.
+#[no_mangle]
+pub static mut RAW_SUN: [[i16; 2]; 6] = [[0; 2]; 6];
+/// Raw magnetometer mailbox.
+#[no_mangle]
+pub static mut RAW_MAG: [[i16; 2]; 6] = [[0; 2]; 6];
+/// Raw gyro mailbox.
+#[no_mangle]
+pub static mut RAW_GYRO: [i16; 6] = [0; 6];
+
+/// The tile bus over the RAM mailboxes (`crate::tiles` for the commands).
+pub struct MailboxBus;
+
+impl TileBus for MailboxBus {
+    fn read_sun(&mut self, tile: usize) -> Result<Option<[i16; 2]>, ErrorKind> {
+        // SAFETY: single-threaded firmware; volatile: written from outside.
+        let all = unsafe { core::ptr::read_volatile(&raw const RAW_SUN) };
+        all.get(tile)
+            .copied()
+            .map(Some)
+            .ok_or(ErrorKind::DeviceAbsent)
+    }
+    fn read_magnetometer(&mut self, tile: usize) -> Result<[i16; 2], ErrorKind> {
+        // SAFETY: as above.
+        let all = unsafe { core::ptr::read_volatile(&raw const RAW_MAG) };
+        all.get(tile).copied().ok_or(ErrorKind::DeviceAbsent)
+    }
+    fn read_gyro(&mut self, tile: usize) -> Result<i16, ErrorKind> {
+        // SAFETY: as above.
+        let all = unsafe { core::ptr::read_volatile(&raw const RAW_GYRO) };
+        all.get(tile).copied().ok_or(ErrorKind::DeviceAbsent)
+    }
+    fn set_wheel_momentum(&mut self, tile: usize, h_nms: f32) -> Result<(), ErrorKind> {
+        crate::tiles::command_one(tile, Some(h_nms), None).ok_or(ErrorKind::DeviceAbsent)
+    }
+    fn set_dipole(&mut self, tile: usize, m_am2: f32) -> Result<(), ErrorKind> {
+        crate::tiles::command_one(tile, None, Some(m_am2)).ok_or(ErrorKind::DeviceAbsent)
+    }
+}
+
+/// The test TLE 00005 (Vallado et al. 2006), built field by field (no text parsing on board).
+pub fn test_tle() -> Option<acs::tle::Tle> {
+    Epoch::from_tle_epoch(0, 179, 78_495_062)
+        .ok()
+        .map(|epoch| acs::tle::Tle {
+            name: None,
+            catalog_number: 5,
+            classification: b'U',
+            international_designator: heapless::String::new(),
+            epoch,
+            mean_motion_dot: 0.000_000_23,
+            mean_motion_ddot: 0.0,
+            bstar: 0.280_98e-4,
+            ephemeris_type: 0,
+            element_set_number: 475,
+            inclination_deg: 34.268_2,
+            raan_deg: 348.724_2,
+            eccentricity: 0.185_966_7,
+            arg_perigee_deg: 331.766_4,
+            mean_anomaly_deg: 19.326_4,
+            mean_motion_rev_per_day: 10.824_191_574,
+            revolution_number: 41_366,
+        })
+}
+
+/// The loop with its flight configuration, or `None` if a part of it is invalid.
+pub fn new_loop() -> Option<AcsLoop> {
+    let inertia = Mat3::from_diagonal(&Vec3::new(0.010, 0.012, 0.014));
+    let axes = principal_axes(&inertia).ok()?;
+    let mut coils = heapless::Vec::new();
+    for axis in [Vec3::x(), Vec3::y(), Vec3::z()] {
+        coils
+            .push(Wheel {
+                axis_body: axis,
+                limit: 0.2,
+                working: true,
+            })
+            .ok()?;
+    }
+    let config = AcsConfig {
+        tiles: acs::tiles::cube_thesis(),
+        axes,
+        coils,
+        wheel_limit_nms: 1.0e-3,
+        bdot: BdotConfig {
+            gain: 3.0e4,
+            max_dipole_am2: Vec3::from_element(0.2),
+        },
+        tracking: TrackingGains::from_bandwidth(&inertia, 0.25, 0.9),
+        sun_safe: SunSafeGains {
+            kp_nm: 2.0 * 0.05 * 0.05 * 0.014,
+            kd_nms: 2.0 * 0.05 * 0.014,
+        },
+        sun_axis_body: Vec3::z(),
+        slew_limits: SlewLimits {
+            l_max: 1.0e-3,
+            l_min: 1e-7,
+            t_min: 0.3,
+            default_fraction: 0.85,
+            wheels_per_axis: [1, 2, 2],
+        },
+        slew_pause_s: 5.0,
+        control_period_s: 1.0,
+        dumping_gain_per_s: 1e-3,
+        detumble_enter_radps: 0.5,
+        detumble_exit_radps: 0.008_7,
+        igrf_model: &RECENT,
+        igrf_degree: Degree::new(8).ok()?,
+        weights: (1.0, 1.0),
+        filter_gain: 0.1,
+        max_propagation_s: 120.0,
+    };
+    let orbit = Sgp4::new(&test_tle()?, Gravity::Wgs72).ok()?;
+    AcsLoop::new(config, orbit).ok()
+}
+
+/// The epoch of control tick `tick` (1 s period) from 2000-06-27 12:00 UTC (near the TLE epoch).
+pub fn tick_epoch(tick: u32) -> Option<Epoch<Utc>> {
+    Epoch::from_parts(178, 43_200, 0)
+        .ok()
+        .map(|e| e.add(acs::time::TimeSpan::new(tick as i32, 0)))
+}
