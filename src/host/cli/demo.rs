@@ -43,20 +43,6 @@ fn v3(v: &Vec3) -> String {
     format!("({:.6}, {:.6}, {:.6})", v.x, v.y, v.z)
 }
 
-fn iso(e: &crate::time::Epoch<crate::time::Utc>) -> String {
-    let c = e.to_calendar();
-    format!(
-        "{:04}-{:02}-{:02}T{:02}:{:02}:{:02}.{:06}",
-        c.year,
-        c.month,
-        c.day,
-        c.hour,
-        c.minute,
-        c.second,
-        c.nano / 1000
-    )
-}
-
 fn compute(e: impl std::fmt::Display) -> CliError {
     CliError::Compute(e.to_string())
 }
@@ -82,8 +68,8 @@ pub fn run(_args: &Args) -> Result<(), CliError> {
         .map_err(|e| compute(format!("{e:?}")))?;
     let r_th = get("r_km");
     println!(
-        "1. Orbit (SGP4, WGS-84, DTUSAT TLE epoch {} UTC)",
-        iso(&tle.epoch)
+        "1. Orbit (SGP4, WGS-84, DTUSAT TLE epoch {})",
+        super::iso_utc_ms(&tle.epoch)
     );
     if let [x, y, z] = r_th[..] {
         let d = (bug.r_teme_km - Vec3::new(x as f32, y as f32, z as f32)).norm();
@@ -106,7 +92,7 @@ pub fn run(_args: &Args) -> Result<(), CliError> {
     let sun_t = thesis::sun(&now).map_err(|e| compute(format!("{e:?}")))?;
     let (ra, dec) = sun_t.right_ascension_declination();
     let sun_p = precise::sun(&now).map_err(|e| compute(format!("{e:?}")))?;
-    println!("\n2. Sun at {} UTC", iso(&now));
+    println!("\n2. Sun at {}", super::iso_utc_ms(&now));
     println!(
         "   thesis model (Schlyter): RA {:.6}°, Dec {:.6}°   thesis printed: {:?}",
         ra.to_degrees(),

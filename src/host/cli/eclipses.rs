@@ -124,11 +124,14 @@ impl Scene {
         let state = self
             .sgp4
             .propagate(epoch.span_since(&self.tle_epoch))
-            .map_err(|e| CliError::Compute(format!("SGP4 at {}: {e}", iso(&epoch))))?;
+            .map_err(|e| {
+                CliError::Compute(format!("SGP4 at {}: {e}", super::iso_utc_ms(&epoch)))
+            })?;
         let sun = precise::sun(&epoch)
-            .map_err(|e| CliError::Compute(format!("Sun at {}: {e}", iso(&epoch))))?;
-        let shadow_err =
-            |e: EclipseError| CliError::Compute(format!("shadow at {}: {e}", iso(&epoch)));
+            .map_err(|e| CliError::Compute(format!("Sun at {}: {e}", super::iso_utc_ms(&epoch))))?;
+        let shadow_err = |e: EclipseError| {
+            CliError::Compute(format!("shadow at {}: {e}", super::iso_utc_ms(&epoch)))
+        };
         let r = state.r_teme_km;
         let z_km = f64::from(r.z);
         if self.conical {
@@ -324,21 +327,6 @@ fn segments(
     Ok(merged)
 }
 
-/// ISO 8601 UTC to the millisecond.
-fn iso(e: &Epoch<Utc>) -> String {
-    let c = e.to_calendar();
-    format!(
-        "{:04}-{:02}-{:02}T{:02}:{:02}:{:02}.{:03}Z",
-        c.year,
-        c.month,
-        c.day,
-        c.hour,
-        c.minute,
-        c.second,
-        c.nano / 1_000_000
-    )
-}
-
 /// Runs `acs eclipses`.
 pub fn run(args: &Args) -> Result<(), CliError> {
     let path = args.tle.display();
@@ -496,7 +484,7 @@ fn render(
 ) -> Result<String, CliError> {
     let at = |t: f64| -> Result<String, CliError> {
         let ms = (t * 1000.0).round() / 1000.0;
-        Ok(iso(&scene.epoch(ms)?))
+        Ok(super::iso_utc_ms(&scene.epoch(ms)?))
     };
     let name = tle.name.as_ref().map_or("", |n| n.as_str());
     let mut o = String::new();

@@ -279,21 +279,18 @@ pub fn thesis_slew(noisy: bool) -> Result<Scenario, SimError> {
     })
 }
 
-/// The 3U-class detumble of issue #8: inertia diag(0.042, 0.042, 0.0067) kg·m², 0.2 A·m² per
-/// axis, 500 km, 97°, from 10°/s on each axis.
-pub fn detumble() -> Result<Scenario, SimError> {
+/// The 3U-class spacecraft of issue #8 (inertia diag(0.042, 0.042, 0.0067) kg·m², three
+/// 0.2 A·m² coils, 0.01 kg·m²/s wheels, the thesis's cube tiles for sensor geometry, seed 004
+/// disturbances) on `tle`, starting 2025-03-20 12:00 UTC: the truth and flight configurations.
+fn cubesat_3u(
+    tle: (String, String),
+    noise: SensorNoise,
+    failures: Vec<(usize, f64)>,
+    seed: u64,
+) -> Result<(SimConfig, AcsConfig), SimError> {
     let inertia = Mat3::from_diagonal(&Vec3::new(0.042, 0.042, 0.0067));
     let coils = [(Vec3::x(), 0.2), (Vec3::y(), 0.2), (Vec3::z(), 0.2)];
     let flight = flight_config(inertia, &coils, 0.01)?;
-    let tle = make_tle(
-        90100,
-        (25, 79.5),
-        97.0,
-        30.0,
-        0.0,
-        0.0,
-        mean_motion_rev_per_day(500.0),
-    );
     let sim = SimConfig {
         tle,
         start: epoch(2025, 3, 20, 12)?,
@@ -306,7 +303,31 @@ pub fn detumble() -> Result<Scenario, SimError> {
         wheel_max_h_nms: 0.01,
         wheel_max_torque_nm: 1e-3,
         sun_fov_rad: 80f64.to_radians(),
-        noise: SensorNoise {
+        noise,
+        disturbances: Disturbances::seed004(),
+        failures,
+        substep_s: 0.1,
+        seed,
+    };
+    Ok((sim, flight))
+}
+
+/// The 3U-class detumble of issue #8: inertia diag(0.042, 0.042, 0.0067) kg·m², 0.2 A·m² per
+/// axis, 500 km, 97°, from 10°/s on each axis.
+pub fn detumble() -> Result<Scenario, SimError> {
+    let tle = make_tle(
+        90100,
+        (25, 79.5),
+        97.0,
+        30.0,
+        0.0,
+        0.0,
+        mean_motion_rev_per_day(500.0),
+    );
+    let w = 10f64.to_radians();
+    let (sim, flight) = cubesat_3u(
+        tle,
+        SensorNoise {
             sun_rad: 1e-3,
             mag_nt: 100.0,
             mag_bias_nt: 50.0,
@@ -314,12 +335,9 @@ pub fn detumble() -> Result<Scenario, SimError> {
             gyro_bias_radps: 2e-5,
             dropout: 0.0,
         },
-        disturbances: Disturbances::seed004(),
-        failures: vec![],
-        substep_s: 0.1,
-        seed: 11,
-    };
-    let w = 10f64.to_radians();
+        vec![],
+        11,
+    )?;
     Ok(Scenario {
         name: "detumble",
         description: "3U, 500 km 97°, B-dot from 10°/s per axis",
@@ -337,9 +355,6 @@ pub fn detumble() -> Result<Scenario, SimError> {
 /// Tracking with wheels and noisy tiles on a dawn-dusk orbit (no eclipse): hold an inertial
 /// attitude from an initial 20° error.
 pub fn tracking(failed_tile: Option<usize>) -> Result<Scenario, SimError> {
-    let inertia = Mat3::from_diagonal(&Vec3::new(0.042, 0.042, 0.0067));
-    let coils = [(Vec3::x(), 0.2), (Vec3::y(), 0.2), (Vec3::z(), 0.2)];
-    let flight = flight_config(inertia, &coils, 0.01)?;
     // dawn-dusk: the orbit normal near the Sun at the March equinox (RAAN 90°)
     let tle = make_tle(
         90101,
@@ -355,19 +370,9 @@ pub fn tracking(failed_tile: Option<usize>) -> Result<Scenario, SimError> {
         .then(&Dcm::a3(0.6))
         .then(&Dcm::a1(-0.3))
         .to_quaternion();
-    let sim = SimConfig {
+    let (sim, flight) = cubesat_3u(
         tle,
-        start: epoch(2025, 3, 20, 12)?,
-        inertia: inertia.cast::<f64>(),
-        tiles: cube_thesis(),
-        coils: coils
-            .iter()
-            .map(|(a, l)| (a.cast::<f64>(), f64::from(*l)))
-            .collect(),
-        wheel_max_h_nms: 0.01,
-        wheel_max_torque_nm: 1e-3,
-        sun_fov_rad: 80f64.to_radians(),
-        noise: SensorNoise {
+        SensorNoise {
             sun_rad: 1e-3,
             mag_nt: 100.0,
             mag_bias_nt: 0.0,
@@ -375,11 +380,9 @@ pub fn tracking(failed_tile: Option<usize>) -> Result<Scenario, SimError> {
             gyro_bias_radps: 0.0,
             dropout: 0.001,
         },
-        disturbances: Disturbances::seed004(),
-        failures: failed_tile.map(|t| vec![(t, 600.0)]).unwrap_or_default(),
-        substep_s: 0.1,
-        seed: 5,
-    };
+        failed_tile.map(|t| vec![(t, 600.0)]).unwrap_or_default(),
+        5,
+    )?;
     Ok(Scenario {
         name: if failed_tile.is_some() {
             "failed-tile"
@@ -405,9 +408,6 @@ pub fn tracking(failed_tile: Option<usize>) -> Result<Scenario, SimError> {
 /// Sun-safe acquisition through a whole eclipse: noon-midnight orbit (full-length eclipses),
 /// starting tumbling slowly.
 pub fn sun_safe() -> Result<Scenario, SimError> {
-    let inertia = Mat3::from_diagonal(&Vec3::new(0.042, 0.042, 0.0067));
-    let coils = [(Vec3::x(), 0.2), (Vec3::y(), 0.2), (Vec3::z(), 0.2)];
-    let flight = flight_config(inertia, &coils, 0.01)?;
     let tle = make_tle(
         90102,
         (25, 79.5),
@@ -417,19 +417,10 @@ pub fn sun_safe() -> Result<Scenario, SimError> {
         0.0,
         mean_motion_rev_per_day(500.0),
     );
-    let sim = SimConfig {
+    let w = 0.3f64.to_radians();
+    let (sim, flight) = cubesat_3u(
         tle,
-        start: epoch(2025, 3, 20, 12)?,
-        inertia: inertia.cast::<f64>(),
-        tiles: cube_thesis(),
-        coils: coils
-            .iter()
-            .map(|(a, l)| (a.cast::<f64>(), f64::from(*l)))
-            .collect(),
-        wheel_max_h_nms: 0.01,
-        wheel_max_torque_nm: 1e-3,
-        sun_fov_rad: 80f64.to_radians(),
-        noise: SensorNoise {
+        SensorNoise {
             sun_rad: 1e-3,
             mag_nt: 100.0,
             mag_bias_nt: 50.0,
@@ -437,12 +428,9 @@ pub fn sun_safe() -> Result<Scenario, SimError> {
             gyro_bias_radps: 2e-5,
             dropout: 0.0,
         },
-        disturbances: Disturbances::seed004(),
-        failures: vec![],
-        substep_s: 0.1,
-        seed: 3,
-    };
-    let w = 0.3f64.to_radians();
+        vec![],
+        3,
+    )?;
     Ok(Scenario {
         name: "sun-safe",
         description: "sun-safe from a slow tumble, one orbit with a full eclipse",
