@@ -5,5 +5,6 @@
 #![allow(clippy::indexing_slicing)]
 
 pub mod cli;
+pub mod planner;
 pub mod sim;
 pub mod stk;

@@ -13,6 +13,7 @@ mod attitude;
 mod demo;
 mod eclipses;
 mod igrf;
+mod plan;
 mod propagate;
 mod sim;
 mod sun;
@@ -72,6 +73,8 @@ enum Command {
     Demo(demo::Args),
     /// A closed-loop simulation scenario with CSV and SVG output.
     Sim(sim::Args),
+    /// Plan a magnetorquer (+ wheel) slew from a JSON description (seed 001).
+    Plan(plan::Args),
 }
 
 /// An epoch as ISO 8601 UTC to the millisecond (`2009-06-16T00:00:00.000Z`).
@@ -111,6 +114,7 @@ pub fn main() -> ExitCode {
         Command::Attitude(a) => attitude::run(&a),
         Command::Demo(a) => demo::run(&a),
         Command::Sim(a) => sim::run(&a),
+        Command::Plan(a) => plan::run(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,164 @@
+//! Ground planner of seed 001 (host feature): the dipole field against note 001 §1.9 and the
+//! test case of note 001 §4 (Tables 6.3–6.6).
+//!
+//! Full reproduction (release, a few minutes):
+//! `cargo test --release --test planner -- --ignored --nocapture`
+#![cfg(feature = "host")]
+
+use acs::attitude::Quaternion;
+use acs::host::planner::{dipole_field_t, plan, simulate, Problem, Wheels};
+use acs::planning::kinematics::from_scalar_last;
+
+fn thesis_problem(duration_s: f64, wheels: bool) -> Problem {
+    Problem {
+        // note 001 §4, Tables 6.1–6.2
+        inertia_kgm2: [0.7; 3],
+        m_max_am2: 10.0,
+        wheels: wheels.then_some(Wheels {
+            inertia_kgm2: 8e-4,
+            max_speed_radps: 5000.0 * std::f64::consts::PI / 30.0,
+            max_torque_nm: 0.01,
+        }),
+        a_km: 6828.1,
+        omega0_radps: Some(1.1190e-3), // Table 6.1, as note 001 §1.9's values
+        inc_rad: 51f64.to_radians(),
+        greenwich0_rad: 0.0, // assumption: α_G0 = 0 at t = 0 (ascending node), as note 001 §1.9
+        // (6.1a), scalar last in the thesis
+        q_start: from_scalar_last([0.24194098, 0.35736694, 0.13261083, 0.89228236]),
+        q_end: Quaternion::IDENTITY,
+        duration_s,
+        knots: 4,
+        dt_s: duration_s / 1500.0,
+        // (6.4)/(6.6)/(6.7); c_τ is not given by the thesis (6.7): ours
+        weights: [1e5, 1e8, if wheels { 1e3 } else { 0.0 }],
+    }
+}
+
+#[test]
+fn dipole_field_matches_note_001() {
+    // note 001 §1.9 reference values (α_G0 = 0, t = 0 at the ascending node), tesla
+    let cases = [
+        (0.0, [-3.18621e-6, -4.54919e-6, 2.43431e-5]),
+        (150.0, [-1.10871e-5, -5.88894e-6, 2.26668e-5]),
+        (1500.0, [7.19626e-6, -3.41260e-5, -1.24295e-5]),
+    ];
+    let pb = thesis_problem(1500.0, false);
+    for (t, expect) in cases {
+        let b = dipole_field_t(0.0, t, &pb.position_km(t));
+        for (g, e) in b.iter().zip(expect) {
+            assert!((g - e).abs() < 1e-10, "t {t}: {b:?} vs {expect:?}");
+        }
+    }
+}
+
+#[test]
+fn naive_guess_errors_like_note_001() {
+    // note 001 §4 [D]: naive straight-line guess, 1500 s: 3.90°, 3.15e-2 deg/s
+    let pb = thesis_problem(1500.0, false);
+    let (o, _) = simulate(&pb, &pb.initial_guess(), 0).unwrap();
+    println!("naive 1500 s: {o:?}");
+    let pb = thesis_problem(150.0, false);
+    let (o150, _) = simulate(&pb, &pb.initial_guess(), 0).unwrap();
+    println!("naive 150 s: {o150:?}");
+    assert!((o.attitude_error_deg - 3.90).abs() < 0.05, "{o:?}");
+    assert!((o.rate_error_degps - 3.15e-2).abs() < 0.05e-2, "{o:?}");
+    assert!((o150.attitude_error_deg - 4.09).abs() < 0.05, "{o150:?}");
+}
+
+#[test]
+#[ignore = "optimisation, minutes: run in release"]
+fn reproduce_tables_6_3_to_6_6() {
+    // expected (issue 10, note 001 §4 [D]): 1500 s far below the thesis's 5.4e-3°; 150 s
+    // magnetorquers only physics-limited near 0.8° / 0.081 deg/s; with wheels about 1e-5°.
+    for (tf, wheels, evals, thesis, max_att_deg, min_att_deg) in [
+        (
+            1500.0,
+            false,
+            1500,
+            "Table 6.3 inverse: 5.43564e-3 deg, 3.0886e-4 deg/s",
+            1e-4,
+            0.0,
+        ),
+        (
+            150.0,
+            false,
+            1500,
+            "Table 6.4 inverse: 0.78 deg, 8.1457e-2 deg/s",
+            0.85,
+            0.7,
+        ),
+        (
+            150.0,
+            true,
+            1500,
+            "Table 6.6: 1.8104e-5 deg, 2.2707e-4 deg/s",
+            1e-4,
+            0.0,
+        ),
+    ] {
+        let pb = thesis_problem(tf, wheels);
+        let t0 = std::time::Instant::now();
+        let (p, o) = plan(&pb, evals, 2).unwrap();
+        println!(
+            "T_f {tf} s wheels {wheels}: attitude {:.4e} deg, rate {:.4e} deg/s, max |m| {:.3} A·m², \
+             max wheel {:.1} rad/s, ∫τ_lost² {:.3e}; {:.1} s; params {p:?}\n   thesis {thesis}",
+            o.attitude_error_deg,
+            o.rate_error_degps,
+            o.max_dipole_am2,
+            o.max_wheel_speed_radps,
+            o.lost_integral,
+            t0.elapsed().as_secs_f64()
+        );
+        assert!(
+            o.attitude_error_deg <= max_att_deg && o.attitude_error_deg >= min_att_deg,
+            "{o:?}"
+        );
+    }
+}
+
+#[test]
+fn cli_plan_writes_profile_errors_and_plot() {
+    let dir = std::env::temp_dir().join(format!("acs-plan-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let desc = dir.join("m.json");
+    std::fs::write(
+        &desc,
+        r#"{"duration_s": 1500, "evals": 40, "restarts": 0, "steps": 300}"#,
+    )
+    .unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_acs"))
+        .args([
+            "plan",
+            desc.to_str().unwrap(),
+            "--out",
+            dir.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    println!("{stdout}");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(stdout.contains("final_attitude_error_deg:"));
+    let csv = std::fs::read_to_string(dir.join("profile.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 302);
+    assert!(std::fs::read_to_string(dir.join("plan.svg"))
+        .unwrap()
+        .contains("<svg"));
+    // bad input: exit code 2
+    std::fs::write(&desc, r#"{"duration_s": -1}"#).unwrap();
+    let bad = std::process::Command::new(env!("CARGO_BIN_EXE_acs"))
+        .args([
+            "plan",
+            desc.to_str().unwrap(),
+            "--out",
+            dir.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(bad.status.code(), Some(2));
+    std::fs::remove_dir_all(&dir).ok();
+}
