@@ -327,7 +327,7 @@ pub fn format_date(epoch: &Epoch<Utc>) -> String {
         .get(usize::from(c.month).wrapping_sub(1))
         .copied()
         .unwrap_or("???");
-    let fraction = if c.nano % 1000 == 0 {
+    let fraction = if c.nano.is_multiple_of(1000) {
         format!("{:06}", c.nano / 1000)
     } else {
         format!("{:09}", c.nano)
