@@ -415,6 +415,7 @@ fn feasibility_flags() {
     .unwrap();
     println!("feasibility 150 s MT+RW: {rw:?}");
     assert!(!rw.wheel_torque_exceeded() && !rw.wheel_speed_exceeded());
+    assert!(rw.max_wheel_torque_ratio > 0.0 && rw.max_wheel_torque_ratio < 0.1);
     assert!(rw.max_shortfall_nm < 1e-4 * rw.max_torque_nm);
     // tiny wheels: both limits flagged
     let tiny: Limits<3> = Limits {

@@ -41,7 +41,7 @@ pub struct Limits<const N: usize> {
 pub struct FeasibilityReport<const N: usize> {
     /// Largest `|m̃_i|/m_max,i` required (before saturation).
     pub max_dipole_ratio: f32,
-    /// Largest required wheel motor torque over its limit (`1/scale` of the wheel allocation).
+    /// Largest required wheel motor torque over its limit (before saturation).
     pub max_wheel_torque_ratio: f32,
     /// Largest `|h_m|` reached by each wheel, kg·m²/s.
     pub max_wheel_momentum: [f32; N],
@@ -141,8 +141,15 @@ pub fn check<const K: usize, const N: usize, F: FnMut(f32) -> Vec3>(
                 &h_body,
                 &w,
             )?;
+            // required |ḣ_m| / limit before the direction-keeping scale
+            let after = a
+                .wheel_torque_nm
+                .iter()
+                .zip(limits.wheels.iter())
+                .filter(|(_, wh)| wh.working && wh.limit > 0.0)
+                .fold(0.0f32, |r, (t, wh)| r.max(t.abs() / wh.limit));
             let ratio = if a.wheel_scale > 0.0 {
-                1.0 / a.wheel_scale
+                after / a.wheel_scale
             } else {
                 f32::INFINITY
             };
