@@ -7,7 +7,7 @@
 
 use acs::attitude::Quaternion;
 use acs::control::wheels::Wheel;
-use acs::host::planner::{dipole_field_t, plan, simulate, Problem, Wheels};
+use acs::host::planner::{dipole_field_t, plan, plan_with, simulate, Optimiser, Problem, Wheels};
 use acs::linalg::{Mat3, Vec3};
 use acs::planning::allocation::DipoleSaturation;
 use acs::planning::feasibility::{check, Limits};
@@ -199,4 +199,23 @@ fn cli_plan_writes_profile_errors_and_plot() {
         .unwrap();
     assert_eq!(bad.status.code(), Some(2));
     std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+#[ignore = "optimisation: run in release"]
+fn pattern_search_alone() {
+    // note 001 §3.7 Algorithm 2 alone (no Nelder-Mead restart), 150 s magnetorquers only
+    let pb = thesis_problem(150.0, false);
+    let (_, o) = plan_with(&pb, Optimiser::PatternSearch, 3000, 0).unwrap();
+    println!("pattern search 150 s MT only: {o:?}");
+    assert!(o.attitude_error_deg < 0.85, "{o:?}");
+    let pb = thesis_problem(1500.0, false);
+    let (_, o) = plan_with(&pb, Optimiser::PatternSearch, 3000, 0).unwrap();
+    // finding: on the 1500 s valley the compass search alone stalls (0.17° after 3000
+    // evaluations); printed, not asserted. One Nelder–Mead run after it reaches 1.3e-3° (a
+    // different basin from Nelder–Mead alone, max |m| 0.23 A·m²): better than Table 6.3.
+    println!("pattern search 1500 s MT only, alone: {o:?}");
+    let (_, o) = plan_with(&pb, Optimiser::PatternSearch, 3000, 1).unwrap();
+    println!("pattern search + 1 Nelder-Mead run, 1500 s MT only: {o:?}");
+    assert!(o.attitude_error_deg < 5.43564e-3, "{o:?}"); // Table 6.3, inverse dynamics
 }

@@ -537,6 +537,84 @@ pub fn nelder_mead<F: FnMut(&[f64]) -> f64>(
     Minimum { x, f, evals }
 }
 
+/// Bounded pattern (compass) search (note 001 §3.7, Algorithm 2): polls `x ± γ e_i` in turn,
+/// moves to the first point with a simple decrease and doubles γ (`φ = 2`), else halves it
+/// (`θ = ½`); stops when `γ ≤ gamma_tol` or after `max_evals`. Points clamped to `[lo, hi]`.
+/// Defaults of MATLAB's `patternsearch` at the time (note 001, assumed): `γ0 = 1`, `γ_tol = 1e-6`.
+#[allow(clippy::too_many_arguments)]
+pub fn pattern_search<F: FnMut(&[f64]) -> f64>(
+    mut f: F,
+    x0: &[f64],
+    lo: f64,
+    hi: f64,
+    gamma0: f64,
+    gamma_tol: f64,
+    max_evals: usize,
+) -> Minimum {
+    let mut x = x0.iter().map(|v| v.clamp(lo, hi)).collect::<Vec<_>>();
+    let mut fx = f(&x);
+    let mut evals = 1usize;
+    let mut gamma = gamma0;
+    while gamma > gamma_tol && evals < max_evals {
+        let mut improved = false;
+        'poll: for i in 0..x.len() {
+            for sign in [1.0, -1.0] {
+                let mut y = x.clone();
+                y[i] = (y[i] + sign * gamma).clamp(lo, hi);
+                if y[i] == x[i] {
+                    continue;
+                }
+                let fy = f(&y);
+                evals += 1;
+                if fy < fx {
+                    x = y;
+                    fx = fy;
+                    improved = true;
+                    break 'poll;
+                }
+                if evals >= max_evals {
+                    break 'poll;
+                }
+            }
+        }
+        gamma *= if improved { 2.0 } else { 0.5 };
+    }
+    Minimum { x, f: fx, evals }
+}
+
+/// Which derivative-free optimiser [`plan_with`] uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Optimiser {
+    /// [`nelder_mead`], restarted from its best point.
+    NelderMead,
+    /// [`pattern_search`] (γ0 = 0.1, γ_tol = 1e-9), then the restarts with Nelder–Mead.
+    PatternSearch,
+}
+
+/// Plans with the chosen optimiser; `evals_per_run` evaluations per run, `restarts` extra
+/// Nelder–Mead runs from the best point.
+pub fn plan_with(
+    pb: &Problem,
+    optimiser: Optimiser,
+    evals_per_run: usize,
+    restarts: usize,
+) -> Result<(Vec<f64>, Outcome), String> {
+    let mut x = pb.initial_guess();
+    let cost = |p: &[f64]| simulate(pb, p, 0).map(|(o, _)| o.cost).unwrap_or(f64::MAX);
+    let nm_runs = match optimiser {
+        Optimiser::NelderMead => restarts + 1,
+        Optimiser::PatternSearch => {
+            x = pattern_search(cost, &x, -1.0, 1.0, 0.1, 1e-9, evals_per_run).x;
+            restarts
+        }
+    };
+    for _ in 0..nm_runs {
+        x = nelder_mead(cost, &x, -1.0, 1.0, evals_per_run, 1e-18, 1e-12).x;
+    }
+    let (o, _) = simulate(pb, &x, 0)?;
+    Ok((x, o))
+}
+
 /// Plans: Nelder–Mead from the straight-line guess, restarted from its best point `restarts`
 /// times, each with `evals_per_run` evaluations. Returns the parameters and the outcome.
 pub fn plan(

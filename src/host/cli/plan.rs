@@ -8,8 +8,11 @@
 //!  "euler_zyx_end_deg": [0, 0, 0], "inertia_kgm2": [0.7, 0.7, 0.7], "m_max_am2": 10,
 //!  "wheels": {"inertia_kgm2": 8e-4, "max_rpm": 5000, "max_torque_nm": 0.01},
 //!  "a_km": 6828.1, "omega0_radps": 1.119e-3, "inc_deg": 51, "greenwich0_deg": 0,
-//!  "weights": [1e5, 1e8, 0], "evals": 1500, "restarts": 2, "steps": 1500}
+//!  "weights": [1e5, 1e8, 0], "evals": 1500, "restarts": 2, "steps": 1500,
+//!  "optimiser": "nelder-mead"}
 //! ```
+//! `optimiser`: `nelder-mead` or `pattern-search` (pattern search, then `restarts` Nelder–Mead
+//! runs).
 //! Euler angles are (ψ, θ, φ) of the 3-2-1 sequence ([`crate::attitude::Euler321`]).
 
 use std::fmt::Write as _;
@@ -20,7 +23,7 @@ use serde::Deserialize;
 
 use super::CliError;
 use crate::attitude::{Dcm, Euler321, Quaternion};
-use crate::host::planner::{plan, simulate, Problem, Wheels};
+use crate::host::planner::{plan_with, simulate, Optimiser, Problem, Wheels};
 
 /// Arguments of `acs plan`.
 #[derive(clap::Args, Debug)]
@@ -58,6 +61,7 @@ struct Description {
     evals: usize,
     restarts: usize,
     steps: usize,
+    optimiser: String,
 }
 
 impl Default for Description {
@@ -78,6 +82,7 @@ impl Default for Description {
             evals: 1500,
             restarts: 2,
             steps: 1500,
+            optimiser: "nelder-mead".into(),
         }
     }
 }
@@ -163,7 +168,16 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         dt_s: d.duration_s / d.steps as f64,
         weights: d.weights,
     };
-    let (p, outcome) = plan(&pb, d.evals, d.restarts).map_err(CliError::Compute)?;
+    let optimiser = match d.optimiser.as_str() {
+        "nelder-mead" => Optimiser::NelderMead,
+        "pattern-search" => Optimiser::PatternSearch,
+        o => {
+            return Err(CliError::Input(format!(
+                "optimiser `{o}`: use nelder-mead or pattern-search"
+            )))
+        }
+    };
+    let (p, outcome) = plan_with(&pb, optimiser, d.evals, d.restarts).map_err(CliError::Compute)?;
     let (_, samples) = simulate(&pb, &p, 1).map_err(CliError::Compute)?;
     let dir = args
         .out
