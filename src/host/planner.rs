@@ -310,6 +310,63 @@ pub fn simulate(
     record_every: usize,
 ) -> Result<(Outcome, Vec<Sample>), String> {
     let plan = pb.profile(p)?;
+    run(pb, |t, h| command(pb, &plan, t, h), record_every, false)
+}
+
+/// The dipole profile of **direct dynamics** (note 001 §3.3, Fig. 4.1): per axis a clamped
+/// spline (zero end slopes) through `n = p.len()/3` uniformly spaced ordinates (A·m²), clipped
+/// to ±`m_max`; `p` = all x ordinates, then y, then z.
+pub fn direct_profile(
+    pb: &Problem,
+    p: &[f64],
+) -> Result<[crate::planning::spline::ClampedSpline<MAX_KNOTS>; 3], String> {
+    let n = p.len() / 3;
+    if n < 2 || n > MAX_KNOTS || p.len() != 3 * n {
+        return Err(format!("{} direct-dynamics parameters", p.len()));
+    }
+    let times: Vec<f32> = (0..n)
+        .map(|k| (pb.duration_s * k as f64 / (n - 1) as f64) as f32)
+        .collect();
+    let axis = |j: usize| {
+        let v: Vec<f32> = p[j * n..(j + 1) * n].iter().map(|x| *x as f32).collect();
+        crate::planning::spline::ClampedSpline::new(&times, &v, 0.0, 0.0).map_err(|e| e.to_string())
+    };
+    Ok([axis(0)?, axis(1)?, axis(2)?])
+}
+
+/// Simulates **direct dynamics** (magnetorquers only): the dipole of [`direct_profile`], cost
+/// (6.3)/(6.5) with the third weight on `∫ mᵀm dt`.
+pub fn simulate_direct(
+    pb: &Problem,
+    p: &[f64],
+    record_every: usize,
+) -> Result<(Outcome, Vec<Sample>), String> {
+    let splines = direct_profile(pb, p)?;
+    let (_, t_end) = splines[0].interval();
+    let cmd = |t: f64, _h: &[f64; 3]| -> Result<Command, String> {
+        let tt = (t as f32).min(t_end);
+        let mut m = [0.0f64; 3];
+        for (mj, sp) in m.iter_mut().zip(splines.iter()) {
+            let v = sp.eval(tt).map_err(|e| e.to_string())?.value as f64;
+            *mj = v.clamp(-pb.m_max_am2, pb.m_max_am2);
+        }
+        Ok(Command {
+            dipole_am2: m,
+            wheel_torque_nm: [0.0; 3],
+            lost2: 0.0,
+            q_plan: pb.q_start,
+            omega_plan: [0.0; 3],
+        })
+    };
+    run(pb, cmd, record_every, true)
+}
+
+fn run<C: Fn(f64, &[f64; 3]) -> Result<Command, String>>(
+    pb: &Problem,
+    command_at: C,
+    record_every: usize,
+    weight_on_dipole: bool,
+) -> Result<(Outcome, Vec<Sample>), String> {
     let q0 = pb.q_start;
     let mut x: State = [
         q0.q0 as f64,
@@ -326,13 +383,14 @@ pub fn simulate(
     let steps = (pb.duration_s / pb.dt_s).round().max(1.0) as usize;
     let dt = pb.duration_s / steps as f64;
     let mut lost = 0.0;
+    let mut effort = 0.0;
     let mut max_m = 0.0f64;
     let mut max_ws = 0.0f64;
     let mut out = Vec::new();
     let hmax = pb.wheels.map(|w| w.inertia_kgm2 * w.max_speed_radps);
     let f = |t: f64, x: &State| -> Result<(State, Command), String> {
         let h = [x[7], x[8], x[9]];
-        let mut cmd = command(pb, &plan, t, &h)?;
+        let mut cmd = command_at(t, &h)?;
         if let Some(hm) = hmax {
             for i in 0..3 {
                 if h[i].abs() >= hm && cmd.wheel_torque_nm[i] * h[i] > 0.0 {
@@ -369,6 +427,7 @@ pub fn simulate(
             out.push(sample_of(t, &x, c1));
         }
         lost += c1.lost2 * dt; // rectangle rule on the step grid
+        effort += c1.dipole_am2.iter().map(|m| m * m).sum::<f64>() * dt;
         max_m = c1.dipole_am2.iter().fold(max_m, |a, m| a.max(m.abs()));
         let add = |x: &State, k: &State, s: f64| -> State {
             let mut y = *x;
@@ -409,7 +468,7 @@ pub fn simulate(
     let outcome = Outcome {
         attitude_error_deg: (2.0 * dq2.sqrt().atan2(e[0].abs())).to_degrees(),
         rate_error_degps: dw2.sqrt().to_degrees(),
-        cost: cq * dq2 + cw * dw2 + ct * lost,
+        cost: cq * dq2 + cw * dw2 + ct * if weight_on_dipole { effort } else { lost },
         lost_integral: lost,
         max_dipole_am2: max_m,
         max_wheel_speed_radps: max_ws,
