@@ -321,7 +321,7 @@ pub fn direct_profile(
     p: &[f64],
 ) -> Result<[crate::planning::spline::ClampedSpline<MAX_KNOTS>; 3], String> {
     let n = p.len() / 3;
-    if n < 2 || n > MAX_KNOTS || p.len() != 3 * n {
+    if !(2..=MAX_KNOTS).contains(&n) || p.len() != 3 * n {
         return Err(format!("{} direct-dynamics parameters", p.len()));
     }
     let times: Vec<f32> = (0..n)
