@@ -266,3 +266,61 @@ fn direct_dynamics() {
         }
     }
 }
+
+#[test]
+fn integration_step_converged() {
+    // the predicted errors do not depend on the RK4 step: the optimised knots printed by
+    // `reproduce_tables_6_3_to_6_6` simulated with 1500 and 12 000 steps
+    let cases: [(f64, bool, [f64; 6]); 3] = [
+        (
+            1500.0,
+            false,
+            [
+                0.3198530196936018,
+                0.2071735539038121,
+                0.17573047080840515,
+                0.251767052804392,
+                0.009334078231511025,
+                -0.02044788944323192,
+            ],
+        ),
+        (
+            150.0,
+            false,
+            [
+                0.22399985332694589,
+                0.28975099935171134,
+                0.16362190533335558,
+                0.013777492634101463,
+                0.16765050754217592,
+                0.04173230921219749,
+            ],
+        ),
+        (
+            150.0,
+            true,
+            [
+                0.1727465774545842,
+                0.23161475622958216,
+                0.09971831225290007,
+                0.09053984759969216,
+                0.06670186899181718,
+                0.05120599647987714,
+            ],
+        ),
+    ];
+    for (tf, wheels, p) in cases {
+        let mut pb = thesis_problem(tf, wheels);
+        let (coarse, _) = simulate(&pb, &p, 0).unwrap();
+        pb.dt_s = tf / 12_000.0;
+        let (fine, _) = simulate(&pb, &p, 0).unwrap();
+        let d_att = (coarse.attitude_error_deg - fine.attitude_error_deg).abs();
+        let d_rate = (coarse.rate_error_degps - fine.rate_error_degps).abs();
+        println!(
+            "T_f {tf} wheels {wheels}: 1500 steps {:.4e} deg {:.4e} deg/s; 12000 steps {:.4e} deg {:.4e} deg/s",
+            coarse.attitude_error_deg, coarse.rate_error_degps, fine.attitude_error_deg, fine.rate_error_degps
+        );
+        assert!(d_att < 0.1 * coarse.attitude_error_deg.max(1e-5), "{d_att}");
+        assert!(d_rate < 0.1 * coarse.rate_error_degps.max(1e-6), "{d_rate}");
+    }
+}
