@@ -10,7 +10,8 @@
 //!    (per-axis clip, as the thesis) or, with wheels, [`crate::planning::allocation::hybrid`];
 //! 3. the true dynamics (seed 001 eq. 2.44, f64, RK4, wheel torque and speed limits) driven by
 //!    these commands, open loop, in the seed-001 field (tilted dipole rotating with the Earth,
-//!    eqs. 2.34–2.36 with the note's fixes) along the circular orbit (eq. 2.37);
+//!    eqs. 2.34–2.36 with the note's fixes) or IGRF ([`Field`]) along the circular orbit
+//!    (eq. 2.37);
 //! 4. cost `c_q |δq|² + c_ω |δω|² + c_τ ∫|τ_lost|² dt` (eqs. 6.4–6.7; δω in rad/s,
 //!    δq the vector part of the error quaternion).
 //!
@@ -23,9 +24,11 @@
 
 use crate::attitude::Quaternion;
 use crate::control::wheels::Wheel;
+use crate::env::igrf::{Degree, Igrf, FULL};
 use crate::linalg::Vec3;
 use crate::planning::allocation::{hybrid, magnetic, DipoleSaturation};
 use crate::planning::spline::AttitudeSpline;
+use crate::time::{gmst_rad_f64, Epoch, TimeSpan, Utc};
 
 /// Largest number of spline knots of a plan.
 pub const MAX_KNOTS: usize = 16;
@@ -82,6 +85,37 @@ pub struct Problem {
     pub dt_s: f64,
     /// Cost weights `c_q`, `c_ω` (rad/s), `c_τ`.
     pub weights: [f64; 3],
+    /// Geomagnetic field model along the orbit.
+    pub field: Field,
+}
+
+/// Geomagnetic field model of a [`Problem`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum Field {
+    /// Seed 001's tilted dipole rotating with the Earth ([`dipole_field_t`], with
+    /// [`Problem::greenwich0_rad`]): the thesis reproduction.
+    Dipole,
+    /// IGRF ([`crate::env::igrf::FULL`], degree 13) with the planner's inertial frame taken as
+    /// TEME and the Earth angle from the GMST (IAU-82) of `start + t` (UT1 = UTC);
+    /// [`Problem::greenwich0_rad`] is not used. `start` is the UTC epoch of `t = 0` (the
+    /// ascending node).
+    Igrf {
+        /// UTC epoch of `t = 0`.
+        start: Epoch<Utc>,
+    },
+}
+
+/// IGRF field (TEME, nT) at `r_km` (TEME) at the UTC epoch `start + t_s`.
+fn igrf_field_nt(start: &Epoch<Utc>, t_s: f64, r_km: &[f64; 3]) -> Result<[f64; 3], String> {
+    let span = TimeSpan::from_seconds_f64(t_s).map_err(|e| format!("t = {t_s} s: {e}"))?;
+    let epoch = start.add(span);
+    let gmst = gmst_rad_f64(&epoch.to_ut1(None).map_err(|e| e.to_string())?);
+    let model = Igrf::at_epoch(&FULL, &epoch, Degree::FULL).map_err(|e| e.to_string())?;
+    let b = model
+        .teme(&v3(*r_km), gmst as f32)
+        .map_err(|e| e.to_string())?;
+    Ok(arr(&b))
 }
 
 /// Inertial field (T) of seed 001's dipole at the time `t_s` and position `r_km`.
@@ -115,10 +149,19 @@ impl Problem {
         ]
     }
 
-    /// Inertial field in nT at `t_s`.
-    pub fn field_nt(&self, t_s: f64) -> [f64; 3] {
-        let b = dipole_field_t(self.greenwich0_rad, t_s, &self.position_km(t_s));
-        [b[0] * 1e9, b[1] * 1e9, b[2] * 1e9]
+    /// Inertial field in nT at `t_s` from [`Problem::field`].
+    ///
+    /// Errors (IGRF only): the date out of the model's range, a position below the surface,
+    /// non-finite input.
+    pub fn field_nt(&self, t_s: f64) -> Result<[f64; 3], String> {
+        let r_km = self.position_km(t_s);
+        match &self.field {
+            Field::Dipole => {
+                let b = dipole_field_t(self.greenwich0_rad, t_s, &r_km);
+                Ok([b[0] * 1e9, b[1] * 1e9, b[2] * 1e9])
+            }
+            Field::Igrf { start } => igrf_field_nt(start, t_s, &r_km),
+        }
     }
 
     /// Number of free parameters (3 per interior knot).
@@ -207,7 +250,7 @@ pub fn command(
     let inertia = crate::linalg::Mat3::from_diagonal(&v3(pb.inertia_kgm2));
     let w = s.omega_radps;
     let tau = inertia * s.omega_dot_radps2 + w.cross(&(inertia * w));
-    let b_body = s.jet.q.to_dcm().to_body(&v3(pb.field_nt(t_s)));
+    let b_body = s.jet.q.to_dcm().to_body(&v3(pb.field_nt(t_s)?));
     let m_max = Vec3::repeat(pb.m_max_am2 as f32);
     let (mag, wheel) = match pb.wheels {
         None => (
@@ -400,7 +443,7 @@ fn run<C: Fn(f64, &[f64; 3]) -> Result<Command, String>>(
         }
         let q = [x[0], x[1], x[2], x[3]];
         let w = [x[4], x[5], x[6]];
-        let b_t = pb.field_nt(t).map(|b| b * 1e-9);
+        let b_t = pb.field_nt(t)?.map(|b| b * 1e-9);
         let b_body = to_body(q, b_t);
         let tau_m = cross(cmd.dipole_am2, b_body);
         let iw = [

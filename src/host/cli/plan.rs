@@ -9,8 +9,11 @@
 //!  "wheels": {"inertia_kgm2": 8e-4, "max_rpm": 5000, "max_torque_nm": 0.01},
 //!  "a_km": 6828.1, "omega0_radps": 1.119e-3, "inc_deg": 51, "greenwich0_deg": 0,
 //!  "weights": [1e5, 1e8, 0], "evals": 1500, "restarts": 2, "steps": 1500,
-//!  "optimiser": "nelder-mead"}
+//!  "optimiser": "nelder-mead", "field": "igrf", "start_utc": "2025-01-01T00:00:00Z"}
 //! ```
+//! `field`: `igrf` (default: IGRF-14 degree 13 at the epoch `start_utc` + t, the orbit frame
+//! taken as TEME, `greenwich0_deg` unused) or `dipole` (seed 001's rotating tilted dipole, the
+//! thesis reproduction; `start_utc` unused).
 //! `optimiser`: `nelder-mead` or `pattern-search` (pattern search, then `restarts` Nelder–Mead
 //! runs).
 //! Euler angles are (ψ, θ, φ) of the 3-2-1 sequence ([`crate::attitude::Euler321`]).
@@ -23,7 +26,7 @@ use serde::Deserialize;
 
 use super::CliError;
 use crate::attitude::{Dcm, Euler321, Quaternion};
-use crate::host::planner::{plan_with, simulate, Optimiser, Problem, Wheels};
+use crate::host::planner::{plan_with, simulate, Field, Optimiser, Problem, Wheels};
 
 /// Arguments of `acs plan`.
 #[derive(clap::Args, Debug)]
@@ -62,6 +65,8 @@ struct Description {
     restarts: usize,
     steps: usize,
     optimiser: String,
+    field: String,
+    start_utc: String,
 }
 
 impl Default for Description {
@@ -83,6 +88,8 @@ impl Default for Description {
             restarts: 2,
             steps: 1500,
             optimiser: "nelder-mead".into(),
+            field: "igrf".into(),
+            start_utc: "2025-01-01T00:00:00Z".into(),
         }
     }
 }
@@ -153,6 +160,14 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             ))
         }
     };
+    let field = match d.field.as_str() {
+        "igrf" => Field::Igrf {
+            start: super::sun::parse_utc_iso(&d.start_utc)
+                .map_err(|e| CliError::Input(format!("start_utc: {e}")))?,
+        },
+        "dipole" => Field::Dipole,
+        f => return Err(CliError::Input(format!("field `{f}`: use igrf or dipole"))),
+    };
     let pb = Problem {
         inertia_kgm2: d.inertia_kgm2,
         m_max_am2: d.m_max_am2,
@@ -167,7 +182,13 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         knots: d.knots,
         dt_s: d.duration_s / d.steps as f64,
         weights: d.weights,
+        field,
     };
+    // The field must be defined over the whole manoeuvre (IGRF: date range, altitude).
+    for t in [0.0, d.duration_s] {
+        pb.field_nt(t)
+            .map_err(|e| CliError::Input(format!("field at t = {t} s: {e}")))?;
+    }
     let optimiser = match d.optimiser.as_str() {
         "nelder-mead" => Optimiser::NelderMead,
         "pattern-search" => Optimiser::PatternSearch,
