@@ -90,7 +90,7 @@ pub struct Problem {
 }
 
 /// Geomagnetic field model of a [`Problem`].
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
 pub enum Field {
     /// Seed 001's tilted dipole rotating with the Earth ([`dipole_field_t`], with
@@ -104,6 +104,33 @@ pub enum Field {
         /// UTC epoch of `t = 0`.
         start: Epoch<Utc>,
     },
+    /// Field samples (inertial = TEME, nT) every `step_s` from `t = 0`, linearly interpolated;
+    /// e.g. the simulator's truth field along its orbit ([`crate::host::sim::plan_flight`]).
+    /// The circular orbit is not used.
+    Sampled {
+        /// Sample spacing, s.
+        step_s: f64,
+        /// Samples at `0, step_s, 2 step_s, …`.
+        b_teme_nt: Vec<[f64; 3]>,
+    },
+}
+
+/// Linear interpolation of `samples` spaced `step_s` at `t_s` (error outside them).
+fn sampled_field_nt(step_s: f64, samples: &[[f64; 3]], t_s: f64) -> Result<[f64; 3], String> {
+    let x = t_s / step_s;
+    let outside = || format!("t = {t_s} s outside the {} field samples", samples.len());
+    if !(x.is_finite() && x >= 0.0 && x <= samples.len() as f64) {
+        return Err(outside());
+    }
+    let k = x.floor() as usize;
+    let f = x - k as f64;
+    let a = samples.get(k).ok_or_else(outside)?;
+    let b = samples.get(k + 1).unwrap_or(a);
+    Ok([
+        a[0] + f * (b[0] - a[0]),
+        a[1] + f * (b[1] - a[1]),
+        a[2] + f * (b[2] - a[2]),
+    ])
 }
 
 /// IGRF field (TEME, nT) at `r_km` (TEME) at the UTC epoch `start + t_s`.
@@ -161,6 +188,7 @@ impl Problem {
                 Ok([b[0] * 1e9, b[1] * 1e9, b[2] * 1e9])
             }
             Field::Igrf { start } => igrf_field_nt(start, t_s, &r_km),
+            Field::Sampled { step_s, b_teme_nt } => sampled_field_nt(*step_s, b_teme_nt, t_s),
         }
     }
 
