@@ -3,13 +3,13 @@
 use std::path::PathBuf;
 
 use super::CliError;
-use crate::host::sim::{plot, scenarios};
+use crate::host::sim::{plan_flight, plot, scenarios};
 
 /// Arguments of `acs sim`.
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// Built-in scenario: detumble, thesis-slew, thesis-slew-noisy, sun-safe, tracking,
-    /// failed-tile.
+    /// failed-tile; or plan-flight (a ground plan flown open loop, [`plan_flight`]).
     scenario: String,
     /// Output folder for CSV and SVG files (default: `acs-sim-<scenario>`).
     #[arg(long)]
@@ -18,6 +18,9 @@ pub struct Args {
 
 /// Runs `acs sim`.
 pub fn run(args: &Args) -> Result<(), CliError> {
+    if args.scenario == "plan-flight" {
+        return plan_flight_run(args.out.clone());
+    }
     let scenario = match scenarios::by_name(&args.scenario) {
         Some(s) => s.map_err(|e| CliError::Compute(e.to_string()))?,
         None => {
@@ -77,5 +80,26 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             .all(|s| s.omega_true.iter().all(|x| x.is_finite()))
     );
     println!("files: {} in {}", files.join(", "), dir.display());
+    Ok(())
+}
+
+/// `acs sim plan-flight`: plans [`plan_flight::thesis_case`] in the simulator's field and flies
+/// it open loop; prints and writes (`DIR/errors.txt`) planned and flown final errors.
+fn plan_flight_run(out: Option<PathBuf>) -> Result<(), CliError> {
+    let (config, pb) = plan_flight::thesis_case().map_err(CliError::Compute)?;
+    let f =
+        plan_flight::plan_and_fly(&config, &pb, 5.0, 400, 1, 0.02).map_err(CliError::Compute)?;
+    let report = format!(
+        "scenario: plan-flight — seed 001 manoeuvre planned in the simulator's field, flown open loop\nplanned_attitude_error_deg: {:.6e}\nplanned_rate_error_degps: {:.6e}\nflown_attitude_error_deg: {:.6e}\nflown_rate_error_degps: {:.6e}\n",
+        f.planned.attitude_error_deg,
+        f.planned.rate_error_degps,
+        f.flown_attitude_error_deg,
+        f.flown_rate_error_degps
+    );
+    let dir = out.unwrap_or_else(|| PathBuf::from("acs-sim-plan-flight"));
+    std::fs::create_dir_all(&dir).map_err(|e| CliError::Compute(e.to_string()))?;
+    std::fs::write(dir.join("errors.txt"), &report)
+        .map_err(|e| CliError::Compute(e.to_string()))?;
+    print!("{report}");
     Ok(())
 }

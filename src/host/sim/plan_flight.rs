@@ -12,6 +12,7 @@
 //! Attitudes follow [`crate::attitude`] (scalar-first, `v_body = A(q) v_ref`, reference TEME).
 
 use super::{angle_between_deg, SimConfig, Simulator};
+use crate::attitude::{Dcm, Euler321, Quaternion};
 use crate::hal::TileBus;
 use crate::host::planner::{command, plan, Field, Outcome, Problem};
 use crate::linalg::Vec3d;
@@ -136,4 +137,44 @@ pub fn fly(config: &SimConfig, pb: &Problem, p: &[f64], step_s: f64) -> Result<(
         angle_between_deg(&t.q, &pb.q_end),
         t.omega.norm().to_degrees(),
     ))
+}
+
+/// The manoeuvre of `acs sim plan-flight`: seed 001's test case ((30°, 35°, 40°) 3-2-1 →
+/// identity, rest to rest, 1500 s, inertia 0.7 kg·m², 10 A·m² per body axis, magnetorquers
+/// only; note 001 §4) in the thesis-slew scenario's orbit and date (DTUSAT, 2009-06-16,
+/// [`super::scenarios::thesis_slew`]) without disturbances, and that simulator configuration.
+pub fn thesis_case() -> Result<(SimConfig, Problem), String> {
+    let mut config = super::scenarios::thesis_slew(false)
+        .map_err(|e| e.to_string())?
+        .sim;
+    config.inertia = crate::linalg::Mat3d::from_diagonal_element(0.7);
+    config.coils = [Vec3d::x(), Vec3d::y(), Vec3d::z()]
+        .map(|a| (a, 10.0))
+        .to_vec();
+    config.disturbances = super::Disturbances::none();
+    let q_start = Dcm::from_euler_321(&Euler321 {
+        psi_rad: 30f32.to_radians(),
+        theta_rad: 35f32.to_radians(),
+        phi_rad: 40f32.to_radians(),
+    })
+    .to_quaternion()
+    .canonical();
+    let pb = Problem {
+        inertia_kgm2: [0.7; 3],
+        m_max_am2: 10.0,
+        wheels: None,
+        a_km: 6828.1,
+        omega0_radps: None,
+        inc_rad: 0.0,
+        greenwich0_rad: 0.0,
+        q_start,
+        q_end: Quaternion::IDENTITY,
+        duration_s: 1500.0,
+        knots: 4,
+        dt_s: 5.0,
+        weights: [1e5, 1e8, 0.0],
+        // replaced by the simulator's sampled field in [`plan_for`]
+        field: Field::Dipole,
+    };
+    Ok((config, pb))
 }
