@@ -4,7 +4,7 @@
 //!
 //! One candidate (parameters `p` = vector parts `q_v` of the interior knots, 3 per knot):
 //! 1. the on-board profile [`AttitudeSpline`] through `q_start`, the interior knots and `q_end`
-//!    (uniform knots, clamped rest-to-rest ends; f32, exactly what the spacecraft would evaluate);
+//!    (uniform knots unless [`Problem::variable_grid`], clamped rest-to-rest ends; f32, exactly what the spacecraft would evaluate);
 //! 2. at each time, ω, ω̇ from it and `τ_id = I ω̇ + ω × I ω` (seed 001 eq. 2.31); the field in body
 //!    axes of the **planned** attitude; the dipole by [`crate::planning::allocation::magnetic`]
 //!    (per-axis clip, as the thesis) or, with wheels, [`crate::planning::allocation::hybrid`];
@@ -87,6 +87,15 @@ pub struct Problem {
     pub weights: [f64; 3],
     /// Geomagnetic field model along the orbit.
     pub field: Field,
+    /// Variable time grid (seed 001 Table 6.5): the interior knot abscissae are optimised too.
+    /// The parameter vector then ends with one gap parameter `g_i` per interior knot; the gaps
+    /// between successive knots are weighted `w_i = g_i² + 0.01` (the last gap fixed at
+    /// `w = 0.26`) and scaled to sum to `duration_s`. Whatever the optimiser proposes the knots
+    /// stay strictly increasing inside `(0, duration_s)` (every gap positive; at least
+    /// `0.01 / (1.01 · (knots − 2) + 0.26)` of the duration while `|g_i| ≤ 1`, the planner's
+    /// bounds), and `g_i = 0.5` is the uniform grid (inside the bounds, so Nelder–Mead's first
+    /// simplex moves it).
+    pub variable_grid: bool,
 }
 
 /// Geomagnetic field model of a [`Problem`].
@@ -192,15 +201,43 @@ impl Problem {
         }
     }
 
-    /// Number of free parameters (3 per interior knot).
+    /// Number of free parameters (3 per interior knot, plus 1 per interior knot with
+    /// [`Problem::variable_grid`]).
     pub fn n_params(&self) -> usize {
-        3 * self.knots.saturating_sub(2)
+        let per_knot = if self.variable_grid { 4 } else { 3 };
+        per_knot * self.knots.saturating_sub(2)
+    }
+
+    /// Knot abscissae, s: uniform, or from the gap parameters `g` of
+    /// [`Problem::variable_grid`] (one per interior knot).
+    pub fn knot_times(&self, g: &[f64]) -> Vec<f64> {
+        let n = self.knots.saturating_sub(1).max(1);
+        if !self.variable_grid {
+            return (0..=n)
+                .map(|k| self.duration_s * k as f64 / n as f64)
+                .collect();
+        }
+        let w: Vec<f64> = g
+            .iter()
+            .map(|g| g * g + 0.01)
+            .chain(core::iter::once(0.26))
+            .collect();
+        let total: f64 = w.iter().sum();
+        let mut t = vec![0.0];
+        let mut acc = 0.0;
+        for wi in &w[..w.len() - 1] {
+            acc += wi;
+            t.push(self.duration_s * acc / total);
+        }
+        t.push(self.duration_s);
+        t
     }
 
     /// Straight line in `q_v` from start to end (note 001 §4's naive guess).
     pub fn initial_guess(&self) -> Vec<f64> {
         let (a, b) = (self.q_start, self.q_end);
         let n = self.knots - 1;
+        let grid = if self.variable_grid { n - 1 } else { 0 };
         (1..n)
             .flat_map(|k| {
                 let f = k as f64 / n as f64;
@@ -210,6 +247,7 @@ impl Problem {
                     a.q3 as f64 + f * (b.q3 - a.q3) as f64,
                 ]
             })
+            .chain(core::iter::repeat_n(0.5, grid))
             .collect()
     }
 
@@ -218,12 +256,14 @@ impl Problem {
         if self.knots < 2 || self.knots > MAX_KNOTS || p.len() != self.n_params() {
             return Err(format!("{} knots / {} parameters", self.knots, p.len()));
         }
-        let n = self.knots - 1;
-        let times: Vec<f32> = (0..=n)
-            .map(|k| (self.duration_s * k as f64 / n as f64) as f32)
+        let m = 3 * (self.knots - 2);
+        let times: Vec<f32> = self
+            .knot_times(&p[m..])
+            .into_iter()
+            .map(|t| t as f32)
             .collect();
         let mut qs = vec![self.q_start];
-        for c in p.chunks(3) {
+        for c in p[..m].chunks(3) {
             let v = Vec3::new(c[0] as f32, c[1] as f32, c[2] as f32);
             let s = 1.0 - v.norm_squared();
             if s <= 1e-6 {

@@ -183,6 +183,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         dt_s: d.duration_s / d.steps as f64,
         weights: d.weights,
         field,
+        variable_grid: false,
     };
     // The field must be defined over the whole manoeuvre (IGRF: date range, altitude).
     for t in [0.0, d.duration_s] {

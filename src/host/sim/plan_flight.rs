@@ -175,6 +175,7 @@ pub fn thesis_case() -> Result<(SimConfig, Problem), String> {
         weights: [1e5, 1e8, 0.0],
         // replaced by the simulator's sampled field in [`plan_for`]
         field: Field::Dipole,
+        variable_grid: false,
     };
     Ok((config, pb))
 }
