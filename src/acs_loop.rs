@@ -541,6 +541,9 @@ impl AcsLoop {
             Mode::Detumble => {
                 dipole = match (omega, b_body_nt) {
                     (Some(w), Some(b)) => {
+                        // the derivative form must not difference against a sample taken
+                        // before a gyro outage: forget it while the gyro form runs
+                        self.bdot.reset();
                         bdot_from_rates(&self.config.bdot, &w, &b).unwrap_or_else(|_| Vec3::zeros())
                     }
                     (None, Some(b)) => self
