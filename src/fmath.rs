@@ -172,7 +172,8 @@ fn reduce_pio2(x: f32) -> Option<(f32, u32)> {
 /// Measured (`tests/fmath.rs`): max 0.79 ulp for |x| ≤ π/4 (exhaustive); max absolute error
 /// 6.5·10⁻⁸ for |x| ≤ [`TRIG_EXACT_LIMIT`]; beyond, up to [`TRIG_LIMIT`], half the f32 spacing
 /// of `x` (the input's own resolution); NaN for non-finite `x` or |x| > [`TRIG_LIMIT`].
-#[inline]
+#[cfg_attr(target_arch = "msp430", inline(never))]
+#[cfg_attr(not(target_arch = "msp430"), inline)]
 pub fn sin(x: f32) -> f32 {
     if abs(x).to_bits() < SIN_TINY.to_bits() {
         return x;
@@ -187,7 +188,8 @@ pub fn sin(x: f32) -> f32 {
 }
 
 /// Cosine of `x` (radians). Method and measured error as [`sin`].
-#[inline]
+#[cfg_attr(target_arch = "msp430", inline(never))]
+#[cfg_attr(not(target_arch = "msp430"), inline)]
 pub fn cos(x: f32) -> f32 {
     match reduce_pio2(x) {
         Some((r, 0)) => cos_kernel(r),
@@ -200,7 +202,8 @@ pub fn cos(x: f32) -> f32 {
 
 /// `(sin x, cos x)` of `x` (radians), sharing one range reduction. Method and measured error as
 /// [`sin`]; the pair is bit-identical to `(sin(x), cos(x))`.
-#[inline]
+#[cfg_attr(target_arch = "msp430", inline(never))]
+#[cfg_attr(not(target_arch = "msp430"), inline)]
 pub fn sincos(x: f32) -> (f32, f32) {
     if abs(x).to_bits() < SIN_TINY.to_bits() {
         return (x, 1.0);
@@ -222,7 +225,8 @@ pub fn sincos(x: f32) -> (f32, f32) {
 
 /// Tangent of `x` (radians): `sin x / cos x` from [`sincos`]. Measured: max 1.9 ulp for
 /// |x| ≤ π/4; near the poles the relative error follows cos's absolute error (6·10⁻⁸ / |cos x|).
-#[inline]
+#[cfg_attr(target_arch = "msp430", inline(never))]
+#[cfg_attr(not(target_arch = "msp430"), inline)]
 pub fn tan(x: f32) -> f32 {
     let (s, c) = sincos(x);
     s / c
@@ -274,7 +278,8 @@ fn atan_octants<const UNIT: bool>(n: f32, d: f32, mirror: bool) -> f32 {
 /// Octant reduction with one division (at most) to |u| ≤ tan(π/8), then a degree-9 odd minimax
 /// polynomial. Measured (`tests/fmath.rs`, every f32): max 2.30 ulp. `atan(±∞) = ±π/2`,
 /// NaN → NaN.
-#[inline]
+#[cfg_attr(target_arch = "msp430", inline(never))]
+#[cfg_attr(not(target_arch = "msp430"), inline)]
 pub fn atan(x: f32) -> f32 {
     let ax = abs(x);
     let abits = ax.to_bits();
@@ -299,7 +304,8 @@ pub fn atan(x: f32) -> f32 {
 /// as IEEE/C99 `atan2f`: `atan2(±0, +0) = ±0`, `atan2(±0, −0) = ±π`, `atan2(±∞, ±∞) = ±π/4,
 /// ±3π/4`; NaN in → NaN out. Measured (`tests/fmath.rs`, dense sampling of all f32 pairs over
 /// 80 orders of magnitude of y/x): max 2.30 ulp.
-#[inline]
+#[cfg_attr(target_arch = "msp430", inline(never))]
+#[cfg_attr(not(target_arch = "msp430"), inline)]
 pub fn atan2(y: f32, x: f32) -> f32 {
     let mut ax = abs(x);
     let mut ay = abs(y);
@@ -346,7 +352,8 @@ fn asin_kernel(x: f32) -> f32 {
 ///
 /// |x| ≤ 1/2: degree-11 odd minimax polynomial; |x| > 1/2: `π/2 − 2·asin(√((1−|x|)/2))` (exact
 /// [`sqrt`]). Measured (`tests/fmath.rs`, every f32 in −1..=1): max 2.44 ulp.
-#[inline]
+#[cfg_attr(target_arch = "msp430", inline(never))]
+#[cfg_attr(not(target_arch = "msp430"), inline)]
 pub fn asin(x: f32) -> f32 {
     let ax = abs(x);
     let abits = ax.to_bits();
@@ -370,7 +377,8 @@ pub fn asin(x: f32) -> f32 {
 ///
 /// |x| ≤ 1/2: `π/2 − asin x`; x > 1/2: `2·asin(√((1−x)/2))`; x < −1/2: `π − 2·asin(√((1+x)/2))`.
 /// Measured (`tests/fmath.rs`, every f32 in −1..=1): max 1.19 ulp.
-#[inline]
+#[cfg_attr(target_arch = "msp430", inline(never))]
+#[cfg_attr(not(target_arch = "msp430"), inline)]
 pub fn acos(x: f32) -> f32 {
     let ax = abs(x);
     let abits = ax.to_bits();
@@ -397,7 +405,8 @@ pub fn acos(x: f32) -> f32 {
 /// exponent is even, yields 25 root bits by shift-and-subtract and the remainder decides the
 /// rounding. 32-bit integer additions and shifts only. Verified (`tests/fmath.rs`): bit-identical
 /// to the host's `f32::sqrt` on every f32 (ignored exhaustive test) and on a dense sample.
-#[inline]
+#[cfg_attr(target_arch = "msp430", inline(never))]
+#[cfg_attr(not(target_arch = "msp430"), inline)]
 pub fn sqrt(x: f32) -> f32 {
     let bits = x.to_bits();
     if bits >= 0x7f80_0000 {
@@ -469,7 +478,8 @@ pub fn abs(x: f32) -> f32 {
 /// beyond that `x` has no fractional turn left in f32 and the result is `libm::fmodf(x, 2π_f32)`
 /// (exact modulo the f32-rounded 2π). Relative to the previous `fmodf(x, TAU)` this is accurate
 /// to the true 2π: `TAU` as f32 is 1.7·10⁻⁷ too large, an error of `k·1.7·10⁻⁷` rad after k turns.
-#[inline]
+#[cfg_attr(target_arch = "msp430", inline(never))]
+#[cfg_attr(not(target_arch = "msp430"), inline)]
 pub fn wrap_two_pi(x: f32) -> f32 {
     let ax = abs(x);
     let tau = core::f32::consts::TAU;
@@ -501,14 +511,16 @@ pub fn wrap_two_pi(x: f32) -> f32 {
 }
 
 /// Power `x^y` (`libm::powf`: fdlibm's f32-only algorithm, max 1 ulp per its documentation).
-#[inline]
+#[cfg_attr(target_arch = "msp430", inline(never))]
+#[cfg_attr(not(target_arch = "msp430"), inline)]
 pub fn pow(x: f32, y: f32) -> f32 {
     libm::powf(x, y)
 }
 
 /// Natural exponential (`libm::expf`: fdlibm's f32-only algorithm, max 1 ulp per its
 /// documentation).
-#[inline]
+#[cfg_attr(target_arch = "msp430", inline(never))]
+#[cfg_attr(not(target_arch = "msp430"), inline)]
 pub fn exp(x: f32) -> f32 {
     libm::expf(x)
 }
