@@ -48,7 +48,7 @@ use crate::control::principal_axes::PrincipalAxes;
 use crate::control::slew::{decompose, manoeuvre_matrix, plan, Branch, SlewLimits, SlewPlan};
 use crate::control::sun_safe::{sun_safe_torque, SunSafeGains};
 use crate::control::tracking::{tracking_torque, TrackingGains};
-use crate::control::wheels::{allocate, Wheel};
+use crate::control::wheels::{Allocator, Wheel, WheelAllocation, WheelError};
 use crate::determination::least_squares::{angular_rate_body, magnetic_field_body};
 use crate::determination::sun_sensor::sun_direction_body;
 use crate::determination::{quest, Observation};
@@ -223,6 +223,9 @@ pub struct AcsLoop {
     /// Commanded momentum of each tile's wheel, kg·m²/s along the tile normal.
     wheel_h: [f32; MAX_TILES],
     failures: [u8; MAX_TILES],
+    /// Allocators of the wheels and the coils, rebuilt when their working set changes.
+    wheel_allocator: Option<Allocator>,
+    coil_allocator: Option<Allocator>,
 }
 
 /// Errors of [`AcsLoop::new`] and [`AcsLoop::command`].
@@ -248,6 +251,23 @@ impl fmt::Display for AcsError {
 fn span_s(later: &Epoch<Utc>, earlier: &Epoch<Utc>) -> f32 {
     let (whole, frac) = later.span_since(earlier).split_seconds();
     whole + frac
+}
+
+/// Allocates `l_body` with the cached allocator, rebuilding it first if the working set of
+/// `actuators` changed (a failure) or there is none yet.
+fn cached_allocation<const N: usize>(
+    cache: &mut Option<Allocator>,
+    actuators: &[Wheel; N],
+    l_body: &Vec3,
+) -> Result<WheelAllocation<N>, WheelError> {
+    if !cache.is_some_and(|a| a.is_for(actuators)) {
+        *cache = None;
+        *cache = Some(Allocator::new(actuators)?);
+    }
+    match cache {
+        Some(a) => a.allocate(actuators, l_body),
+        None => Err(WheelError::StaleAllocator),
+    }
 }
 
 /// Per-tile readings of one step.
@@ -286,6 +306,8 @@ impl AcsLoop {
             estimate: None,
             wheel_h: [0.0; MAX_TILES],
             failures: [0; MAX_TILES],
+            wheel_allocator: None,
+            coil_allocator: None,
         })
     }
 
@@ -718,10 +740,9 @@ impl AcsLoop {
                 working: t.has_working_wheel(),
             };
         }
-        // allocate() gives the wheels −W⁺L: ask for the body momentum −h so they hold +h
-        let Ok(alloc) = allocate(&wheels, &(-h)) else {
-            return false;
-        };
+        // the allocator gives the wheels −W⁺L: ask for the body momentum −h so they hold +h;
+        // with no working wheel every wheel is commanded to stop
+        let alloc = cached_allocation(&mut self.wheel_allocator, &wheels, &(-h)).ok();
         for (i, (cmd, tile)) in self
             .wheel_h
             .iter_mut()
@@ -731,14 +752,16 @@ impl AcsLoop {
             if !tile.equipment.reaction_wheel {
                 continue;
             }
-            let value = if tile.has_working_wheel() {
-                alloc.wheel.get(i).copied().unwrap_or(0.0)
-            } else {
-                0.0
+            let value = match &alloc {
+                Some(a) if tile.has_working_wheel() => a.wheel.get(i).copied().unwrap_or(0.0),
+                _ => 0.0,
             };
             *cmd = value;
             faults.actuator |= bus.set_wheel_momentum(i, value).is_err();
         }
+        let Some(alloc) = alloc else {
+            return false;
+        };
         alloc.scale < 1.0
     }
 
@@ -753,7 +776,7 @@ impl AcsLoop {
         for (c, cfg) in coils.iter_mut().zip(self.config.coils.iter()) {
             *c = *cfg;
         }
-        let Ok(alloc) = allocate(&coils, &(-m)) else {
+        let Ok(alloc) = cached_allocation(&mut self.coil_allocator, &coils, &(-m)) else {
             return Vec3::zeros();
         };
         faults.saturated |= alloc.scale < 1.0;

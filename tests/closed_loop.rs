@@ -157,3 +157,54 @@ fn loop_state_size() {
     println!("AcsLoop {total} B = configuration {config} B + SGP4 elements {orbit} B + state {} B (host, 64-bit)", total - config - orbit);
     assert!(total - config - orbit <= 512);
 }
+
+/// With every wheel failed the allocation has nothing to work with: every wheel-equipped tile
+/// is still commanded to zero momentum (stopped), not left at its last command.
+#[test]
+fn no_working_wheel_stops_every_wheel() {
+    use acs::acs_loop::AcsLoop;
+    use acs::hal::{ErrorKind, TileBus};
+    use acs::orbit::sgp4::Sgp4;
+
+    struct Recorder(Vec<(usize, f32)>);
+    impl TileBus for Recorder {
+        fn read_sun(&mut self, _: usize) -> Result<Option<[i16; 2]>, ErrorKind> {
+            Ok(None)
+        }
+        fn read_magnetometer(&mut self, _: usize) -> Result<[i16; 2], ErrorKind> {
+            Ok([100, -200])
+        }
+        fn read_gyro(&mut self, _: usize) -> Result<i16, ErrorKind> {
+            Ok(3)
+        }
+        fn set_wheel_momentum(&mut self, tile: usize, h_nms: f32) -> Result<(), ErrorKind> {
+            self.0.push((tile, h_nms));
+            Ok(())
+        }
+        fn set_dipole(&mut self, _: usize, _: f32) -> Result<(), ErrorKind> {
+            Ok(())
+        }
+    }
+
+    let scenario = scenarios::tracking(None).unwrap();
+    let tle = acs::tle::Tle::parse(&scenario.sim.tle.0, &scenario.sim.tle.1).unwrap();
+    let orbit = Sgp4::new(&tle, scenario.gravity).unwrap();
+    let mut acs = AcsLoop::new(scenario.flight.clone(), orbit).unwrap();
+    let wheel_tiles: Vec<usize> = (0..acs.tiles().len())
+        .filter(|&i| acs.tiles()[i].equipment.reaction_wheel)
+        .collect();
+    assert!(!wheel_tiles.is_empty());
+    for &i in &wheel_tiles {
+        acs.mark_failed(i);
+    }
+    let mut bus = Recorder(Vec::new());
+    let now = tle.epoch.add(acs::time::TimeSpan::new(60, 0));
+    acs.step(&mut bus, now, 1.0);
+    for &i in &wheel_tiles {
+        assert!(
+            bus.0.contains(&(i, 0.0)),
+            "wheel of tile {i} not stopped: {:?}",
+            bus.0
+        );
+    }
+}

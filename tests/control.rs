@@ -6,7 +6,7 @@ use std::collections::HashMap;
 use acs::attitude::Dcm;
 use acs::control::principal_axes::{principal_axes, PrincipalAxes, PrincipalAxesError};
 use acs::control::slew::{decompose, manoeuvre_matrix, plan, step_for, Branch, SlewLimits};
-use acs::control::wheels::{allocate, body_vector, Wheel};
+use acs::control::wheels::{allocate, body_vector, Allocator, Wheel, WheelError};
 use acs::linalg::{Mat3, Vec3};
 
 fn data() -> HashMap<String, Vec<f64>> {
@@ -414,4 +414,66 @@ fn hexagon_minimum_norm_versus_eq_10_30() {
         "{norm2}"
     ); // half of eq. 10.30's
     assert!((body_vector(&wheels, &a.wheel) - l).norm() < 1e-6);
+}
+
+/// The cached allocator gives exactly what `allocate` gives, detects a change of the working
+/// set, and refuses what `allocate` refuses.
+#[test]
+fn cached_allocator_matches_allocate_and_detects_a_failure() {
+    let s = 1.0 / 3.0f32.sqrt();
+    let mut wheels = [
+        Wheel {
+            axis_body: Vec3::x(),
+            limit: 1e-3,
+            working: true,
+        },
+        Wheel {
+            axis_body: Vec3::y(),
+            limit: 1e-3,
+            working: true,
+        },
+        Wheel {
+            axis_body: Vec3::z(),
+            limit: 1e-3,
+            working: true,
+        },
+        Wheel {
+            axis_body: Vec3::new(s, s, s),
+            limit: 1e-3,
+            working: true,
+        },
+    ];
+    let cached = Allocator::new(&wheels).unwrap();
+    for l in [
+        Vec3::new(1e-4, -2e-4, 3e-4),
+        Vec3::new(5e-3, 1e-3, -2e-3), // saturates
+        Vec3::zeros(),
+    ] {
+        assert_eq!(
+            cached.allocate(&wheels, &l).unwrap(),
+            allocate(&wheels, &l).unwrap()
+        );
+    }
+    wheels[3].working = false;
+    assert!(!cached.is_for(&wheels));
+    assert_eq!(
+        cached.allocate(&wheels, &Vec3::x()),
+        Err(WheelError::StaleAllocator)
+    );
+    let rebuilt = Allocator::new(&wheels).unwrap();
+    let l = Vec3::new(1e-4, -2e-4, 3e-4);
+    assert_eq!(
+        rebuilt.allocate(&wheels, &l).unwrap(),
+        allocate(&wheels, &l).unwrap()
+    );
+    assert_eq!(
+        rebuilt.allocate(&wheels, &Vec3::new(f32::NAN, 0.0, 0.0)),
+        Err(WheelError::NotFinite)
+    );
+    wheels[0].limit = f32::NAN;
+    assert_eq!(rebuilt.allocate(&wheels, &l), Err(WheelError::NotFinite));
+    for w in wheels.iter_mut() {
+        w.working = false;
+    }
+    assert_eq!(Allocator::new(&wheels), Err(WheelError::NoWorkingWheel));
 }

@@ -61,6 +61,8 @@ pub enum WheelError {
     InvalidWheel(u8),
     /// No working wheel.
     NoWorkingWheel,
+    /// The [`Allocator`] was built for another working set of wheels: rebuild it.
+    StaleAllocator,
 }
 
 impl fmt::Display for WheelError {
@@ -69,6 +71,7 @@ impl fmt::Display for WheelError {
             Self::NotFinite => write!(f, "wheel command or geometry is NaN or infinite"),
             Self::InvalidWheel(i) => write!(f, "wheel {i} has a zero axis or a non-positive limit"),
             Self::NoWorkingWheel => write!(f, "no working reaction wheel"),
+            Self::StaleAllocator => write!(f, "the allocator was built for another working set"),
         }
     }
 }
@@ -92,6 +95,9 @@ pub struct WheelAllocation<const N: usize> {
 
 /// Allocates the body vector `l_body` (the momentum or torque the body must receive) to the
 /// wheels: each wheel gets the opposite (see the [module docs](self)).
+///
+/// Builds the [`Allocator`] of the wheel set and applies it: a loop that allocates every step
+/// keeps the allocator instead (its eigen-decomposition is most of the cost).
 pub fn allocate<const N: usize>(
     wheels: &[Wheel; N],
     l_body: &Vec3,
@@ -99,64 +105,136 @@ pub fn allocate<const N: usize>(
     if l_body.iter().any(|x| !x.is_finite()) {
         return Err(WheelError::NotFinite);
     }
-    let mut gram = Mat3::zeros();
-    let mut any = false;
-    for (i, w) in wheels.iter().enumerate() {
-        if !w.working {
-            continue;
+    Allocator::new(wheels)?.allocate(wheels, l_body)
+}
+
+/// The pseudoinverse `(W Wᵀ)⁺` of one wheel set, computed once ([`Allocator::new`]) and applied
+/// to every command ([`Allocator::allocate`]): an allocation is then `N` dot products and the
+/// saturation, instead of a 3×3 eigen-decomposition each time (on the MSP430, measured by
+/// `firmware/msp430-bench`: README "MSP430 firmware").
+///
+/// It is valid for the axes and the working set it was built from; [`Allocator::allocate`]
+/// refuses ([`WheelError::StaleAllocator`]) a wheel set whose working set differs. The limits
+/// are read at each allocation.
+#[derive(Copy, Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Allocator {
+    #[cfg_attr(feature = "defmt", defmt(Debug2Format))]
+    pinv: Mat3,
+    rank: u8,
+    working: u32,
+}
+
+/// Bit `i` set if wheel `i` works (wheels beyond 32 are not representable: refused by `new`).
+fn working_mask<const N: usize>(wheels: &[Wheel; N]) -> u32 {
+    wheels
+        .iter()
+        .enumerate()
+        .filter(|(_, w)| w.working)
+        .fold(0u32, |m, (i, _)| {
+            m | 1u32.checked_shl(i as u32).unwrap_or(0)
+        })
+}
+
+impl Allocator {
+    /// The allocator of `wheels` (at most 32): checks every working wheel (finite unit-able
+    /// axis, positive finite limit) and decomposes `W Wᵀ`.
+    pub fn new<const N: usize>(wheels: &[Wheel; N]) -> Result<Self, WheelError> {
+        let mut gram = Mat3::zeros();
+        let mut any = false;
+        for (i, w) in wheels.iter().enumerate() {
+            if !w.working {
+                continue;
+            }
+            if i >= 32 {
+                return Err(WheelError::InvalidWheel(i as u8));
+            }
+            if w.axis_body.iter().any(|x| !x.is_finite()) || !w.limit.is_finite() {
+                return Err(WheelError::NotFinite);
+            }
+            if w.axis_body.norm_squared() == 0.0 || w.limit <= 0.0 {
+                return Err(WheelError::InvalidWheel(i as u8));
+            }
+            gram += w.axis_body * w.axis_body.transpose();
+            any = true;
         }
-        if w.axis_body.iter().any(|x| !x.is_finite()) || !w.limit.is_finite() {
+        if !any {
+            return Err(WheelError::NoWorkingWheel);
+        }
+        // (W Wᵀ)⁺ by eigen-decomposition with a relative threshold
+        let (values, vectors) = symmetric_eigen(&gram).map_err(|_| WheelError::NotFinite)?;
+        let lambda_max = values.iter().fold(0.0f32, |a, v| a.max(*v));
+        let mut pinv = Mat3::zeros();
+        let mut rank = 0u8;
+        for (k, lambda) in values.iter().enumerate() {
+            if *lambda > RANK_TOLERANCE * lambda_max {
+                let v = vectors.column(k);
+                pinv += v * v.transpose() / *lambda;
+                rank += 1;
+            }
+        }
+        Ok(Self {
+            pinv,
+            rank,
+            working: working_mask(wheels),
+        })
+    }
+
+    /// True if `wheels` has the working set this allocator was built for.
+    pub fn is_for<const N: usize>(&self, wheels: &[Wheel; N]) -> bool {
+        working_mask(wheels) == self.working
+    }
+
+    /// Allocates `l_body` to `wheels` (the set this allocator was built from, limits as given
+    /// now): each wheel gets the opposite (see the [module docs](self)).
+    pub fn allocate<const N: usize>(
+        &self,
+        wheels: &[Wheel; N],
+        l_body: &Vec3,
+    ) -> Result<WheelAllocation<N>, WheelError> {
+        if l_body.iter().any(|x| !x.is_finite()) {
             return Err(WheelError::NotFinite);
         }
-        if w.axis_body.norm_squared() == 0.0 || w.limit <= 0.0 {
-            return Err(WheelError::InvalidWheel(i as u8));
+        if !self.is_for(wheels) {
+            return Err(WheelError::StaleAllocator);
         }
-        gram += w.axis_body * w.axis_body.transpose();
-        any = true;
-    }
-    if !any {
-        return Err(WheelError::NoWorkingWheel);
-    }
-    // (W Wᵀ)⁺ by eigen-decomposition with a relative threshold
-    let (values, vectors) = symmetric_eigen(&gram).map_err(|_| WheelError::NotFinite)?;
-    let lambda_max = values.iter().fold(0.0f32, |a, v| a.max(*v));
-    let mut pinv = Mat3::zeros();
-    let mut rank = 0u8;
-    for (k, lambda) in values.iter().enumerate() {
-        if *lambda > RANK_TOLERANCE * lambda_max {
-            let v = vectors.column(k);
-            pinv += v * v.transpose() / *lambda;
-            rank += 1;
+        // y = (W Wᵀ)⁺ L; each wheel h_m = −ẑ_m · y
+        let y = self.pinv * l_body;
+        let mut wheel = [0.0f32; N];
+        let mut realised = Vec3::zeros(); // W Wᵀ y
+        for (h, w) in wheel.iter_mut().zip(wheels.iter()) {
+            if w.working {
+                let along = w.axis_body.dot(&y);
+                *h = -along;
+                realised += w.axis_body * along;
+            }
         }
-    }
-    // y = (W Wᵀ)⁺ L; each wheel h_m = −ẑ_m · y
-    let y = pinv * l_body;
-    let realised = gram * y;
-    let mut wheel = [0.0f32; N];
-    for (h, w) in wheel.iter_mut().zip(wheels.iter()) {
-        if w.working {
-            *h = -w.axis_body.dot(&y);
+        // saturation keeping the direction (a NaN limit is refused: `!(mag <= limit)`)
+        let mut scale = 1.0f32;
+        for (h, w) in wheel.iter().zip(wheels.iter()) {
+            if !w.working {
+                continue;
+            }
+            if !(w.limit.is_finite() && w.limit > 0.0) {
+                return Err(WheelError::NotFinite);
+            }
+            let mag = if *h < 0.0 { -*h } else { *h };
+            if mag > w.limit {
+                scale = scale.min(w.limit / mag);
+            }
         }
-    }
-    // saturation keeping the direction
-    let mut scale = 1.0f32;
-    for (h, w) in wheel.iter().zip(wheels.iter()) {
-        let mag = if *h < 0.0 { -*h } else { *h };
-        if w.working && mag > w.limit {
-            scale = scale.min(w.limit / mag);
+        if scale < 1.0 {
+            for h in wheel.iter_mut() {
+                *h *= scale;
+            }
         }
+        Ok(WheelAllocation {
+            wheel,
+            scale,
+            unrealised: l_body - realised,
+            rank: self.rank,
+        })
     }
-    if scale < 1.0 {
-        for h in wheel.iter_mut() {
-            *h *= scale;
-        }
-    }
-    Ok(WheelAllocation {
-        wheel,
-        scale,
-        unrealised: l_body - realised,
-        rank,
-    })
 }
 
 /// The body vector the wheels produce on the body, `−Σ h_m ẑ_m` (the inverse of [`allocate`]).
