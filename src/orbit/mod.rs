@@ -9,8 +9,11 @@
 use crate::linalg::Vec3;
 use crate::time::TimeSpan;
 
+mod dfloat;
 pub mod kepler;
 pub mod sgp4;
+
+use dfloat::Df;
 
 /// Position and velocity in the TEME frame of date (km, km/s).
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -41,6 +44,8 @@ impl defmt::Format for TemeState {
 const PHASE_BITS: u32 = 48;
 /// `2^-PHASE_BITS` as f32 (exact).
 const PHASE_ULP_F32: f32 = 1.0 / (1u64 << PHASE_BITS) as f32;
+/// `2^PHASE_BITS` as f32 (exact).
+const PHASE_ONE_F32: f32 = (1u64 << PHASE_BITS) as f32;
 /// `2^PHASE_BITS` as f64 (exact).
 const PHASE_ONE_F64: f64 = (1u64 << PHASE_BITS) as f64;
 
@@ -77,6 +82,17 @@ impl Phase {
         }
     }
 
+    /// A phase from its epoch value (turns) and rate (turns per time unit) in double-f32,
+    /// with f32 and integer operations only (no f64 arithmetic): each part is reduced modulo
+    /// one turn and scaled by 2⁴⁸ exactly, then rounded to an integer (a 2⁻⁴⁹-turn error).
+    pub(crate) fn from_turns(at_epoch_turns: Df, rate_turns_per_unit: Df) -> Self {
+        Self {
+            at_epoch: fixed_turns(at_epoch_turns),
+            rate_fx: fixed_turns(rate_turns_per_unit),
+            rate_turns: rate_turns_per_unit.to_f32(),
+        }
+    }
+
     /// `θ(w + f)` in turns, about −½..½ (the remainder term may add up to `|θ̇|`).
     pub(crate) fn turns(&self, whole: i32, frac: f32) -> f32 {
         let p = self
@@ -93,6 +109,28 @@ impl Phase {
     pub(crate) fn radians(&self, whole: i32, frac: f32) -> f32 {
         self.turns(whole, frac) * core::f32::consts::TAU
     }
+}
+
+/// A double-f32 number of turns as a 48-bit fixed-point fraction, modulo one turn, in
+/// −2⁴⁷..2⁴⁷ (non-finite input gives 0).
+fn fixed_turns(x: Df) -> i64 {
+    let part = |v: f32| -> i64 {
+        if !v.is_finite() {
+            return 0;
+        }
+        // v − round(v) is exact (Sterbenz); the 2⁴⁸ scaling too; beyond 2²³ it is an integer
+        let r = v - crate::fmath::floor(v + 0.5);
+        let s = r * PHASE_ONE_F32;
+        if crate::fmath::abs(s) >= 8_388_608.0 {
+            s as i64
+        } else {
+            crate::fmath::floor(s + 0.5) as i64
+        }
+    };
+    part(x.hi())
+        .wrapping_add(part(x.lo()))
+        .wrapping_shl(64 - PHASE_BITS)
+        .wrapping_shr(64 - PHASE_BITS)
 }
 
 /// A time span as `(whole, frac)`: whole units (floor) and the remainder `0 ≤ frac < 1` in f32,

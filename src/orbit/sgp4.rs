@@ -70,7 +70,7 @@
 
 use core::fmt;
 
-use super::{split_span, Phase, TemeState};
+use super::{split_span, Df, Phase, TemeState};
 use crate::fmath;
 use crate::linalg::Vec3;
 use crate::time::TimeSpan;
@@ -87,43 +87,60 @@ pub enum Gravity {
     Wgs84,
 }
 
-/// The constants of a [`Gravity`] model, as Vallado's `getgravconst` gives them.
+/// The constants of a [`Gravity`] model, as Vallado's `getgravconst` gives them, in double-f32
+/// (built by the compiler from the f64 values; no f64 arithmetic at run time).
 #[derive(Copy, Clone, Debug, PartialEq)]
 struct GravityConstants {
     /// Earth radius, km.
-    radius_km: f64,
+    radius_km: Df,
     /// √(μ/R³) in ER^1.5 per minute.
-    xke: f64,
+    xke: Df,
     /// Zonal harmonics.
-    j2: f64,
-    j3: f64,
-    j4: f64,
+    j2: Df,
+    j3: Df,
+    j4: Df,
 }
+
+impl GravityConstants {
+    /// `xke` is `60/√(R³/μ)` evaluated in f64 (checked by a unit test), written out because
+    /// `sqrt` is not available to the compiler's constant evaluation.
+    const fn new(radius_km: f64, xke: f64, j2: f64, j3: f64, j4: f64) -> Self {
+        Self {
+            radius_km: Df::from_f64_const(radius_km),
+            xke: Df::from_f64_const(xke),
+            j2: Df::from_f64_const(j2),
+            j3: Df::from_f64_const(j3),
+            j4: Df::from_f64_const(j4),
+        }
+    }
+}
+
+/// μ (km³/s²), R (km), J₂, J₃, J₄ of WGS-72.
+const WGS72: (f64, f64, f64, f64, f64) = (
+    398_600.8,
+    6378.135,
+    0.001_082_616,
+    -0.000_002_538_81,
+    -0.000_001_655_97,
+);
+/// μ (km³/s²), R (km), J₂, J₃, J₄ of WGS-84.
+const WGS84: (f64, f64, f64, f64, f64) = (
+    398_600.5,
+    6378.137,
+    0.001_082_629_989_05,
+    -0.000_002_532_153_06,
+    -0.000_001_610_987_61,
+);
 
 impl Gravity {
     fn constants(self) -> GravityConstants {
-        let (mu, radius_km, j2, j3, j4) = match self {
-            Self::Wgs72 => (
-                398_600.8,
-                6378.135,
-                0.001_082_616,
-                -0.000_002_538_81,
-                -0.000_001_655_97,
-            ),
-            Self::Wgs84 => (
-                398_600.5,
-                6378.137,
-                0.001_082_629_989_05,
-                -0.000_002_532_153_06,
-                -0.000_001_610_987_61,
-            ),
-        };
-        GravityConstants {
-            radius_km,
-            xke: 60.0 / libm::sqrt(radius_km * radius_km * radius_km / mu),
-            j2,
-            j3,
-            j4,
+        const C72: GravityConstants =
+            GravityConstants::new(WGS72.1, 0.074_366_916_133_173_42, WGS72.2, WGS72.3, WGS72.4);
+        const C84: GravityConstants =
+            GravityConstants::new(WGS84.1, 0.074_366_853_168_713_85, WGS84.2, WGS84.3, WGS84.4);
+        match self {
+            Self::Wgs72 => C72,
+            Self::Wgs84 => C84,
         }
     }
 }
@@ -244,7 +261,7 @@ const KEPLER_TOLERANCE: f32 = 1.0e-6;
 /// Newton iterations at most (Vallado's cap).
 const KEPLER_MAX_ITERATIONS: usize = 10;
 /// Vallado's near-Earth limit: period below 225 min.
-const DEEP_SPACE_PERIOD_MIN: f64 = 225.0;
+const DEEP_SPACE_PERIOD_MIN: f32 = 225.0;
 
 /// Drag terms used only when the perigee is above 220 km (`isimp = 0`).
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -305,50 +322,89 @@ pub struct Sgp4 {
     full_drag: Option<FullDrag>,
 }
 
-fn finite(x: f64, field: &'static str) -> Result<f64, Sgp4Error> {
-    if x.is_finite() {
-        Ok(x)
-    } else {
-        Err(Sgp4Error::Element { field })
-    }
+/// A TLE field as double-f32 (its f64 bits split with integer operations).
+fn element(x: f64, field: &'static str) -> Result<Df, Sgp4Error> {
+    Df::from_f64(x).ok_or(Sgp4Error::Element { field })
+}
+
+/// Whether an f32 is finite, from its bits (no comparison helper, NaN-safe on the MSP430).
+fn finite32(x: f32) -> bool {
+    x.to_bits() & 0x7f80_0000 != 0x7f80_0000
+}
+
+/// cos of an angle in degrees, 0 ≤ x ≤ 180, in double length: sin(90° − x) (the subtraction in
+/// degrees is exact), by its Taylor series.
+fn cos_degrees(x_deg: Df) -> Df {
+    const DEG: Df = Df::from_f64_const(core::f64::consts::PI / 180.0);
+    ((90.0 - x_deg) * DEG).sin_pi_2()
+}
+
+/// sin and cos (f32) of an angle given in degrees (double-f32, any finite value): reduced
+/// modulo 360° in double length, then `fmath::sincos`.
+fn sincos_degrees(x_deg: Df) -> (f32, f32) {
+    let turns = x_deg / 360.0;
+    let r = turns - crate::fmath::floor(turns.hi());
+    let r = r - crate::fmath::floor(r.hi());
+    crate::fmath::sincos(r.to_f32() * core::f32::consts::TAU)
+}
+
+/// A TLE angle in degrees as turns, modulo one turn (double-f32).
+fn turns_of_degrees(x_deg: Df) -> Df {
+    let turns = x_deg / 360.0;
+    turns - crate::fmath::floor(turns.hi())
 }
 
 impl Sgp4 {
     /// Initialises the propagator from an element set (Vallado's `twoline2rv` conversions,
-    /// `initl` and `sgp4init`, near-Earth part, in f64), then checks it by propagating to the
-    /// epoch as Vallado's `sgp4init` does.
+    /// `initl` and `sgp4init`, near-Earth part), then checks it by propagating to the epoch as
+    /// Vallado's `sgp4init` does.
+    ///
+    /// In double-f32 ([`Df`], about 48 bits, f32 operations only: no f64 arithmetic, so the
+    /// MSP430 build carries no f64 soft float), except the sines and cosines of ω₀ and M₀, which
+    /// only enter drag coefficients (f32 `fmath::sincos`). The TLE's f64 fields are split into
+    /// double-f32 from their bits.
     ///
     /// # Errors
-    /// [`Sgp4Error::Element`] for a non-finite element, [`Sgp4Error::Eccentricity`] outside 0..1,
-    /// [`Sgp4Error::MeanMotion`], [`Sgp4Error::DeepSpace`], [`Sgp4Error::SubOrbital`], or any error
-    /// of the propagation to the epoch.
+    /// [`Sgp4Error::Element`] for a non-finite element (or one beyond the f32 range),
+    /// [`Sgp4Error::Eccentricity`] outside 0..1, [`Sgp4Error::MeanMotion`],
+    /// [`Sgp4Error::DeepSpace`], [`Sgp4Error::SubOrbital`], or any error of the propagation to
+    /// the epoch.
     pub fn new(tle: &Tle, gravity: Gravity) -> Result<Self, Sgp4Error> {
-        use core::f64::consts::{PI, TAU};
+        /// rev/day → rad/min: 2π/1440.
+        const REV_PER_DAY: Df = Df::from_f64_const(core::f64::consts::TAU / 1440.0);
+        /// rad → turns.
+        const INV_TAU: Df = Df::from_f64_const(1.0 / core::f64::consts::TAU);
+        /// 2/3 and 1/3.
+        const X2O3: Df = Df::from_f64_const(2.0 / 3.0);
+        const X1O3: Df = Df::from_f64_const(1.0 / 3.0);
         let g = gravity.constants();
-        let deg = PI / 180.0;
-        let x2o3 = 2.0 / 3.0;
-        // twoline2rv: rev/day → rad/min, degrees → rad
-        let no_kozai = finite(tle.mean_motion_rev_per_day, "mean motion")? * TAU / 1440.0;
-        let ecco = finite(tle.eccentricity, "eccentricity")?;
-        let inclo = finite(tle.inclination_deg, "inclination")?;
-        if !(0.0..=180.0).contains(&inclo) {
+        let radius_km = g.radius_km;
+        // twoline2rv: rev/day → rad/min, degrees → rad (angles kept in degrees here)
+        let n_rev_day = element(tle.mean_motion_rev_per_day, "mean motion")?;
+        let ecco = element(tle.eccentricity, "eccentricity")?;
+        let inclo_deg = element(tle.inclination_deg, "inclination")?;
+        let nodeo_deg = element(tle.raan_deg, "right ascension of the node")?;
+        let argpo_deg = element(tle.arg_perigee_deg, "argument of perigee")?;
+        let mo_deg = element(tle.mean_anomaly_deg, "mean anomaly")?;
+        let bstar = element(tle.bstar, "B*")?;
+        // 0 ≤ i ≤ 180°, on hi + lo
+        let (ih, il) = (inclo_deg.hi(), inclo_deg.lo());
+        let above_0 = ih > 0.0 || (ih == 0.0 && il >= 0.0);
+        let below_180 = ih < 180.0 || (ih == 180.0 && il <= 0.0);
+        if !(above_0 && below_180) {
             return Err(Sgp4Error::Element {
                 field: "inclination",
             });
         }
-        let inclo = inclo * deg;
-        let nodeo = finite(tle.raan_deg, "right ascension of the node")? * deg;
-        let argpo = finite(tle.arg_perigee_deg, "argument of perigee")? * deg;
-        let mo = finite(tle.mean_anomaly_deg, "mean anomaly")? * deg;
-        let bstar = finite(tle.bstar, "B*")?;
-        if no_kozai <= 0.0 {
+        let no_kozai = n_rev_day * REV_PER_DAY;
+        if no_kozai.hi() <= 0.0 {
             return Err(Sgp4Error::MeanMotion {
-                rad_per_min: no_kozai as f32,
+                rad_per_min: no_kozai.to_f32(),
             });
         }
-        if !(0.0..1.0).contains(&ecco) {
+        if !(ecco.hi() >= 0.0 && ecco.hi() < 1.0) {
             return Err(Sgp4Error::Eccentricity {
-                eccentricity: ecco as f32,
+                eccentricity: ecco.to_f32(),
                 tsince_min: 0.0,
             });
         }
@@ -356,73 +412,78 @@ impl Sgp4 {
         // initl: recover the un-Kozai'd mean motion
         let eccsq = ecco * ecco;
         let omeosq = 1.0 - eccsq;
-        let rteosq = libm::sqrt(omeosq);
-        let cosio = libm::cos(inclo);
+        let rteosq = omeosq.sqrt();
+        let cosio = cos_degrees(inclo_deg);
         let cosio2 = cosio * cosio;
         let ak = two_thirds_power(g.xke / no_kozai);
         let d1 = 0.75 * g.j2 * (3.0 * cosio2 - 1.0) / (rteosq * omeosq);
         let del = d1 / (ak * ak);
-        let adel = ak * (1.0 - del * del - del * (1.0 / 3.0 + 134.0 * del * del / 81.0));
+        let adel = ak * (1.0 - del * del - del * (X1O3 + 134.0 * del * del / 81.0));
         let del = d1 / (adel * adel);
         let no = no_kozai / (1.0 + del);
-        if !(no > 0.0 && no.is_finite()) {
+        if !(finite32(no.hi()) && no.hi() > 0.0) {
             return Err(Sgp4Error::MeanMotion {
-                rad_per_min: no as f32,
+                rad_per_min: no.to_f32(),
             });
         }
-        let period_min = TAU / no;
+        let period_min = core::f32::consts::TAU / no.to_f32();
         if period_min >= DEEP_SPACE_PERIOD_MIN {
-            return Err(Sgp4Error::DeepSpace {
-                period_min: period_min as f32,
-            });
+            return Err(Sgp4Error::DeepSpace { period_min });
         }
         let ao = two_thirds_power(g.xke / no);
-        let sinio = libm::sin(inclo);
+        let sinio = (1.0 - cosio2).abs().sqrt(); // sin i₀ ≥ 0 for 0 ≤ i₀ ≤ 180°
         let po = ao * omeosq;
         let con42 = 1.0 - 5.0 * cosio2;
         let con41 = -con42 - cosio2 - cosio2;
         let posq = po * po;
         let rp = ao * (1.0 - ecco);
         let alta = ao * (1.0 + ecco) - 1.0;
-        if alta < 0.0 {
+        if alta.hi() < 0.0 {
             return Err(Sgp4Error::SubOrbital {
-                apogee_km: (alta * g.radius_km) as f32,
+                apogee_km: (alta * radius_km).to_f32(),
             });
         }
 
         // sgp4init: drag and secular coefficients
-        let ss = 78.0 / g.radius_km + 1.0;
-        let qzms2t = fourth_power((120.0 - 78.0) / g.radius_km);
-        let isimp = rp < 220.0 / g.radius_km + 1.0;
+        let ss = 78.0 / radius_km + 1.0;
+        let qzms2t = fourth_power((120.0 - 78.0) / radius_km);
+        let isimp = (rp - (220.0 / radius_km + 1.0)).hi() < 0.0;
         let mut sfour = ss;
         let mut qzms24 = qzms2t;
-        let perige = (rp - 1.0) * g.radius_km;
-        if perige < 156.0 {
-            sfour = if perige < 98.0 { 20.0 } else { perige - 78.0 };
-            qzms24 = fourth_power((120.0 - sfour) / g.radius_km);
-            sfour = sfour / g.radius_km + 1.0;
+        let perige = (rp - 1.0) * radius_km;
+        if perige.hi() < 156.0 {
+            let s = if perige.hi() < 98.0 {
+                Df::from_f32(20.0)
+            } else {
+                perige - 78.0
+            };
+            qzms24 = fourth_power((120.0 - s) / radius_km);
+            sfour = s / radius_km + 1.0;
         }
         let pinvsq = 1.0 / posq;
         let tsi = 1.0 / (ao - sfour);
         let eta = ao * ecco * tsi;
         let etasq = eta * eta;
         let eeta = ecco * eta;
-        let psisq = libm::fabs(1.0 - etasq);
+        let psisq = (1.0 - etasq).abs();
         let coef = qzms24 * fourth_power(tsi);
         // psisq^3.5
-        let coef1 = coef / (psisq * psisq * psisq * libm::sqrt(psisq));
+        let coef1 = coef / (psisq * psisq * psisq * psisq.sqrt());
         let cc2 = coef1
             * no
             * (ao * (1.0 + 1.5 * etasq + eeta * (4.0 + etasq))
                 + 0.375 * g.j2 * tsi / psisq * con41 * (8.0 + 3.0 * etasq * (8.0 + etasq)));
         let cc1 = bstar * cc2;
         let j3oj2 = g.j3 / g.j2;
-        let cc3 = if ecco > 1.0e-4 {
+        let large_ecc = ecco.hi() > 1.0e-4;
+        let cc3 = if large_ecc {
             -2.0 * coef * tsi * j3oj2 * no * sinio / ecco
         } else {
-            0.0
+            Df::ZERO
         };
         let x1mth2 = 1.0 - cosio2;
+        let (sin_argpo, cos_argpo) = sincos_degrees(argpo_deg);
+        let cos_2argpo = 1.0 - 2.0 * sin_argpo * sin_argpo;
         let cc4 = 2.0
             * no
             * coef1
@@ -431,10 +492,7 @@ impl Sgp4 {
             * (eta * (2.0 + 0.5 * etasq) + ecco * (0.5 + 2.0 * etasq)
                 - g.j2 * tsi / (ao * psisq)
                     * (-3.0 * con41 * (1.0 - 2.0 * eeta + etasq * (1.5 - 0.5 * eeta))
-                        + 0.75
-                            * x1mth2
-                            * (2.0 * etasq - eeta * (1.0 + etasq))
-                            * libm::cos(2.0 * argpo)));
+                        + 0.75 * x1mth2 * (2.0 * etasq - eeta * (1.0 + etasq)) * cos_2argpo));
         let cc5 = 2.0 * coef1 * ao * omeosq * (1.0 + 2.75 * (etasq + eeta) + eeta * etasq);
         let cosio4 = cosio2 * cosio2;
         let temp1 = 1.5 * g.j2 * pinvsq * no;
@@ -449,24 +507,25 @@ impl Sgp4 {
         let xhdot1 = -temp1 * cosio;
         let nodedot = xhdot1
             + (0.5 * temp2 * (4.0 - 19.0 * cosio2) + 2.0 * temp3 * (3.0 - 7.0 * cosio2)) * cosio;
-        let omgcof = bstar * cc3 * libm::cos(argpo);
-        let xmcof = if ecco > 1.0e-4 {
-            -x2o3 * coef * bstar / eeta
+        let omgcof = bstar * cc3 * cos_argpo;
+        let xmcof = if large_ecc {
+            -X2O3 * coef * bstar / eeta
         } else {
-            0.0
+            Df::ZERO
         };
         let nodecf = 3.5 * omeosq * xhdot1 * cc1;
         let t2cof = 1.5 * cc1;
         // Vallado's guard against division by zero at i = 180°
-        let one_plus_cosio = if libm::fabs(cosio + 1.0) > 1.5e-12 {
-            cosio + 1.0
+        let one_plus_cosio = cosio + 1.0;
+        let one_plus_cosio = if crate::fmath::abs(one_plus_cosio.hi()) > 1.5e-12 {
+            one_plus_cosio
         } else {
-            1.5e-12
+            Df::from_f32(1.5e-12)
         };
         let xlcof = -0.25 * j3oj2 * sinio * (3.0 + 5.0 * cosio) / one_plus_cosio;
         let aycof = -0.5 * j3oj2 * sinio;
-        let delmo = cube(1.0 + eta * libm::cos(mo));
-        let sinmao = libm::sin(mo);
+        let (sinmao, cos_mo) = sincos_degrees(mo_deg);
+        let delmo = cube(1.0 + eta * cos_mo);
         let x7thm1 = 7.0 * cosio2 - 1.0;
         let full_drag = if isimp {
             None
@@ -477,51 +536,55 @@ impl Sgp4 {
             let d3 = (17.0 * ao + sfour) * temp;
             let d4 = 0.5 * temp * ao * tsi * (221.0 * ao + 31.0 * sfour) * cc1;
             Some(FullDrag {
-                d2: d2 as f32,
-                d3: d3 as f32,
-                d4: d4 as f32,
-                t3cof: (d2 + 2.0 * cc1sq) as f32,
-                t4cof: (0.25 * (3.0 * d3 + cc1 * (12.0 * d2 + 10.0 * cc1sq))) as f32,
+                d2: d2.to_f32(),
+                d3: d3.to_f32(),
+                d4: d4.to_f32(),
+                t3cof: (d2 + 2.0 * cc1sq).to_f32(),
+                t4cof: (0.25 * (3.0 * d3 + cc1 * (12.0 * d2 + 10.0 * cc1sq))).to_f32(),
                 t5cof: (0.2
                     * (3.0 * d4
                         + 12.0 * cc1 * d3
                         + 6.0 * d2 * d2
-                        + 15.0 * cc1sq * (2.0 * d2 + cc1sq))) as f32,
-                cc5: cc5 as f32,
-                omgcof: omgcof as f32,
-                xmcof: xmcof as f32,
-                eta: eta as f32,
-                delmo: delmo as f32,
-                sinmao: sinmao as f32,
+                        + 15.0 * cc1sq * (2.0 * d2 + cc1sq)))
+                    .to_f32(),
+                cc5: cc5.to_f32(),
+                omgcof: omgcof.to_f32(),
+                xmcof: xmcof.to_f32(),
+                eta: eta.to_f32(),
+                delmo: delmo.to_f32(),
+                sinmao,
             })
         };
 
+        // secular angles as exact phases, in turns
+        let mo = turns_of_degrees(mo_deg);
+        let argpo = turns_of_degrees(argpo_deg);
         let sgp4 = Self {
             epoch: tle.epoch,
-            radius_km: g.radius_km as f32,
-            xke: g.xke as f32,
-            j2: g.j2 as f32,
-            ao_km: (ao * g.radius_km) as f32,
-            v_scale_kmps: (g.radius_km * g.xke / 60.0) as f32,
-            mean_anomaly: Phase::new(mo, mdot),
-            arg_perigee: Phase::new(argpo, argpdot),
-            node: Phase::new(nodeo, nodedot),
-            arg_latitude: Phase::new(mo + argpo, mdot + argpdot),
-            no: no as f32,
-            ao: ao as f32,
-            ecco: ecco as f32,
-            bstar: bstar as f32,
-            cosio: cosio as f32,
-            sinio: sinio as f32,
-            con41: con41 as f32,
-            x1mth2: x1mth2 as f32,
-            x7thm1: x7thm1 as f32,
-            cc1: cc1 as f32,
-            cc4: cc4 as f32,
-            nodecf: nodecf as f32,
-            t2cof: t2cof as f32,
-            xlcof: xlcof as f32,
-            aycof: aycof as f32,
+            radius_km: radius_km.to_f32(),
+            xke: g.xke.to_f32(),
+            j2: g.j2.to_f32(),
+            ao_km: (ao * radius_km).to_f32(),
+            v_scale_kmps: (radius_km * g.xke / 60.0).to_f32(),
+            mean_anomaly: Phase::from_turns(mo, mdot * INV_TAU),
+            arg_perigee: Phase::from_turns(argpo, argpdot * INV_TAU),
+            node: Phase::from_turns(turns_of_degrees(nodeo_deg), nodedot * INV_TAU),
+            arg_latitude: Phase::from_turns(mo + argpo, (mdot + argpdot) * INV_TAU),
+            no: no.to_f32(),
+            ao: ao.to_f32(),
+            ecco: ecco.to_f32(),
+            bstar: bstar.to_f32(),
+            cosio: cosio.to_f32(),
+            sinio: sinio.to_f32(),
+            con41: con41.to_f32(),
+            x1mth2: x1mth2.to_f32(),
+            x7thm1: x7thm1.to_f32(),
+            cc1: cc1.to_f32(),
+            cc4: cc4.to_f32(),
+            nodecf: nodecf.to_f32(),
+            t2cof: t2cof.to_f32(),
+            xlcof: xlcof.to_f32(),
+            aycof: aycof.to_f32(),
             full_drag,
         };
         if !sgp4.coefficients_finite() {
@@ -551,7 +614,7 @@ impl Sgp4 {
                 d.delmo, d.sinmao,
             ]
         });
-        common.iter().chain(drag.iter()).all(|x| x.is_finite())
+        common.iter().chain(drag.iter()).all(|&x| finite32(x))
     }
 
     /// The epoch of the element set (UTC).
@@ -748,21 +811,36 @@ fn small_sincos(x: f32) -> (f32, f32) {
     }
 }
 
-/// `x^(2/3)` for x > 0, as `cbrt(x)²` (no `pow` in the flight build).
-fn two_thirds_power(x: f64) -> f64 {
-    let c = libm::cbrt(x);
+/// `x^(2/3)` for x > 0, as `cbrt(x)²` (double-f32).
+fn two_thirds_power(x: Df) -> Df {
+    let c = x.cbrt();
     c * c
 }
 
-fn fourth_power(x: f64) -> f64 {
+fn fourth_power(x: Df) -> Df {
     let s = x * x;
     s * s
 }
 
-fn cube(x: f64) -> f64 {
+fn cube(x: Df) -> Df {
     x * x * x
 }
 
 fn cube32(x: f32) -> f32 {
     x * x * x
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn xke_is_vallados_f64_value() {
+        for (g, (mu, r, ..)) in [(Gravity::Wgs72, WGS72), (Gravity::Wgs84, WGS84)] {
+            let xke = 60.0 / libm::sqrt(r * r * r / mu);
+            let c = g.constants();
+            let got = f64::from(c.xke.hi()) + f64::from(c.xke.lo());
+            assert!((got - xke).abs() < 1e-16, "{g:?}: {got} vs {xke}");
+        }
+    }
 }
