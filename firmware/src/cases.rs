@@ -247,7 +247,18 @@ pub fn run_flight<S: Sink>(s: &mut S) {
 
     // ---- determination
     if cfg!(feature = "group-det") {
-        let tiles = acs::tiles::cube_thesis();
+        // The thesis cube's six tiles as a constant table (in flash): `tiles::cube_thesis()`
+        // builds a 24-slot `Tiles` (about 1 KB) on the stack.
+        use acs::tiles::{Equipment, Tile, CUBE_THESIS_MATRICES as A};
+        const TILES: [Tile; 6] = [
+            Tile::new(A[0], Equipment::TELECOM),
+            Tile::new(A[1], Equipment::POWER),
+            Tile::new(A[2], Equipment::POWER),
+            Tile::new(A[3], Equipment::POWER),
+            Tile::new(A[4], Equipment::POWER),
+            Tile::new(A[5], Equipment::POWER),
+        ];
+        let tiles = core::hint::black_box(&TILES);
         {
             let readings: [Option<Vec2>; 6] = [
                 Some(Vec2::new(s.input(12_000.0), s.input(-8_000.0))),
@@ -258,7 +269,7 @@ pub fn run_flight<S: Sink>(s: &mut S) {
                 Some(Vec2::new(s.input(5_000.0), s.input(6_000.0))),
             ];
             s.begin("magnetometer least squares");
-            let b = least_squares::magnetic_field_body(&tiles, &readings).ok();
+            let b = least_squares::magnetic_field_body(tiles, &readings).ok();
             let b = core::hint::black_box(b);
             s.end();
             out3(s, &b.unwrap_or(nan3));
@@ -271,7 +282,7 @@ pub fn run_flight<S: Sink>(s: &mut S) {
                 Some(s.input(-0.031)),
             ];
             s.begin("gyro least squares");
-            let w = least_squares::angular_rate_body(&tiles, &rates).ok();
+            let w = least_squares::angular_rate_body(tiles, &rates).ok();
             let w = core::hint::black_box(w);
             s.end();
             out3(s, &w.unwrap_or(nan3));

@@ -25,6 +25,7 @@ pub mod triad;
 pub mod wahba_svd;
 
 use crate::attitude::{Dcm, Quaternion};
+use crate::fmath;
 use crate::linalg::svd::SvdError;
 use crate::linalg::{Mat3, Vec3};
 
@@ -162,14 +163,32 @@ pub struct Solution {
     pub loss: f32,
 }
 
-/// Validated observations: unit vectors and weights.
+/// A validated observation: unit vectors and weight.
+#[derive(Copy, Clone)]
 pub(crate) struct Unit {
     pub body: Vec3,
     pub reference: Vec3,
     pub weight: f32,
 }
 
-/// Checks and normalises observation `index`.
+impl Unit {
+    /// Placeholder (weight 0: contributes nothing to any sum).
+    const ZERO: Self = Self {
+        body: Vec3::new(0.0, 0.0, 0.0),
+        reference: Vec3::new(0.0, 0.0, 0.0),
+        weight: 0.0,
+    };
+}
+
+/// `v/|v|` given `|v|² > 0` (one `fmath::sqrt`, one division; nalgebra's `normalize` calls
+/// `libm`).
+pub(crate) fn scaled_unit(v: &Vec3, norm_squared: f32) -> Vec3 {
+    v * (1.0 / fmath::sqrt(norm_squared))
+}
+
+/// Checks and normalises observation `index`. A vector whose squared length overflows f32
+/// (`|v|` > 1.8e19) is refused as [`DeterminationError::NonFinite`], one whose squared length
+/// underflows to 0 (`|v|` < 1e-19 or so) as [`DeterminationError::ZeroVector`].
 pub(crate) fn unit(index: usize, o: &Observation) -> Result<Unit, DeterminationError> {
     if !(o
         .body
@@ -186,53 +205,103 @@ pub(crate) fn unit(index: usize, o: &Observation) -> Result<Unit, DeterminationE
             weight: o.weight,
         });
     }
-    let (nb, nr) = (o.body.norm(), o.reference.norm());
-    if nb <= 0.0 || nr <= 0.0 {
+    let (nb2, nr2) = (o.body.norm_squared(), o.reference.norm_squared());
+    if nb2 <= 0.0 || nr2 <= 0.0 {
         return Err(DeterminationError::ZeroVector { index });
     }
+    if !(nb2.is_finite() && nr2.is_finite()) {
+        return Err(DeterminationError::NonFinite { index });
+    }
     Ok(Unit {
-        body: o.body / nb,
-        reference: o.reference / nr,
+        body: scaled_unit(&o.body, nb2),
+        reference: scaled_unit(&o.reference, nr2),
         weight: o.weight,
     })
 }
 
-/// The attitude profile matrix `B = Σ aᵢ b̂ᵢ r̂ᵢᵀ` (Markley 1988) with weights normalised to
-/// `Σ aᵢ = 1` (so its entries are O(1) whatever the caller's weight scale), after validating
-/// every observation. Needs at least `needed` observations.
-pub(crate) fn attitude_profile(
-    observations: &[Observation],
-    needed: usize,
-) -> Result<Mat3, DeterminationError> {
-    if observations.len() < needed {
-        return Err(DeterminationError::TooFewObservations {
-            count: observations.len(),
-            needed,
-        });
-    }
-    let mut sum_w = 0.0f32;
-    for (i, o) in observations.iter().enumerate() {
-        sum_w += unit(i, o)?.weight;
-    }
-    if !sum_w.is_finite() {
-        return Err(DeterminationError::NonFinite { index: 0 });
-    }
-    let mut b = Mat3::zeros();
-    for (i, o) in observations.iter().enumerate() {
-        let u = unit(i, o)?;
-        b += u.body * u.reference.transpose() * (u.weight / sum_w);
-    }
-    Ok(b)
+/// How many normalised observations [`Units`] keeps (the others are normalised again when
+/// iterated): 4 × 28 B of stack.
+pub(crate) const CACHED_UNITS: usize = 4;
+
+/// The observations, validated once and normalised (the first [`CACHED_UNITS`] kept), with
+/// the sum of their weights.
+pub(crate) struct Units<'a> {
+    observations: &'a [Observation],
+    cache: [Unit; CACHED_UNITS],
+    /// `Σ aᵢ` (finite, > 0).
+    pub sum_w: f32,
 }
 
-/// Wahba's loss `½ Σ aᵢ |b̂ᵢ − A r̂ᵢ|²` of `a` over already validated observations.
-pub(crate) fn loss(a: &Dcm, observations: &[Observation]) -> f32 {
-    observations
+impl<'a> Units<'a> {
+    /// Validates every observation (at least `needed` of them, and at least one).
+    pub(crate) fn new(
+        observations: &'a [Observation],
+        needed: usize,
+    ) -> Result<Self, DeterminationError> {
+        if observations.len() < needed.max(1) {
+            return Err(DeterminationError::TooFewObservations {
+                count: observations.len(),
+                needed,
+            });
+        }
+        let mut cache = [Unit::ZERO; CACHED_UNITS];
+        let mut sum_w = 0.0f32;
+        for (i, o) in observations.iter().enumerate() {
+            let u = unit(i, o)?;
+            sum_w += u.weight;
+            if let Some(slot) = cache.get_mut(i) {
+                *slot = u;
+            }
+        }
+        if !sum_w.is_finite() {
+            return Err(DeterminationError::NonFinite { index: 0 });
+        }
+        Ok(Self {
+            observations,
+            cache,
+            sum_w,
+        })
+    }
+
+    /// The normalised observations in order (already validated: cannot fail).
+    pub(crate) fn iter(&self) -> impl Iterator<Item = Unit> + '_ {
+        self.observations
+            .iter()
+            .enumerate()
+            .map(|(i, o)| match self.cache.get(i) {
+                Some(u) => *u,
+                None => unit(i, o).unwrap_or(Unit::ZERO),
+            })
+    }
+
+    /// The first two (cached) observations.
+    pub(crate) fn first_two(&self) -> (&Unit, &Unit) {
+        let [u1, u2, ..] = &self.cache;
+        (u1, u2)
+    }
+
+    /// Number of observations.
+    pub(crate) fn len(&self) -> usize {
+        self.observations.len()
+    }
+}
+
+/// The attitude profile matrix `B = Σ aᵢ b̂ᵢ r̂ᵢᵀ` (Markley 1988) with weights normalised to
+/// `Σ aᵢ = 1` (so its entries are O(1) whatever the caller's weight scale).
+pub(crate) fn attitude_profile(units: &Units) -> Mat3 {
+    let mut b = Mat3::zeros();
+    for u in units.iter() {
+        b += (u.body * u.weight) * u.reference.transpose();
+    }
+    b * (1.0 / units.sum_w)
+}
+
+/// Wahba's loss `½ Σ aᵢ |b̂ᵢ − A r̂ᵢ|²` of `a`, from the residuals (no cancellation).
+pub(crate) fn loss(a: &Dcm, units: &Units) -> f32 {
+    0.5 * units
         .iter()
-        .enumerate()
-        .filter_map(|(i, o)| unit(i, o).ok())
-        .map(|u| 0.5 * u.weight * (u.body - a.to_body(&u.reference)).norm_squared())
-        .sum()
+        .map(|u| u.weight * (u.body - a.to_body(&u.reference)).norm_squared())
+        .sum::<f32>()
 }
 
 /// Smallest `σ₃/σ₁` of the Fisher information matrix [`covariance_rad2`] inverts.
@@ -281,45 +350,82 @@ pub fn covariance_rad2(observations: &[Observation]) -> Result<Mat3, Determinati
 pub const REFINE_MAX_STEP_RAD: f32 = 0.01;
 
 /// One Gauss–Newton step on Wahba's loss from an attitude close to the optimum (the final
-/// step of [`wahba_svd::solve`] and [`quest::solve`]; not part of Markley's or Shuster's
-/// papers). With `A' = (I − [δθ×])·A` (δθ a small rotation in the body frame),
+/// step of [`wahba_svd::solve`] with three or more observations and of [`quest::solve`]; not
+/// part of Markley's or Shuster's papers). With `A' = (I − [δθ×])·A` (δθ a small rotation in
+/// the body frame),
 /// ```text
 /// g = Σ aᵢ (A r̂ᵢ) × b̂ᵢ   (the exact gradient of L at A)
 /// H = Σ aᵢ (I − b̂ᵢ b̂ᵢᵀ)  (its Hessian up to terms of the size of the residuals)
 /// δθ = −H⁻¹ g,   q' = q ⊗ (1, δθ/2) normalised   (A(q ⊗ p) = A(p)·A(q))
+/// L(A') = L(A) + ½ gᵀδθ  (the Gauss–Newton model's value at its minimum)
 /// ```
 /// `g` is formed from the residual cross products, which f32 holds to full relative precision,
 /// whereas the attitude profile matrix `B` (and Davenport's `K`) round the data at the level of
-/// their largest entries: on the 200 problems of `wahba.json` the step takes Markley's SVD from
-/// 1.57e-4° to 4.2e-5° of the f64 optimum (max), and QUEST from 7.1e-4° to 4.5e-5° (README). Since `g` vanishes
-/// exactly at the optimum, the step cannot move away from it more than the neglected Hessian
-/// terms (relative size = the residuals) times the starting error. (Accepting the step only
-/// if the f32 loss decreases was tried and is worse: the loss cannot resolve steps of 1e-6
-/// rad.) Skipped if `H` is singular or the step exceeds [`REFINE_MAX_STEP_RAD`].
+/// their largest entries: on the 200 problems of `wahba.json` the step takes Markley's SVD and
+/// QUEST to a few 1e-5° of the f64 optimum (README). Since `g` vanishes exactly at the optimum,
+/// the step cannot move away from it more than the neglected Hessian terms (relative size =
+/// the residuals) times the starting error. (Accepting the step only if the f32 loss decreases
+/// was tried and is worse: the loss cannot resolve steps of 1e-6 rad.) `H⁻¹g` is its adjugate
+/// times `g` over its determinant; `q'` is normalised by `1 − ½|δθ/2|²` (exact to f32 for the
+/// steps allowed). Skipped if `H` is singular or the step exceeds [`REFINE_MAX_STEP_RAD`].
+/// The loss of the result is the model's (one pass over the observations instead of two; its
+/// error is third order in the step).
 pub fn refine(start: &Solution, observations: &[Observation]) -> Solution {
-    let mut sum_w = 0.0f32;
+    match Units::new(observations, 1) {
+        Ok(units) => refine_units(start, &units),
+        Err(_) => *start,
+    }
+}
+
+/// [`refine`] over validated observations.
+pub(crate) fn refine_units(start: &Solution, units: &Units) -> Solution {
+    let a = &start.dcm;
     let mut g = Vec3::zeros();
-    let mut h = Mat3::zeros();
-    for (i, o) in observations.iter().enumerate() {
-        let Ok(u) = unit(i, o) else {
-            return *start;
-        };
-        sum_w += u.weight;
-        g += start.dcm.to_body(&u.reference).cross(&u.body) * u.weight;
-        h += (Mat3::identity() - u.body * u.body.transpose()) * u.weight;
+    let mut l2 = 0.0f32;
+    // S = Σ aᵢ b̂ᵢ b̂ᵢᵀ (symmetric: six entries); H = (Σ aᵢ)·I − S.
+    let (mut s11, mut s12, mut s13, mut s22, mut s23, mut s33) = (0.0f32, 0.0, 0.0, 0.0, 0.0, 0.0);
+    for u in units.iter() {
+        let ar = a.to_body(&u.reference);
+        let d = u.body - ar;
+        l2 += u.weight * d.norm_squared();
+        // (A r̂) × b̂ = (A r̂) × (b̂ − A r̂)
+        g += ar.cross(&d) * u.weight;
+        let wb = u.body * u.weight;
+        s11 += wb.x * u.body.x;
+        s12 += wb.x * u.body.y;
+        s13 += wb.x * u.body.z;
+        s22 += wb.y * u.body.y;
+        s23 += wb.y * u.body.z;
+        s33 += wb.z * u.body.z;
     }
-    if !(sum_w > 0.0 && sum_w.is_finite()) {
+    // Scale-free: divide H and g by Σaᵢ (δθ is unchanged).
+    let k = 1.0 / units.sum_w;
+    let (h11, h22, h33) = (1.0 - s11 * k, 1.0 - s22 * k, 1.0 - s33 * k);
+    let (h12, h13, h23) = (-s12 * k, -s13 * k, -s23 * k);
+    let gk = g * k;
+    // adj(H) (symmetric) and det H.
+    let c11 = h22 * h33 - h23 * h23;
+    let c12 = h13 * h23 - h12 * h33;
+    let c13 = h12 * h23 - h13 * h22;
+    let c22 = h11 * h33 - h13 * h13;
+    let c23 = h12 * h13 - h11 * h23;
+    let c33 = h11 * h22 - h12 * h12;
+    let det = h11 * c11 + h12 * c12 + h13 * c13;
+    if !(det > 0.0 && det.is_finite()) {
         return *start;
     }
-    // Scale-free: divide both by Σaᵢ (δθ is unchanged).
-    let Some(h_inv) = (h / sum_w).try_inverse() else {
-        return *start;
-    };
-    let half_step = h_inv * (g / sum_w) * -0.5;
+    // δθ/2 = −½ H⁻¹ g
+    let f = -0.5 / det;
+    let half_step = Vec3::new(
+        (c11 * gk.x + c12 * gk.y + c13 * gk.z) * f,
+        (c12 * gk.x + c22 * gk.y + c23 * gk.z) * f,
+        (c13 * gk.x + c23 * gk.y + c33 * gk.z) * f,
+    );
     // Only a refinement: a step beyond REFINE_MAX_STEP_RAD means the start was not near the
     // optimum (it cannot happen after SVD or QUEST); keep the start then.
-    if half_step.norm().partial_cmp(&(0.5 * REFINE_MAX_STEP_RAD)) != Some(core::cmp::Ordering::Less)
-    {
+    let h2 = half_step.norm_squared();
+    let limit = 0.5 * REFINE_MAX_STEP_RAD;
+    if !h2.is_finite() || h2 >= limit * limit {
         return *start;
     }
     let dq = Quaternion {
@@ -328,19 +434,31 @@ pub fn refine(start: &Solution, observations: &[Observation]) -> Solution {
         q2: half_step.y,
         q3: half_step.z,
     };
+    // |q ⊗ dq|² = 1 + |δθ/2|²: 1/√(1 + x) = 1 − x/2 + 3x²/8 − …, and 3x²/8 < 3e-11 here.
     let p = start.quaternion.mul(&dq);
-    let Some(q) = Quaternion::new_normalize(p.q0, p.q1, p.q2, p.q3) else {
-        return *start;
-    };
-    solution(q.canonical().to_dcm(), observations)
+    let n = 1.0 - 0.5 * h2;
+    let q = Quaternion {
+        q0: p.q0 * n,
+        q1: p.q1 * n,
+        q2: p.q2 * n,
+        q3: p.q3 * n,
+    }
+    .canonical();
+    // L(A') = L(A) + gᵀδθ + ½ δθᵀHδθ = L(A) + ½ gᵀδθ at δθ = −H⁻¹g (unnormalised g).
+    let model = 0.5 * l2 + g.dot(&half_step);
+    Solution {
+        dcm: q.to_dcm(),
+        quaternion: q,
+        loss: if model > 0.0 { model } else { 0.0 },
+    }
 }
 
-/// Packs a rotation matrix into a [`Solution`].
-pub(crate) fn solution(a: Dcm, observations: &[Observation]) -> Solution {
+/// Packs a rotation matrix into a [`Solution`] with its loss over `units`.
+pub(crate) fn solution(a: Dcm, units: &Units) -> Solution {
     let quaternion = a.to_quaternion();
     Solution {
         dcm: a,
         quaternion,
-        loss: loss(&a, observations),
+        loss: loss(&a, units),
     }
 }

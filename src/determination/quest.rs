@@ -45,7 +45,9 @@
 
 use nalgebra::Vector4;
 
-use super::{attitude_profile, solution, DeterminationError, Observation, Solution};
+use super::{
+    attitude_profile, loss, refine_units, DeterminationError, Observation, Solution, Units,
+};
 use crate::attitude::Quaternion;
 use crate::fmath;
 use crate::linalg::{Mat3, Vec3};
@@ -152,27 +154,42 @@ fn lambda_max(b: &Mat3) -> f32 {
 /// (Shuster and Oh's algorithm as described above), with its loss. Convention:
 /// [`crate::attitude`].
 pub fn solve_raw(observations: &[Observation]) -> Result<Solution, DeterminationError> {
-    let b = attitude_profile(observations, 2)?;
+    let units = Units::new(observations, 2)?;
+    let mut s = quest(&units)?;
+    s.loss = loss(&s.dcm, &units);
+    Ok(s)
+}
+
+/// QUEST's attitude (loss not evaluated).
+fn quest(units: &Units) -> Result<Solution, DeterminationError> {
+    let b = attitude_profile(units);
     let k = davenport(&b);
     let lambda = lambda_max(&b);
     let v = eigenvector(&k, lambda);
-    let pivot = v.norm();
+    let n2 = v.norm_squared();
+    let pivot = fmath::sqrt(n2);
     if !pivot.is_finite() || pivot < MIN_PIVOT {
         return Err(DeterminationError::Parallel { measure: pivot });
     }
     // One Rayleigh-quotient refinement of λ, then the eigenvector again.
-    let q = v / pivot;
+    let q = v * (1.0 / pivot);
     let [k0, k1, k2, k3] = &k;
     let kq = Vector4::new(k0.dot(&q), k1.dot(&q), k2.dot(&q), k3.dot(&q));
     let v = eigenvector(&k, q.dot(&kq));
     let quaternion = Quaternion::new_normalize(v.x, v.y, v.z, v.w)
-        .ok_or(DeterminationError::Parallel { measure: 0.0 })?;
-    Ok(solution(quaternion.canonical().to_dcm(), observations))
+        .ok_or(DeterminationError::Parallel { measure: 0.0 })?
+        .canonical();
+    Ok(Solution {
+        dcm: quaternion.to_dcm(),
+        quaternion,
+        loss: 0.0,
+    })
 }
 
 /// [`solve_raw`] followed by one Gauss–Newton refinement ([`super::refine`]): the flight
 /// solver. Convention: [`crate::attitude`].
 pub fn solve(observations: &[Observation]) -> Result<Solution, DeterminationError> {
-    let raw = solve_raw(observations)?;
-    Ok(super::refine(&raw, observations))
+    let units = Units::new(observations, 2)?;
+    let raw = quest(&units)?;
+    Ok(refine_units(&raw, &units))
 }

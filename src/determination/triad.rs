@@ -18,8 +18,9 @@
 //! plane of the pair about it); `tests/determination.rs` checks this bound on the 200 problems
 //! of `wahba.json`. f32 rounding adds about `1e-7/sin θ` rad.
 
-use super::{solution, unit, DeterminationError, Observation, Solution};
+use super::{unit, DeterminationError, Observation, Solution};
 use crate::attitude::Dcm;
+use crate::fmath;
 use crate::linalg::Mat3;
 
 /// Smallest sine of the angle between the two directions TRIAD accepts.
@@ -41,18 +42,30 @@ pub fn solve(observations: &[Observation]) -> Result<Solution, DeterminationErro
     let u2 = unit(1, o2)?;
     let t2 = u1.body.cross(&u2.body);
     let s2 = u1.reference.cross(&u2.reference);
-    let (nt, ns) = (t2.norm(), s2.norm());
-    if nt < MIN_SIN_ANGLE || ns < MIN_SIN_ANGLE {
+    let (nt, ns) = (
+        fmath::sqrt(t2.norm_squared()),
+        fmath::sqrt(s2.norm_squared()),
+    );
+    if !(nt >= MIN_SIN_ANGLE && ns >= MIN_SIN_ANGLE) {
         return Err(DeterminationError::Parallel {
             measure: nt.min(ns),
         });
     }
-    let (t1, t2) = (u1.body, t2 / nt);
+    let (t1, t2) = (u1.body, t2 * (1.0 / nt));
     let t3 = t1.cross(&t2);
-    let (s1, s2) = (u1.reference, s2 / ns);
+    let (s1, s2) = (u1.reference, s2 * (1.0 / ns));
     let s3 = s1.cross(&s2);
     let m_body = Mat3::from_columns(&[t1, t2, t3]);
     let m_ref = Mat3::from_columns(&[s1, s2, s3]);
     let a = Dcm::from_matrix_unchecked(m_body * m_ref.transpose());
-    Ok(solution(a, observations.get(..2).unwrap_or(observations)))
+    let loss = 0.5
+        * [&u1, &u2]
+            .iter()
+            .map(|u| u.weight * (u.body - a.to_body(&u.reference)).norm_squared())
+            .sum::<f32>();
+    Ok(Solution {
+        dcm: a,
+        quaternion: a.to_quaternion(),
+        loss,
+    })
 }
