@@ -131,8 +131,7 @@ fn run_core<S: Sink>(s: &mut S) {
 /// The flight modules' cases (inputs: the AraMiS thesis cube, a LEO state, 2025).
 #[inline(always)]
 pub fn run_flight<S: Sink>(s: &mut S) {
-    use acs::determination::{self, least_squares, Observation};
-    use acs::linalg::{Vec2, Vec3};
+    use acs::linalg::Vec3;
     use acs::time::{Epoch, Ut1, Utc};
 
     let nan3 = Vec3::new(f32::NAN, f32::NAN, f32::NAN);
@@ -245,78 +244,10 @@ pub fn run_flight<S: Sink>(s: &mut S) {
         }
     }
 
-    // ---- determination
+    // ---- determination (own frames: their locals do not stay on the stack under the others)
     if cfg!(feature = "group-det") {
-        // The thesis cube's six tiles as a constant table (in flash): `tiles::cube_thesis()`
-        // builds a 24-slot `Tiles` (about 1 KB) on the stack.
-        use acs::tiles::{Equipment, Tile, CUBE_THESIS_MATRICES as A};
-        const TILES: [Tile; 6] = [
-            Tile::new(A[0], Equipment::TELECOM),
-            Tile::new(A[1], Equipment::POWER),
-            Tile::new(A[2], Equipment::POWER),
-            Tile::new(A[3], Equipment::POWER),
-            Tile::new(A[4], Equipment::POWER),
-            Tile::new(A[5], Equipment::POWER),
-        ];
-        let tiles = core::hint::black_box(&TILES);
-        {
-            let readings: [Option<Vec2>; 6] = [
-                Some(Vec2::new(s.input(12_000.0), s.input(-8_000.0))),
-                Some(Vec2::new(s.input(-3_000.0), s.input(20_000.0))),
-                Some(Vec2::new(s.input(7_000.0), s.input(1_000.0))),
-                Some(Vec2::new(s.input(-15_000.0), s.input(4_000.0))),
-                Some(Vec2::new(s.input(2_500.0), s.input(-9_000.0))),
-                Some(Vec2::new(s.input(5_000.0), s.input(6_000.0))),
-            ];
-            s.begin("magnetometer least squares");
-            let b = least_squares::magnetic_field_body(tiles, &readings).ok();
-            let b = core::hint::black_box(b);
-            s.end();
-            out3(s, &b.unwrap_or(nan3));
-            let rates: [Option<f32>; 6] = [
-                Some(s.input(0.01)),
-                Some(s.input(-0.02)),
-                Some(s.input(0.03)),
-                Some(s.input(-0.011)),
-                Some(s.input(0.019)),
-                Some(s.input(-0.031)),
-            ];
-            s.begin("gyro least squares");
-            let w = least_squares::angular_rate_body(tiles, &rates).ok();
-            let w = core::hint::black_box(w);
-            s.end();
-            out3(s, &w.unwrap_or(nan3));
-        }
-        {
-            let obs = [
-                Observation {
-                    body: Vec3::new(s.input(0.2673), s.input(0.5345), s.input(0.8018)),
-                    reference: Vec3::new(s.input(0.7448), s.input(-0.6383), s.input(-0.1949)),
-                    weight: 0.5,
-                },
-                Observation {
-                    body: Vec3::new(s.input(-0.3124), s.input(0.9370), s.input(0.1562)),
-                    reference: Vec3::new(s.input(0.2), s.input(0.4), s.input(0.8944)),
-                    weight: 0.5,
-                },
-            ];
-            for (name, solver) in [
-                (
-                    "Wahba SVD",
-                    determination::wahba_svd::solve as fn(&[Observation]) -> _,
-                ),
-                ("QUEST", determination::quest::solve),
-                ("TRIAD", determination::triad::solve),
-            ] {
-                s.begin(name);
-                let sol = solver(&obs).ok();
-                let sol = core::hint::black_box(sol);
-                s.end();
-                let q = sol.map(|x| x.quaternion);
-                s.out(q.map_or(f32::NAN, |q| q.q0));
-                s.out(q.map_or(f32::NAN, |q| q.q1));
-            }
-        }
+        det_least_squares(s);
+        det_attitude(s);
     }
 
     // ---- control
@@ -366,4 +297,123 @@ pub fn run_flight<S: Sink>(s: &mut S) {
         s.end();
         out3(s, &m.unwrap_or(nan3));
     }
+}
+
+/// Body field and rate by least squares over the thesis cube's tiles.
+#[inline(never)]
+fn det_least_squares<S: Sink>(s: &mut S) {
+    use acs::determination::least_squares;
+    use acs::linalg::{Vec2, Vec3};
+    let nan3 = Vec3::new(f32::NAN, f32::NAN, f32::NAN);
+    // The thesis cube's six tiles as a constant table (in flash): `tiles::cube_thesis()`
+    // builds a 24-slot `Tiles` (about 1 KB) on the stack.
+    use acs::tiles::{Equipment, Tile, CUBE_THESIS_MATRICES as A};
+    const TILES: [Tile; 6] = [
+        Tile::new(A[0], Equipment::TELECOM),
+        Tile::new(A[1], Equipment::POWER),
+        Tile::new(A[2], Equipment::POWER),
+        Tile::new(A[3], Equipment::POWER),
+        Tile::new(A[4], Equipment::POWER),
+        Tile::new(A[5], Equipment::POWER),
+    ];
+    let tiles = core::hint::black_box(&TILES);
+    {
+        let readings: [Option<Vec2>; 6] = [
+            Some(Vec2::new(s.input(12_000.0), s.input(-8_000.0))),
+            Some(Vec2::new(s.input(-3_000.0), s.input(20_000.0))),
+            Some(Vec2::new(s.input(7_000.0), s.input(1_000.0))),
+            Some(Vec2::new(s.input(-15_000.0), s.input(4_000.0))),
+            Some(Vec2::new(s.input(2_500.0), s.input(-9_000.0))),
+            Some(Vec2::new(s.input(5_000.0), s.input(6_000.0))),
+        ];
+        s.begin("magnetometer least squares");
+        let b = least_squares::magnetic_field_body(tiles, &readings).ok();
+        let b = core::hint::black_box(b);
+        s.end();
+        out3(s, &b.unwrap_or(nan3));
+        let rates: [Option<f32>; 6] = [
+            Some(s.input(0.01)),
+            Some(s.input(-0.02)),
+            Some(s.input(0.03)),
+            Some(s.input(-0.011)),
+            Some(s.input(0.019)),
+            Some(s.input(-0.031)),
+        ];
+        s.begin("gyro least squares");
+        let w = least_squares::angular_rate_body(tiles, &rates).ok();
+        let w = core::hint::black_box(w);
+        s.end();
+        out3(s, &w.unwrap_or(nan3));
+    }
+}
+
+/// The attitude solvers on two vector pairs.
+#[inline(never)]
+fn det_attitude<S: Sink>(s: &mut S) {
+    use acs::determination::{self, Observation};
+    use acs::linalg::Vec3;
+    {
+        let obs = [
+            Observation {
+                body: Vec3::new(s.input(0.2673), s.input(0.5345), s.input(0.8018)),
+                reference: Vec3::new(s.input(0.7448), s.input(-0.6383), s.input(-0.1949)),
+                weight: 0.5,
+            },
+            Observation {
+                body: Vec3::new(s.input(-0.3124), s.input(0.9370), s.input(0.1562)),
+                reference: Vec3::new(s.input(0.2), s.input(0.4), s.input(0.8944)),
+                weight: 0.5,
+            },
+        ];
+        for (name, solver) in [
+            (
+                "Wahba SVD",
+                determination::wahba_svd::solve as fn(&[Observation]) -> _,
+            ),
+            ("QUEST", determination::quest::solve),
+            ("TRIAD", determination::triad::solve),
+        ] {
+            s.begin(name);
+            let sol = solver(&obs).ok();
+            let sol = core::hint::black_box(sol);
+            s.end();
+            let q = sol.map(|x| x.quaternion);
+            s.out(q.map_or(f32::NAN, |q| q.q0));
+            s.out(q.map_or(f32::NAN, |q| q.q1));
+        }
+        det_wahba3(s, &obs);
+    }
+}
+
+/// Wahba's problem with three pairs: the general path (Jacobi SVD of `B`, then one
+/// Gauss–Newton step).
+#[inline(never)]
+fn det_wahba3<S: Sink>(s: &mut S, obs: &[acs::determination::Observation; 2]) {
+    use acs::determination::{self, Observation};
+    use acs::linalg::Vec3;
+    {
+        let obs3 = [
+            obs[0],
+            obs[1],
+            Observation {
+                body: Vec3::new(s.input(0.6), s.input(-0.2), s.input(0.7746)),
+                reference: Vec3::new(s.input(-0.5), s.input(0.3), s.input(0.8124)),
+                weight: 0.25,
+            },
+        ];
+        s.begin("Wahba SVD (3 vectors)");
+        let sol = determination::wahba_svd::solve(&obs3).ok();
+        let sol = core::hint::black_box(sol);
+        s.end();
+        let q = sol.map(|x| x.quaternion);
+        s.out(q.map_or(f32::NAN, |q| q.q0));
+        s.out(q.map_or(f32::NAN, |q| q.q1));
+    }
+}
+
+/// Three components of a result.
+fn out3<S: Sink>(s: &mut S, v: &acs::linalg::Vec3) {
+    s.out(v.x);
+    s.out(v.y);
+    s.out(v.z);
 }

@@ -95,7 +95,9 @@ pub fn solve_raw(observations: &[Observation]) -> Result<Solution, Determination
     profile_svd(&units)
 }
 
-/// Markley's solution through the one-sided Jacobi SVD of `B`.
+/// Markley's solution through the one-sided Jacobi SVD of `B` (not inlined: its frame is not
+/// on the stack of the two-observation path).
+#[inline(never)]
 fn profile_svd(units: &Units) -> Result<Solution, DeterminationError> {
     let b = attitude_profile(units);
     let a = match nearest_rotation(&b, MIN_SINGULAR_RATIO) {
@@ -119,6 +121,7 @@ fn ratio_from_invariants(x: f32) -> f32 {
 
 /// The rank-2 SVD of `B` for two observations (see the module docs), with the loss of the
 /// optimum in closed form.
+#[inline(never)]
 fn two_observations(u1: &Unit, u2: &Unit, sum_w: f32) -> Result<Solution, DeterminationError> {
     let k = 1.0 / sum_w;
     let (w1, w2) = (u1.weight * k, u2.weight * k);

@@ -114,8 +114,9 @@ fn rotate<const M: usize>(
     let alpha = dot(wp, wp);
     let beta = dot(wq, wq);
     let gamma = dot(wp, wq);
-    let threshold = ORTHO_TOL * fmath::sqrt(alpha * beta);
-    if fmath::abs(gamma).partial_cmp(&threshold) != Some(core::cmp::Ordering::Greater) {
+    // Rotate only if |γ| > 4ε·√(αβ), compared squared (no square root).
+    let g2 = gamma * gamma;
+    if g2.is_nan() || g2 <= (ORTHO_TOL * alpha) * (ORTHO_TOL * beta) {
         return false;
     }
     // ζ = (β − α)/(2γ), t = sign(ζ)/(|ζ| + √(1 + ζ²)) (t = 1/(2ζ) where ζ² would overflow).
@@ -336,8 +337,10 @@ pub fn nearest_rotation(b: &Mat3, min_ratio: f32) -> Result<(Mat3, Vec3), SvdErr
         }
     };
     // Re-orthogonalise u₂ against u₁ (Gram–Schmidt, one step) and complete right-handed.
-    let u1 = u1.normalize();
-    let u2 = (u2 - u1 * u1.dot(&u2)).normalize();
+    // (Divided, not multiplied by the reciprocal: one rounding per component.)
+    let u1 = u1 / fmath::sqrt(u1.norm_squared());
+    let u2 = u2 - u1 * u1.dot(&u2);
+    let u2 = u2 / fmath::sqrt(u2.norm_squared());
     let u3 = u1.cross(&u2);
     let [v1, v2, v3] = svd.v;
     let det_v = v1.cross(&v2).dot(&v3);
