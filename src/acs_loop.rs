@@ -49,7 +49,9 @@ use crate::control::slew::{decompose, manoeuvre_matrix, plan, Branch, SlewLimits
 use crate::control::sun_safe::{sun_safe_torque, SunSafeGains};
 use crate::control::tracking::{tracking_torque, TrackingGains};
 use crate::control::wheels::{Allocator, Wheel, WheelAllocation, WheelError};
-use crate::determination::least_squares::{angular_rate_body, magnetic_field_body};
+use crate::determination::least_squares::{
+    angular_rate_body_cached, magnetic_field_body_cached, TileSolver,
+};
 use crate::determination::sun_sensor::sun_direction_body;
 use crate::determination::{quest, Observation};
 use crate::env::eclipse::{conical, Shadow};
@@ -226,6 +228,10 @@ pub struct AcsLoop {
     /// Allocators of the wheels and the coils, rebuilt when their working set changes.
     wheel_allocator: Option<Allocator>,
     coil_allocator: Option<Allocator>,
+    /// Least-squares operators of the magnetometers and the gyros, rebuilt when the set of
+    /// tiles giving a reading changes.
+    mag_solver: Option<TileSolver>,
+    gyro_solver: Option<TileSolver>,
 }
 
 /// Errors of [`AcsLoop::new`] and [`AcsLoop::command`].
@@ -308,6 +314,8 @@ impl AcsLoop {
             failures: [0; MAX_TILES],
             wheel_allocator: None,
             coil_allocator: None,
+            mag_solver: None,
+            gyro_solver: None,
         })
     }
 
@@ -492,11 +500,11 @@ impl AcsLoop {
         let b_body_nt = readings
             .mag
             .get(..n)
-            .and_then(|m| magnetic_field_body(tiles, m).ok());
+            .and_then(|m| magnetic_field_body_cached(&mut self.mag_solver, tiles, m).ok());
         let omega = readings
             .gyro
             .get(..n)
-            .and_then(|g| angular_rate_body(tiles, g).ok());
+            .and_then(|g| angular_rate_body_cached(&mut self.gyro_solver, tiles, g).ok());
         faults.field = b_body_nt.is_none();
         faults.rate = omega.is_none();
         let in_umbra = illumination.is_some_and(|i| i.shadow == Shadow::Umbra);

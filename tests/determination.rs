@@ -928,3 +928,77 @@ fn thesis_scene_physical_mode() {
         assert!(e < 1e-6, "{name}: {e:e}");
     }
 }
+
+/// The cached operator of the flight loop against the one-shot QR solution, on every preset, and
+/// its rebuild when a tile fails.
+#[test]
+fn cached_least_squares_match_the_one_shot_solution() {
+    let mut rng = Rng(11);
+    let mut worst_b = 0f64;
+    let mut worst_w = 0f64;
+    for set in [
+        tiles::cube_thesis(),
+        tiles::cube_4_per_face(),
+        tiles::hexagonal_prism(),
+        tiles::octagonal_prism(),
+    ] {
+        let mut mag_cache = None;
+        let mut gyro_cache = None;
+        for _ in 0..200 {
+            let b = rng.unit() * rng.u(20_000.0, 60_000.0);
+            let w = rng.unit() * rng.u(0.01, 0.5);
+            let mags: Vec<Option<Vec2>> = set
+                .iter()
+                .map(|t| {
+                    let bt = tile_f64(t) * b;
+                    Some(Vec2::new(bt.x as f32, bt.y as f32))
+                })
+                .collect();
+            let gyros: Vec<Option<f32>> = set
+                .iter()
+                .map(|t| Some((tile_f64(t) * w).z as f32))
+                .collect();
+            let b1 = least_squares::magnetic_field_body(&set, &mags).unwrap();
+            let w1 = least_squares::angular_rate_body(&set, &gyros).unwrap();
+            let b2 =
+                least_squares::magnetic_field_body_cached(&mut mag_cache, &set, &mags).unwrap();
+            let w2 =
+                least_squares::angular_rate_body_cached(&mut gyro_cache, &set, &gyros).unwrap();
+            worst_b = worst_b.max(f64::from((b2 - b1).norm() / b1.norm()));
+            worst_w = worst_w.max(f64::from((w2 - w1).norm() / w1.norm()));
+        }
+        assert!(mag_cache.is_some() && gyro_cache.is_some());
+    }
+    println!("cached least squares vs one-shot: max relative difference field {worst_b:.2e}, rate {worst_w:.2e}");
+    assert!(worst_b < 1e-6, "{worst_b:e}");
+    assert!(worst_w < 1e-6, "{worst_w:e}");
+
+    // a failure changes the set: the cache is rebuilt and agrees again
+    let mut cube = tiles::cube_thesis();
+    let w = nalgebra::Vector3::new(0.1, -0.2, 0.05);
+    let gyros = |c: &[tiles::Tile]| -> Vec<Option<f32>> {
+        c.iter().map(|t| Some((tile_f64(t) * w).z as f32)).collect()
+    };
+    let mut cache = None;
+    least_squares::angular_rate_body_cached(&mut cache, &cube, &gyros(&cube)).unwrap();
+    let before = cache;
+    cube[1].state = TileState::Failed;
+    let w2 = least_squares::angular_rate_body_cached(&mut cache, &cube, &gyros(&cube)).unwrap();
+    assert_ne!(cache, before);
+    let w1 = least_squares::angular_rate_body(&cube, &gyros(&cube)).unwrap();
+    assert!((w2 - w1).norm() <= 1e-6 * w1.norm());
+    // not observable: the error of the one-shot function, no cache kept
+    cube[4].state = TileState::Failed;
+    assert_eq!(
+        least_squares::angular_rate_body_cached(&mut cache, &cube, &gyros(&cube)),
+        Err(DeterminationError::NotObservable { rank: 2 })
+    );
+    assert_eq!(cache, None);
+    // a NaN reading is refused with its index
+    let mut g = gyros(&cube);
+    g[2] = Some(f32::NAN);
+    assert_eq!(
+        least_squares::angular_rate_body_cached(&mut cache, &cube, &g),
+        Err(DeterminationError::NonFinite { index: 2 })
+    );
+}

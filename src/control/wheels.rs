@@ -32,7 +32,7 @@
 use core::fmt;
 
 use crate::control::principal_axes::symmetric_eigen;
-use crate::linalg::{Mat3, Vec3};
+use crate::linalg::{Mat3, SymMat3, Vec3};
 
 /// Relative eigenvalue threshold of the pseudoinverse of `W Wᵀ`.
 pub const RANK_TOLERANCE: f32 = 1e-5;
@@ -119,8 +119,7 @@ pub fn allocate<const N: usize>(
 #[derive(Copy, Clone, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Allocator {
-    #[cfg_attr(feature = "defmt", defmt(Debug2Format))]
-    pinv: Mat3,
+    pinv: SymMat3,
     rank: u8,
     working: u32,
 }
@@ -174,7 +173,7 @@ impl Allocator {
             }
         }
         Ok(Self {
-            pinv,
+            pinv: SymMat3::from_upper(&pinv),
             rank,
             working: working_mask(wheels),
         })
@@ -199,7 +198,7 @@ impl Allocator {
             return Err(WheelError::StaleAllocator);
         }
         // y = (W Wᵀ)⁺ L; each wheel h_m = −ẑ_m · y
-        let y = self.pinv * l_body;
+        let y = self.pinv.mul_vec(l_body);
         let mut wheel = [0.0f32; N];
         let mut realised = Vec3::zeros(); // W Wᵀ y
         for (h, w) in wheel.iter_mut().zip(wheels.iter()) {

@@ -22,7 +22,7 @@ use nalgebra::SVector;
 
 use crate::fmath;
 use crate::linalg::svd::{SvdError, ThinSvd};
-use crate::linalg::Vec3;
+use crate::linalg::{Mat3, Vec3};
 
 /// A least-squares problem `M·X ≈ Y` with 3 unknowns per column and `K` right-hand sides,
 /// accumulated row by row.
@@ -111,6 +111,18 @@ impl<const K: usize> QrLeastSquares<K> {
         let svd = self.svd()?;
         svd.require_rank(3, rel_tol)?;
         svd.solve_matrix(&self.z, rel_tol)
+    }
+
+    /// `(MᵀM)⁻¹ = V·Σ⁻²·Vᵀ` from the SVD of the triangular factor, requiring rank 3 with the
+    /// relative threshold `rel_tol` (as [`Self::solve_full_rank`]): with it, later right-hand
+    /// sides of the same rows are solved as `X = (MᵀM)⁻¹·(MᵀY)` without redoing the QR.
+    pub fn inverse_gram(&self, rel_tol: f32) -> Result<Mat3, SvdError> {
+        let svd = self.svd()?;
+        svd.require_rank(3, rel_tol)?;
+        let v = svd.v();
+        let s = svd.singular_values();
+        let d = Vec3::new(1.0 / (s.x * s.x), 1.0 / (s.y * s.y), 1.0 / (s.z * s.z));
+        Ok(v * Mat3::from_diagonal(&d) * v.transpose())
     }
 
     /// The minimum-norm least-squares solution `X = M⁺·Y` (3×K), singular values below

@@ -16,3 +16,26 @@ pub type Mat3d = nalgebra::Matrix3<f64>;
 
 pub mod lsq;
 pub mod svd;
+
+/// A symmetric 3×3 matrix stored as its upper triangle `(m11, m12, m13, m22, m23, m33)`: the
+/// cached operators of the flight loop (`(W Wᵀ)⁺`, `(HᵀH)⁻¹`) in 24 B of RAM instead of 36.
+#[derive(Copy, Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct SymMat3([f32; 6]);
+
+impl SymMat3 {
+    /// The upper triangle of `m` (the lower one is assumed equal).
+    pub fn from_upper(m: &Mat3) -> Self {
+        Self([m.m11, m.m12, m.m13, m.m22, m.m23, m.m33])
+    }
+
+    /// `M·v`.
+    pub fn mul_vec(&self, v: &Vec3) -> Vec3 {
+        let [a, b, c, d, e, f] = self.0;
+        Vec3::new(
+            a * v.x + b * v.y + c * v.z,
+            b * v.x + d * v.y + e * v.z,
+            c * v.x + e * v.y + f * v.z,
+        )
+    }
+}
