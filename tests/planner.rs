@@ -8,7 +8,8 @@
 use acs::attitude::Quaternion;
 use acs::control::wheels::Wheel;
 use acs::host::planner::{
-    dipole_field_t, nelder_mead, plan, plan_with, simulate, simulate_direct, Field, Optimiser,
+    dipole_field_t, nelder_mead, nelder_mead_box, plan, plan_with, simulate, simulate_direct, Field,
+    Optimiser,
     Problem, Wheels,
 };
 use acs::linalg::{Mat3, Vec3};
@@ -476,4 +477,237 @@ fn variable_time_grid_table_6_5() {
     assert!(o.attitude_error_deg.is_finite() && o.rate_error_degps.is_finite());
     assert!(times.windows(2).all(|w| w[1] > w[0]), "{times:?}");
     assert!(times[0] == 0.0 && times[3] == 150.0, "{times:?}");
+}
+
+/// The thesis's cost (6.5)/(6.6), `c_q |δq|² + c_ω |δω|²` with [1e5, 1e8], δω in rad/s, of a
+/// final error given as an angle (deg) and a rate (deg/s): `|δq| = sin(θ/2)`.
+fn thesis_cost_150(attitude_deg: f64, rate_degps: f64) -> f64 {
+    let dq = (attitude_deg.to_radians() / 2.0).sin();
+    let dw = rate_degps.to_radians();
+    1e5 * dq * dq + 1e8 * dw * dw
+}
+
+/// The Table 6.4 optimum (fixed grid, inverse, α_G0 = 0) of `integration_step_converged`.
+const TABLE_6_4_KNOTS: [f64; 6] = [
+    0.22399985332694589,
+    0.28975099935171134,
+    0.16362190533335558,
+    0.013777492634101463,
+    0.16765050754217592,
+    0.04173230921219749,
+];
+
+#[test]
+#[ignore = "optimisation: run in release"]
+fn table_6_5_attitude_rate_trade_off() {
+    // Why our Table 6.5 attitude (0.85°) is not the thesis's 0.52°: the cost (6.6) is ≈ 98 %
+    // rate term (c_ω|δω|² ≈ 200 against c_q|δq|² ≈ 2–5), so the optimum's attitude error is
+    // weakly determined. Thesis points in its own cost: Table 6.4 inverse 0.78° / 8.1457e-2 °/s
+    // → 206.7; Table 6.5 inverse 0.52° / 8.12e-2 → 202.9; Table 6.5 direct 1.1468° / 7.9847e-2
+    // → 204.2 (its variable grid too traded attitude for rate, 0.75° → 1.15°).
+    let thesis_65 = thesis_cost_150(0.52, 8.12e-2);
+    let thesis_64 = thesis_cost_150(0.78, 8.1457e-2);
+    let thesis_65_direct = thesis_cost_150(1.1468, 7.9847e-2);
+    println!(
+        "thesis cost (6.6): Table 6.4 inverse {thesis_64:.2}, Table 6.5 inverse {thesis_65:.2}, \
+         Table 6.5 direct {thesis_65_direct:.2}"
+    );
+    let pb = Problem {
+        variable_grid: true,
+        ..thesis_problem(150.0, false)
+    };
+    let mut x: Vec<f64> = TABLE_6_4_KNOTS.iter().copied().chain([0.5, 0.5]).collect();
+    // the Pareto front of (attitude, rate) on the variable grid: raise c_q step by step
+    // (continuation from the previous optimum), each time report the thesis's cost of the point
+    let mut front = Vec::new();
+    for k in [1.0, 3.0, 10.0, 30.0, 100.0] {
+        let pk = Problem {
+            weights: [1e5 * k, 1e8, 0.0],
+            ..pb.clone()
+        };
+        let cost = |p: &[f64]| simulate(&pk, p, 0).map(|(o, _)| o.cost).unwrap_or(f64::MAX);
+        for _ in 0..2 {
+            x = nelder_mead(cost, &x, -1.0, 1.0, 1500, 1e-18, 1e-12).x;
+        }
+        let (o, _) = simulate(&pb, &x, 0).unwrap();
+        let j = thesis_cost_150(o.attitude_error_deg, o.rate_error_degps);
+        println!(
+            "c_q = {:.0e}: attitude {:.4} deg, rate {:.5e} deg/s, thesis cost (6.6) {j:.3} \
+             (own cost {:.3}); knots {:?} s",
+            1e5 * k,
+            o.attitude_error_deg,
+            o.rate_error_degps,
+            o.cost,
+            pb.knot_times(&x[6..])
+        );
+        front.push((k, o.attitude_error_deg, o.rate_error_degps, j, x.clone()));
+    }
+    // c_q = 1e5 is the thesis's own problem: its optimum is no worse than the Table 6.4 start
+    let (fixed, _) = simulate(&thesis_problem(150.0, false), &TABLE_6_4_KNOTS, 0).unwrap();
+    assert!(front[0].3 <= fixed.cost * (1.0 + 1e-9), "{front:?}");
+    // Nelder–Mead at c_q = 1e5 stopped in a local minimum: points of the front cost less in
+    // the thesis's own cost, and dominate the thesis's Table 6.5 point (smaller attitude AND rate)
+    let best = front
+        .iter()
+        .min_by(|a, b| a.3.total_cmp(&b.3))
+        .unwrap()
+        .clone();
+    assert!(best.3 < front[0].3 && best.3 < thesis_65, "{best:?}");
+    assert!(
+        front.iter().any(|f| f.1 < 0.52 && f.2 < 8.12e-2),
+        "no point dominates the thesis's"
+    );
+    // the best of them polished with the thesis's weights (2 × 1500): our Table 6.5 figure
+    let cost = |p: &[f64]| simulate(&pb, p, 0).map(|(o, _)| o.cost).unwrap_or(f64::MAX);
+    let mut x = best.4.clone();
+    for _ in 0..2 {
+        x = nelder_mead(cost, &x, -1.0, 1.0, 1500, 1e-18, 1e-12).x;
+    }
+    let (o, _) = simulate(&pb, &x, 0).unwrap();
+    println!(
+        "Table 6.5 inverse, continuation then c_q = 1e5: attitude {:.4} deg, rate {:.5e} deg/s, \
+         cost {:.3} (thesis 0.52 deg, 8.12e-2 deg/s, cost {thesis_65:.3}); knots {:?} s; params \
+         {x:?}",
+        o.attitude_error_deg,
+        o.rate_error_degps,
+        o.cost,
+        pb.knot_times(&x[6..])
+    );
+    assert!(o.cost <= best.3 * (1.0 + 1e-9), "{o:?}");
+}
+
+#[test]
+#[ignore = "optimisation: run in release"]
+fn table_6_4_6_5_greenwich_angle_sweep() {
+    // The thesis does not give α_G0 (note 001 §1.9): the 150 s magnetorquer-only optimum on the
+    // fixed and on the variable grid for several α_G0 (Nelder–Mead 3 × 1500 from the naive
+    // guess, then 2 × 1500 on the variable grid from that optimum).
+    let mut rows = Vec::new();
+    for g_deg in [0.0, 60.0, 120.0, 180.0, 240.0, 300.0] {
+        let pb = Problem {
+            greenwich0_rad: f64::to_radians(g_deg),
+            ..thesis_problem(150.0, false)
+        };
+        let (p, fixed) = plan(&pb, 1500, 2).unwrap();
+        let pv = Problem {
+            variable_grid: true,
+            ..pb.clone()
+        };
+        let mut x: Vec<f64> = p.iter().copied().chain([0.5, 0.5]).collect();
+        let cost = |p: &[f64]| simulate(&pv, p, 0).map(|(o, _)| o.cost).unwrap_or(f64::MAX);
+        for _ in 0..2 {
+            x = nelder_mead(cost, &x, -1.0, 1.0, 1500, 1e-18, 1e-12).x;
+        }
+        let (var, _) = simulate(&pv, &x, 0).unwrap();
+        println!(
+            "α_G0 {g_deg:5.1}°: fixed {:.4} deg {:.5e} deg/s cost {:.2}; variable {:.4} deg \
+             {:.5e} deg/s cost {:.2}; knots {:?}",
+            fixed.attitude_error_deg,
+            fixed.rate_error_degps,
+            fixed.cost,
+            var.attitude_error_deg,
+            var.rate_error_degps,
+            var.cost,
+            pv.knot_times(&x[6..])
+        );
+        assert!(var.cost <= fixed.cost * (1.0 + 1e-9));
+        rows.push((g_deg, fixed.attitude_error_deg, var.attitude_error_deg));
+    }
+    println!("α_G0, fixed, variable (deg): {rows:?}");
+}
+
+#[test]
+#[ignore = "optimisation: run in release"]
+fn direct_dynamics_variable_grid_table_6_5() {
+    // Table 6.5 direct column (1.1468°, 7.9847e-2 °/s): direct dynamics, 150 s, cost (6.5),
+    // 6 knots per axis, the 4 interior abscissae optimised too (gap parameters, 0.5 = uniform),
+    // from the fixed-grid direct optimum (Table 6.4 direct: thesis 0.75°, 8.17e-2 °/s).
+    let mut pb = thesis_problem(150.0, false);
+    pb.weights = [1e5, 1e8, 0.0];
+    let cost = |p: &[f64]| {
+        simulate_direct(&pb, p, 0)
+            .map(|(o, _)| o.cost)
+            .unwrap_or(f64::MAX)
+    };
+    let t0 = std::time::Instant::now();
+    let mut x = vec![0.0; 18];
+    for _ in 0..3 {
+        x = nelder_mead(cost, &x, -10.0, 10.0, 4000, 1e-18, 1e-12).x;
+    }
+    let (fixed, _) = simulate_direct(&pb, &x, 0).unwrap();
+    let pv = Problem {
+        variable_grid: true,
+        ..pb.clone()
+    };
+    let mut y: Vec<f64> = x.iter().copied().chain([0.5; 4]).collect();
+    // the uniform grid reproduces the fixed-grid outcome
+    let (start, _) = simulate_direct(&pv, &y, 0).unwrap();
+    assert!((start.cost - fixed.cost).abs() <= 1e-6 * fixed.cost, "{start:?} {fixed:?}");
+    let lo: Vec<f64> = [-10.0; 18].into_iter().chain([-1.0; 4]).collect();
+    let hi: Vec<f64> = [10.0; 18].into_iter().chain([1.0; 4]).collect();
+    let cost_v = |p: &[f64]| {
+        simulate_direct(&pv, p, 0)
+            .map(|(o, _)| o.cost)
+            .unwrap_or(f64::MAX)
+    };
+    for _ in 0..3 {
+        y = nelder_mead_box(cost_v, &y, &lo, &hi, 4000, 1e-18, 1e-12).x;
+    }
+    let (var, _) = simulate_direct(&pv, &y, 0).unwrap();
+    println!(
+        "direct 150 s: fixed grid {:.4} deg {:.5e} deg/s cost {:.3}; variable grid {:.4} deg \
+         {:.5e} deg/s cost {:.3}; knots {:?} s; {:.0} s\n   thesis Table 6.4 direct 0.75 deg \
+         8.17e-2 deg/s (cost {:.2}), Table 6.5 direct 1.1468 deg 7.9847e-2 deg/s (cost {:.2})",
+        fixed.attitude_error_deg,
+        fixed.rate_error_degps,
+        fixed.cost,
+        var.attitude_error_deg,
+        var.rate_error_degps,
+        var.cost,
+        pv.knot_times(&y[18..]),
+        t0.elapsed().as_secs_f64(),
+        thesis_cost_150(0.75, 8.17e-2),
+        thesis_cost_150(1.1468, 7.9847e-2)
+    );
+    assert!(var.cost <= fixed.cost * (1.0 + 1e-9), "{var:?} {fixed:?}");
+    assert!(var.max_dipole_am2 >= 10.0 - 1e-9, "{var:?}");
+}
+
+#[test]
+#[ignore = "optimisation: run in release"]
+fn continuation_150s_fixed_and_variable_grid() {
+    // the 150 s magnetorquer-only optima with the thesis weights are local: Nelder–Mead with
+    // c_q raised ten times (2 × 1500), then back at the thesis's c_q = 1e5 (2 × 1500), from the
+    // Table 6.4 optimum, on the fixed and on the variable grid
+    for variable_grid in [false, true] {
+        let pb = Problem {
+            variable_grid,
+            ..thesis_problem(150.0, false)
+        };
+        let mut x: Vec<f64> = TABLE_6_4_KNOTS.to_vec();
+        if variable_grid {
+            x.extend([0.5, 0.5]);
+        }
+        let (start, _) = simulate(&pb, &x, 0).unwrap();
+        for cq in [1e6, 1e5] {
+            let pk = Problem {
+                weights: [cq, 1e8, 0.0],
+                ..pb.clone()
+            };
+            let cost = |p: &[f64]| simulate(&pk, p, 0).map(|(o, _)| o.cost).unwrap_or(f64::MAX);
+            for _ in 0..2 {
+                x = nelder_mead(cost, &x, -1.0, 1.0, 1500, 1e-18, 1e-12).x;
+            }
+            let (o, _) = simulate(&pb, &x, 0).unwrap();
+            println!(
+                "variable grid {variable_grid}, after c_q = {cq:.0e}: attitude {:.4} deg, rate \
+                 {:.5e} deg/s, thesis cost {:.3} (start {:.3}); knots {:?}; params {x:?}",
+                o.attitude_error_deg,
+                o.rate_error_degps,
+                o.cost,
+                start.cost,
+                pb.knot_times(if variable_grid { &x[6..] } else { &[] })
+            );
+        }
+    }
 }

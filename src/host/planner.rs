@@ -425,19 +425,33 @@ pub fn simulate(
 }
 
 /// The dipole profile of **direct dynamics** (note 001 §3.3, Fig. 4.1): per axis a clamped
-/// spline (zero end slopes) through `n = p.len()/3` uniformly spaced ordinates (A·m²), clipped
-/// to ±`m_max`; `p` = all x ordinates, then y, then z.
+/// spline (zero end slopes) through `n` ordinates (A·m²), clipped to ±`m_max`; `p` = all x
+/// ordinates, then y, then z (`n = p.len()/3`, uniformly spaced knots), then, with
+/// [`Problem::variable_grid`] (seed 001 Table 6.5, direct column), one gap parameter per
+/// interior knot as in [`Problem::knot_times`] (`p.len() = 4n − 2`; `0.5` = uniform).
 pub fn direct_profile(
     pb: &Problem,
     p: &[f64],
 ) -> Result<[crate::planning::spline::ClampedSpline<MAX_KNOTS>; 3], String> {
-    let n = p.len() / 3;
-    if !(2..=MAX_KNOTS).contains(&n) || p.len() != 3 * n {
+    let n = if pb.variable_grid {
+        (p.len() + 2) / 4
+    } else {
+        p.len() / 3
+    };
+    let expected = if pb.variable_grid { 4 * n - 2 } else { 3 * n };
+    if !(2..=MAX_KNOTS).contains(&n) || p.len() != expected {
         return Err(format!("{} direct-dynamics parameters", p.len()));
     }
-    let times: Vec<f32> = (0..n)
-        .map(|k| (pb.duration_s * k as f64 / (n - 1) as f64) as f32)
-        .collect();
+    let times: Vec<f32> = if pb.variable_grid {
+        pb.knot_times(&p[3 * n..])
+            .into_iter()
+            .map(|t| t as f32)
+            .collect()
+    } else {
+        (0..n)
+            .map(|k| (pb.duration_s * k as f64 / (n - 1) as f64) as f32)
+            .collect()
+    };
     let axis = |j: usize| {
         let v: Vec<f32> = p[j * n..(j + 1) * n].iter().map(|x| *x as f32).collect();
         crate::planning::spline::ClampedSpline::new(&times, &v, 0.0, 0.0).map_err(|e| e.to_string())
@@ -613,7 +627,7 @@ pub struct Minimum {
 /// to `[lo, hi]`). Stops after `max_evals` or when the simplex's value spread is below `ftol`
 /// and its size below `xtol`.
 pub fn nelder_mead<F: FnMut(&[f64]) -> f64>(
-    mut f: F,
+    f: F,
     x0: &[f64],
     lo: f64,
     hi: f64,
@@ -622,7 +636,30 @@ pub fn nelder_mead<F: FnMut(&[f64]) -> f64>(
     xtol: f64,
 ) -> Minimum {
     let n = x0.len();
-    let clamp = |x: Vec<f64>| -> Vec<f64> { x.into_iter().map(|v| v.clamp(lo, hi)).collect() };
+    nelder_mead_box(f, x0, &vec![lo; n], &vec![hi; n], max_evals, ftol, xtol)
+}
+
+/// [`nelder_mead`] with a bound per coordinate (`lo[i] ≤ x[i] ≤ hi[i]`; `lo`, `hi` as long as
+/// `x0`), e.g. dipole ordinates in ±`m_max` and grid parameters in ±1.
+pub fn nelder_mead_box<F: FnMut(&[f64]) -> f64>(
+    mut f: F,
+    x0: &[f64],
+    lo: &[f64],
+    hi: &[f64],
+    max_evals: usize,
+    ftol: f64,
+    xtol: f64,
+) -> Minimum {
+    let n = x0.len();
+    let clamp = |x: Vec<f64>| -> Vec<f64> {
+        x.into_iter()
+            .enumerate()
+            .map(|(i, v)| {
+                let (l, h) = (lo.get(i).copied(), hi.get(i).copied());
+                v.max(l.unwrap_or(f64::MIN)).min(h.unwrap_or(f64::MAX))
+            })
+            .collect()
+    };
     let mut evals = 0usize;
     let mut simplex: Vec<(Vec<f64>, f64)> = Vec::with_capacity(n + 1);
     let mut eval = |x: &[f64], evals: &mut usize| -> f64 {
