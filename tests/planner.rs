@@ -8,9 +8,8 @@
 use acs::attitude::Quaternion;
 use acs::control::wheels::Wheel;
 use acs::host::planner::{
-    dipole_field_t, nelder_mead, nelder_mead_box, plan, plan_with, simulate, simulate_direct, Field,
-    Optimiser,
-    Problem, Wheels,
+    dipole_field_t, nelder_mead, nelder_mead_box, plan, plan_with, simulate, simulate_direct,
+    Field, Optimiser, Problem, Wheels,
 };
 use acs::linalg::{Mat3, Vec3};
 use acs::planning::allocation::DipoleSaturation;
@@ -642,7 +641,10 @@ fn direct_dynamics_variable_grid_table_6_5() {
     let mut y: Vec<f64> = x.iter().copied().chain([0.5; 4]).collect();
     // the uniform grid reproduces the fixed-grid outcome
     let (start, _) = simulate_direct(&pv, &y, 0).unwrap();
-    assert!((start.cost - fixed.cost).abs() <= 1e-6 * fixed.cost, "{start:?} {fixed:?}");
+    assert!(
+        (start.cost - fixed.cost).abs() <= 1e-6 * fixed.cost,
+        "{start:?} {fixed:?}"
+    );
     let lo: Vec<f64> = [-10.0; 18].into_iter().chain([-1.0; 4]).collect();
     let hi: Vec<f64> = [10.0; 18].into_iter().chain([1.0; 4]).collect();
     let cost_v = |p: &[f64]| {
