@@ -424,6 +424,68 @@ pub fn simulate(
     run(pb, |t, h| command(pb, &plan, t, h), record_every, false)
 }
 
+/// Simulates the plan `p` of `pb` in seed 001's **scaled time** (minimum-time problems,
+/// eqs. 4.7–4.10, note 001 §1.11, after Liang, Fullmer & Chen 2004): the state gains the real
+/// time `x8` and the scale factor `x9 = scale`; over the fixed pseudo-time `τ ∈ [0, T_f]`
+/// (`T_f = pb.duration_s`, `pb.dt_s` its step) `dx/dτ = x9 · h(x8, x, u)`, `dx8/dτ = x9`,
+/// `dx9/dτ = 0`, so the manoeuvre really lasts `x9 T_f`; the profile's knots are stretched to
+/// `[0, x9 T_f]`. The outcome's cost gains `J_T = c_t · x9 · T_f` (4.10).
+///
+/// Errors: `scale` not finite and positive, and those of [`simulate`].
+pub fn simulate_time_scaled(
+    pb: &Problem,
+    p: &[f64],
+    scale: f64,
+    c_t: f64,
+) -> Result<Outcome, String> {
+    if !(scale.is_finite() && scale > 0.0) {
+        return Err(format!("time scale {scale}"));
+    }
+    let real = Problem {
+        duration_s: scale * pb.duration_s,
+        dt_s: scale * pb.dt_s,
+        ..pb.clone()
+    };
+    let plan = real.profile(p)?;
+    let (mut o, _) = run_scaled(&real, scale, |t, h| command(&real, &plan, t, h), 0, false)?;
+    o.cost += c_t * scale * pb.duration_s;
+    Ok(o)
+}
+
+/// Minimum-time planning (seed 001 eqs. 4.8–4.10): Nelder–Mead over the interior knots and the
+/// time scale `x9 ∈ [scale_lo, scale_hi]` (started at 1, i.e. `pb.duration_s`), cost
+/// [`simulate_time_scaled`]; `restarts` extra runs from the best point. Returns the knot
+/// parameters, the scale (the manoeuvre lasts `scale · pb.duration_s`) and the outcome.
+pub fn plan_minimum_time(
+    pb: &Problem,
+    c_t: f64,
+    scale_lo: f64,
+    scale_hi: f64,
+    evals_per_run: usize,
+    restarts: usize,
+) -> Result<(Vec<f64>, f64, Outcome), String> {
+    if !(scale_lo > 0.0 && scale_lo <= scale_hi && scale_hi.is_finite()) {
+        return Err(format!("time scale bounds [{scale_lo}, {scale_hi}]"));
+    }
+    let n = pb.n_params();
+    let mut x = pb.initial_guess();
+    x.push(1.0f64.clamp(scale_lo, scale_hi));
+    let lo: Vec<f64> = core::iter::repeat_n(-1.0, n).chain([scale_lo]).collect();
+    let hi: Vec<f64> = core::iter::repeat_n(1.0, n).chain([scale_hi]).collect();
+    let cost = |v: &[f64]| {
+        simulate_time_scaled(pb, &v[..n], v[n], c_t)
+            .map(|o| o.cost)
+            .unwrap_or(f64::MAX)
+    };
+    for _ in 0..=restarts {
+        x = nelder_mead_box(cost, &x, &lo, &hi, evals_per_run, 1e-18, 1e-12).x;
+    }
+    let scale = x[n];
+    let o = simulate_time_scaled(pb, &x[..n], scale, c_t)?;
+    x.truncate(n);
+    Ok((x, scale, o))
+}
+
 /// The dipole profile of **direct dynamics** (note 001 §3.3, Fig. 4.1): per axis a clamped
 /// spline (zero end slopes) through `n` ordinates (A·m²), clipped to ±`m_max`; `p` = all x
 /// ordinates, then y, then z (`n = p.len()/3`, uniformly spaced knots), then, with
@@ -492,6 +554,22 @@ fn run<C: Fn(f64, &[f64; 3]) -> Result<Command, String>>(
     record_every: usize,
     weight_on_dipole: bool,
 ) -> Result<(Outcome, Vec<Sample>), String> {
+    run_scaled(pb, 1.0, command_at, record_every, weight_on_dipole)
+}
+
+/// [`run`] in seed 001's scaled time (eqs. 4.8–4.9): the pseudo-time `τ` runs over
+/// `pb.duration_s / scale` in steps of `pb.dt_s / scale`; the real time is `x8 = scale · τ`
+/// and every derivative is multiplied by `x9 = scale`. `scale = 1` is [`run`].
+fn run_scaled<C: Fn(f64, &[f64; 3]) -> Result<Command, String>>(
+    pb: &Problem,
+    scale: f64,
+    command_at: C,
+    record_every: usize,
+    weight_on_dipole: bool,
+) -> Result<(Outcome, Vec<Sample>), String> {
+    if !(scale.is_finite() && scale > 0.0) {
+        return Err(format!("time scale {scale}"));
+    }
     let q0 = pb.q_start;
     let mut x: State = [
         q0.q0 as f64,
@@ -506,14 +584,16 @@ fn run<C: Fn(f64, &[f64; 3]) -> Result<Command, String>>(
         0.0,
     ];
     let steps = (pb.duration_s / pb.dt_s).round().max(1.0) as usize;
-    let dt = pb.duration_s / steps as f64;
+    // pseudo-time step dτ; real time x8 = scale · τ
+    let dt = pb.duration_s / scale / steps as f64;
     let mut lost = 0.0;
     let mut effort = 0.0;
     let mut max_m = 0.0f64;
     let mut max_ws = 0.0f64;
     let mut out = Vec::new();
     let hmax = pb.wheels.map(|w| w.inertia_kgm2 * w.max_speed_radps);
-    let f = |t: f64, x: &State| -> Result<(State, Command), String> {
+    let f = |tau: f64, x: &State| -> Result<(State, Command), String> {
+        let t = scale * tau; // x8, the real time
         let h = [x[7], x[8], x[9]];
         let mut cmd = command_at(t, &h)?;
         if let Some(hm) = hmax {
@@ -543,16 +623,23 @@ fn run<C: Fn(f64, &[f64; 3]) -> Result<Command, String>>(
             d[4 + i] = (tau_m[i] - cmd.wheel_torque_nm[i] - gyro[i]) / pb.inertia_kgm2[i];
             d[7 + i] = cmd.wheel_torque_nm[i];
         }
+        // eq. (4.9): every derivative times x9 (exactly 1 unscaled)
+        if scale != 1.0 {
+            for v in d.iter_mut() {
+                *v *= scale;
+            }
+        }
         Ok((d, cmd))
     };
     for k in 0..steps {
         let t = k as f64 * dt;
         let (k1, c1) = f(t, &x)?;
         if record_every > 0 && k % record_every == 0 {
-            out.push(sample_of(t, &x, c1));
+            out.push(sample_of(scale * t, &x, c1));
         }
-        lost += c1.lost2 * dt; // rectangle rule on the step grid
-        effort += c1.dipole_am2.iter().map(|m| m * m).sum::<f64>() * dt;
+        // rectangle rule on the step grid, in real time (dt_real = x9 dτ)
+        lost += c1.lost2 * dt * scale;
+        effort += c1.dipole_am2.iter().map(|m| m * m).sum::<f64>() * dt * scale;
         max_m = c1.dipole_am2.iter().fold(max_m, |a, m| a.max(m.abs()));
         let add = |x: &State, k: &State, s: f64| -> State {
             let mut y = *x;
@@ -577,7 +664,7 @@ fn run<C: Fn(f64, &[f64; 3]) -> Result<Command, String>>(
             }
         }
     }
-    let (_, c_end) = f(pb.duration_s, &x)?;
+    let (_, c_end) = f(pb.duration_s / scale, &x)?;
     if record_every > 0 {
         out.push(sample_of(pb.duration_s, &x, c_end));
     }
@@ -624,7 +711,7 @@ pub struct Minimum {
 
 /// Bounded Nelder–Mead (note 001 §3.7, Algorithm 1; reflection 1, expansion 2, contractions ½,
 /// shrink ½; initial simplex as fminsearch: +5 % per coordinate, 0.00025 if zero; points clamped
-/// to `[lo, hi]`). Stops after `max_evals` or when the simplex's value spread is below `ftol`
+/// to `[lo, hi]`; a start coordinate on a bound is stepped the other way). Stops after `max_evals` or when the simplex's value spread is below `ftol`
 /// and its size below `xtol`.
 pub fn nelder_mead<F: FnMut(&[f64]) -> f64>(
     f: F,
@@ -676,7 +763,12 @@ pub fn nelder_mead_box<F: FnMut(&[f64]) -> f64>(
     for i in 0..n {
         let mut x = x0.to_vec();
         x[i] = if x[i] != 0.0 { 1.05 * x[i] } else { 0.00025 };
-        let x = clamp(x);
+        let mut x = clamp(x);
+        if x[i] == x0[i] {
+            // the start is on a bound: step the other way (the simplex stays non-degenerate)
+            x[i] = if x0[i] != 0.0 { 0.95 * x0[i] } else { -0.00025 };
+            x = clamp(x);
+        }
         let v = eval(&x, &mut evals);
         simplex.push((x, v));
     }

@@ -88,7 +88,7 @@ fn check_coils(config: &SimConfig) -> Result<(), String> {
 }
 
 /// Plans `pb` in the simulator's field ([`plan_for`], field sampled every `field_step_s`), then
-/// flies it open loop with the commands updated every `fly_step_s`. Magnetorquers only.
+/// flies it open loop with the commands updated every `fly_step_s` (with wheels: see [`fly`]).
 pub fn plan_and_fly(
     config: &SimConfig,
     pb: &Problem,
@@ -97,9 +97,6 @@ pub fn plan_and_fly(
     restarts: usize,
     fly_step_s: f64,
 ) -> Result<Flight, String> {
-    if pb.wheels.is_some() {
-        return Err("plan flight: magnetorquers only".into());
-    }
     let pb = plan_for(config, pb, field_step_s)?;
     let (params, planned) = plan(&pb, evals, restarts)?;
     let (att, rate) = fly(config, &pb, &params, fly_step_s)?;
@@ -111,24 +108,64 @@ pub fn plan_and_fly(
     })
 }
 
+/// For each body axis `x, y, z`, a working wheel tile whose normal is `±` that axis: (tile index,
+/// sign of the normal).
+fn wheel_tiles(config: &SimConfig) -> Result<[(usize, f64); 3], String> {
+    let axis = |e: Vec3d| {
+        config
+            .tiles
+            .iter()
+            .enumerate()
+            .filter(|(_, t)| t.equipment.reaction_wheel)
+            .find_map(|(k, t)| {
+                let d = t.normal_body().cast::<f64>().dot(&e);
+                ((d.abs() - 1.0).abs() < 1e-6).then_some((k, d.signum()))
+            })
+            .ok_or_else(|| format!("no wheel tile along {e:?}"))
+    };
+    Ok([axis(Vec3d::x())?, axis(Vec3d::y())?, axis(Vec3d::z())?])
+}
+
 /// Flies the plan `p` of `pb` open loop from rest at `q_start`; returns the final attitude
 /// error against `q_end` (degrees) and the final rate (deg/s).
+///
+/// With wheels ([`Problem::wheels`]) the planner's wheel torques `ḣ` (hybrid allocation at the
+/// step midpoint, with the planned momentum, the planner's speed limit applied) are integrated
+/// into a planned body momentum `h`, commanded each step as the momentum of one wheel tile per
+/// body axis ([`TileBus::set_wheel_momentum`]; the simulator slews each wheel to it within the
+/// step); the other wheels stay at zero. No attitude feedback.
 pub fn fly(config: &SimConfig, pb: &Problem, p: &[f64], step_s: f64) -> Result<(f64, f64), String> {
     check_coils(config)?;
     if !(step_s > 0.0 && pb.duration_s / step_s <= 1e7) {
         return Err(format!("fly step {step_s} s"));
     }
+    let wheels = match pb.wheels {
+        Some(w) => Some((w, wheel_tiles(config)?)),
+        None => None,
+    };
     let profile = pb.profile(p)?;
     let q = pb.q_start;
     let q0 = [q.q0, q.q1, q.q2, q.q3].map(f64::from);
     let mut sim = Simulator::new(config.clone(), q0, Vec3d::zeros()).map_err(|e| e.to_string())?;
     let n = (pb.duration_s / step_s).round().max(1.0) as usize;
     let dt = pb.duration_s / n as f64;
+    let mut h = [0.0f64; 3];
     for k in 0..n {
-        let c = command(pb, &profile, (k as f64 + 0.5) * dt, &[0.0; 3])?;
+        let c = command(pb, &profile, (k as f64 + 0.5) * dt, &h)?;
         for (i, m) in c.dipole_am2.iter().enumerate() {
             sim.set_dipole(i, *m as f32)
                 .map_err(|e| format!("coil {i}: {e:?}"))?;
+        }
+        if let Some((w, tiles)) = wheels {
+            let h_max = w.inertia_kgm2 * w.max_speed_radps;
+            for ((hi, hdot), (tile, sign)) in h.iter_mut().zip(c.wheel_torque_nm).zip(tiles) {
+                let blocked = hi.abs() >= h_max && hdot * *hi > 0.0;
+                if !blocked {
+                    *hi = (*hi + hdot * dt).clamp(-h_max, h_max);
+                }
+                sim.set_wheel_momentum(tile, (sign * *hi) as f32)
+                    .map_err(|e| format!("wheel tile {tile}: {e:?}"))?;
+            }
         }
         sim.advance(dt).map_err(|e| e.to_string())?;
     }
@@ -176,6 +213,28 @@ pub fn thesis_case() -> Result<(SimConfig, Problem), String> {
         // replaced by the simulator's sampled field in [`plan_for`]
         field: Field::Dipole,
         variable_grid: false,
+    };
+    Ok((config, pb))
+}
+
+/// [`thesis_case`] with seed 001's three wheels (8e-4 kg·m², ±5000 rpm, 0.01 N·m; Table 6.2)
+/// over `duration_s` (Table 6.6: 150 s), cost (6.7) with `c_τ = 1e3` (not given by the thesis),
+/// 300 planner steps; the simulator's wheel limits set to the same momentum and torque.
+pub fn thesis_case_wheels(duration_s: f64) -> Result<(SimConfig, Problem), String> {
+    let (mut config, pb) = thesis_case()?;
+    let wheels = crate::host::planner::Wheels {
+        inertia_kgm2: 8e-4,
+        max_speed_radps: 5000.0 * core::f64::consts::PI / 30.0,
+        max_torque_nm: 0.01,
+    };
+    config.wheel_max_h_nms = wheels.inertia_kgm2 * wheels.max_speed_radps;
+    config.wheel_max_torque_nm = wheels.max_torque_nm;
+    let pb = Problem {
+        wheels: Some(wheels),
+        duration_s,
+        dt_s: duration_s / 300.0,
+        weights: [1e5, 1e8, 1e3],
+        ..pb
     };
     Ok((config, pb))
 }
