@@ -145,15 +145,6 @@ impl Df {
         self.lo
     }
 
-    /// |x|.
-    pub(crate) fn abs(self) -> Self {
-        if self.hi < 0.0 {
-            -self
-        } else {
-            self
-        }
-    }
-
     /// √x for x ≥ 0: the f32 root corrected by one Newton step in double length (x < 0 → NaN).
     pub(crate) fn sqrt(self) -> Self {
         if self.hi == 0.0 {

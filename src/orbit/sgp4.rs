@@ -374,8 +374,7 @@ impl Sgp4 {
         const REV_PER_DAY: Df = Df::from_f64_const(core::f64::consts::TAU / 1440.0);
         /// rad → turns.
         const INV_TAU: Df = Df::from_f64_const(1.0 / core::f64::consts::TAU);
-        /// 2/3 and 1/3.
-        const X2O3: Df = Df::from_f64_const(2.0 / 3.0);
+        /// 1/3.
         const X1O3: Df = Df::from_f64_const(1.0 / 3.0);
         let g = gravity.constants();
         let radius_km = g.radius_km;
@@ -431,12 +430,6 @@ impl Sgp4 {
             return Err(Sgp4Error::DeepSpace { period_min });
         }
         let ao = two_thirds_power(g.xke / no);
-        let sinio = (1.0 - cosio2).abs().sqrt(); // sin i₀ ≥ 0 for 0 ≤ i₀ ≤ 180°
-        let po = ao * omeosq;
-        let con42 = 1.0 - 5.0 * cosio2;
-        let con41 = -con42 - cosio2 - cosio2;
-        let posq = po * po;
-        let rp = ao * (1.0 - ecco);
         let alta = ao * (1.0 + ecco) - 1.0;
         if alta.hi() < 0.0 {
             return Err(Sgp4Error::SubOrbital {
@@ -444,89 +437,118 @@ impl Sgp4 {
             });
         }
 
-        // sgp4init: drag and secular coefficients
-        let ss = 78.0 / radius_km + 1.0;
-        let qzms2t = fourth_power((120.0 - 78.0) / radius_km);
+        // sgp4init, secular rates (double-f32: they multiply the time, up to 10⁴ min a week)
+        let po = ao * omeosq;
+        let pinvsq = 1.0 / (po * po);
+        let con42 = 1.0 - 5.0 * cosio2;
+        let con41 = -con42 - cosio2 - cosio2;
+        let temp1 = 1.5 * g.j2 * pinvsq * no;
+        let xhdot1 = -temp1 * cosio;
+        // the O(J₂²) and J₄ terms, 10⁻⁶ of n₀″, in f32 (below 10⁻¹³ rad/min)
+        let (c2, no32, pinvsq32) = (cosio2.to_f32(), no.to_f32(), pinvsq.to_f32());
+        let c4 = c2 * c2;
+        let temp2 = 0.5 * temp1.to_f32() * g.j2.to_f32() * pinvsq32;
+        let temp3 = -0.46875 * g.j4.to_f32() * pinvsq32 * pinvsq32 * no32;
+        let rteosq32 = rteosq.to_f32();
+        let mdot = no
+            + 0.5 * temp1 * rteosq * con41
+            + 0.0625 * temp2 * rteosq32 * (13.0 - 78.0 * c2 + 137.0 * c4);
+        let argpdot = -0.5 * temp1 * con42
+            + (0.0625 * temp2 * (7.0 - 114.0 * c2 + 395.0 * c4)
+                + temp3 * (3.0 - 36.0 * c2 + 49.0 * c4));
+        let nodedot = xhdot1
+            + (0.5 * temp2 * (4.0 - 19.0 * c2) + 2.0 * temp3 * (3.0 - 7.0 * c2)) * cosio.to_f32();
+
+        // drag reference height and the perigee-relative quantities, double-f32: a − s and
+        // 1 − η² cancel for low perigees (f32 there puts 22312 160 m off)
+        let rp = ao * (1.0 - ecco);
         let isimp = (rp - (220.0 / radius_km + 1.0)).hi() < 0.0;
-        let mut sfour = ss;
-        let mut qzms24 = qzms2t;
         let perige = (rp - 1.0) * radius_km;
-        if perige.hi() < 156.0 {
+        let (sfour, qzms24) = if perige.hi() < 156.0 {
             let s = if perige.hi() < 98.0 {
                 Df::from_f32(20.0)
             } else {
                 perige - 78.0
             };
-            qzms24 = fourth_power((120.0 - s) / radius_km);
-            sfour = s / radius_km + 1.0;
-        }
-        let pinvsq = 1.0 / posq;
+            (s / radius_km + 1.0, fourth_power((120.0 - s) / radius_km))
+        } else {
+            (
+                78.0 / radius_km + 1.0,
+                fourth_power((120.0 - 78.0) / radius_km),
+            )
+        };
         let tsi = 1.0 / (ao - sfour);
         let eta = ao * ecco * tsi;
         let etasq = eta * eta;
         let eeta = ecco * eta;
-        let psisq = (1.0 - etasq).abs();
+        let psisq = (1.0 - etasq).to_f32();
+        let psisq = Df::from_f32(fmath::abs(psisq)); // |1 − η²|
         let coef = qzms24 * fourth_power(tsi);
-        // psisq^3.5
+        // C₁ = B*·C₂ scales the mean-longitude drag t²·(3/2)C₁ (radians after a day for a
+        // decaying orbit): double-f32 too. psisq^3.5 as psisq³·√psisq.
         let coef1 = coef / (psisq * psisq * psisq * psisq.sqrt());
         let cc2 = coef1
             * no
             * (ao * (1.0 + 1.5 * etasq + eeta * (4.0 + etasq))
-                + 0.375 * g.j2 * tsi / psisq * con41 * (8.0 + 3.0 * etasq * (8.0 + etasq)));
-        let cc1 = bstar * cc2;
-        let j3oj2 = g.j3 / g.j2;
-        let large_ecc = ecco.hi() > 1.0e-4;
+                + (0.375 * g.j2 * tsi / psisq * con41 * (8.0 + 3.0 * etasq * (8.0 + etasq)))
+                    .to_f32());
+        let cc1 = (bstar * cc2).to_f32();
+
+        // sgp4init, drag and periodic coefficients: f32 (they multiply small terms)
+        let re = radius_km.to_f32();
+        let j2 = g.j2.to_f32();
+        let j3oj2 = (g.j3 / g.j2).to_f32();
+        let ao_km = (ao * radius_km).to_f32();
+        let one_plus_cosio = (cosio + 1.0).to_f32(); // no cancellation near i₀ = 180°
+        let (ao, ecco, bstar) = (ao.to_f32(), ecco.to_f32(), bstar.to_f32());
+        let (cosio, omeosq, con41) = (cosio.to_f32(), omeosq.to_f32(), con41.to_f32());
+        let sinio = fmath::sqrt(fmath::abs((1.0 - cosio2).to_f32())); // ≥ 0 for 0 ≤ i₀ ≤ 180°
+        let (sfour, tsi, eta, etasq, eeta) = (
+            sfour.to_f32(),
+            tsi.to_f32(),
+            eta.to_f32(),
+            etasq.to_f32(),
+            eeta.to_f32(),
+        );
+        let (psisq, coef, coef1) = (psisq.to_f32(), coef.to_f32(), coef1.to_f32());
+        let large_ecc = ecco > 1.0e-4;
         let cc3 = if large_ecc {
-            -2.0 * coef * tsi * j3oj2 * no * sinio / ecco
+            -2.0 * coef * tsi * j3oj2 * no32 * sinio / ecco
         } else {
-            Df::ZERO
+            0.0
         };
-        let x1mth2 = 1.0 - cosio2;
+        let x1mth2 = 1.0 - c2;
         let (sin_argpo, cos_argpo) = sincos_degrees(argpo_deg);
         let cos_2argpo = 1.0 - 2.0 * sin_argpo * sin_argpo;
         let cc4 = 2.0
-            * no
+            * no32
             * coef1
             * ao
             * omeosq
             * (eta * (2.0 + 0.5 * etasq) + ecco * (0.5 + 2.0 * etasq)
-                - g.j2 * tsi / (ao * psisq)
+                - j2 * tsi / (ao * psisq)
                     * (-3.0 * con41 * (1.0 - 2.0 * eeta + etasq * (1.5 - 0.5 * eeta))
                         + 0.75 * x1mth2 * (2.0 * etasq - eeta * (1.0 + etasq)) * cos_2argpo));
         let cc5 = 2.0 * coef1 * ao * omeosq * (1.0 + 2.75 * (etasq + eeta) + eeta * etasq);
-        let cosio4 = cosio2 * cosio2;
-        let temp1 = 1.5 * g.j2 * pinvsq * no;
-        let temp2 = 0.5 * temp1 * g.j2 * pinvsq;
-        let temp3 = -0.46875 * g.j4 * pinvsq * pinvsq * no;
-        let mdot = no
-            + 0.5 * temp1 * rteosq * con41
-            + 0.0625 * temp2 * rteosq * (13.0 - 78.0 * cosio2 + 137.0 * cosio4);
-        let argpdot = -0.5 * temp1 * con42
-            + 0.0625 * temp2 * (7.0 - 114.0 * cosio2 + 395.0 * cosio4)
-            + temp3 * (3.0 - 36.0 * cosio2 + 49.0 * cosio4);
-        let xhdot1 = -temp1 * cosio;
-        let nodedot = xhdot1
-            + (0.5 * temp2 * (4.0 - 19.0 * cosio2) + 2.0 * temp3 * (3.0 - 7.0 * cosio2)) * cosio;
         let omgcof = bstar * cc3 * cos_argpo;
         let xmcof = if large_ecc {
-            -X2O3 * coef * bstar / eeta
+            -2.0 / 3.0 * coef * bstar / eeta
         } else {
-            Df::ZERO
+            0.0
         };
-        let nodecf = 3.5 * omeosq * xhdot1 * cc1;
+        let nodecf = 3.5 * omeosq * xhdot1.to_f32() * cc1;
         let t2cof = 1.5 * cc1;
         // Vallado's guard against division by zero at i = 180°
-        let one_plus_cosio = cosio + 1.0;
-        let one_plus_cosio = if crate::fmath::abs(one_plus_cosio.hi()) > 1.5e-12 {
+        let one_plus_cosio = if fmath::abs(one_plus_cosio) > 1.5e-12 {
             one_plus_cosio
         } else {
-            Df::from_f32(1.5e-12)
+            1.5e-12
         };
         let xlcof = -0.25 * j3oj2 * sinio * (3.0 + 5.0 * cosio) / one_plus_cosio;
         let aycof = -0.5 * j3oj2 * sinio;
         let (sinmao, cos_mo) = sincos_degrees(mo_deg);
         let delmo = cube(1.0 + eta * cos_mo);
-        let x7thm1 = 7.0 * cosio2 - 1.0;
+        let x7thm1 = 7.0 * c2 - 1.0;
         let full_drag = if isimp {
             None
         } else {
@@ -536,22 +558,21 @@ impl Sgp4 {
             let d3 = (17.0 * ao + sfour) * temp;
             let d4 = 0.5 * temp * ao * tsi * (221.0 * ao + 31.0 * sfour) * cc1;
             Some(FullDrag {
-                d2: d2.to_f32(),
-                d3: d3.to_f32(),
-                d4: d4.to_f32(),
-                t3cof: (d2 + 2.0 * cc1sq).to_f32(),
-                t4cof: (0.25 * (3.0 * d3 + cc1 * (12.0 * d2 + 10.0 * cc1sq))).to_f32(),
-                t5cof: (0.2
+                d2,
+                d3,
+                d4,
+                t3cof: d2 + 2.0 * cc1sq,
+                t4cof: 0.25 * (3.0 * d3 + cc1 * (12.0 * d2 + 10.0 * cc1sq)),
+                t5cof: 0.2
                     * (3.0 * d4
                         + 12.0 * cc1 * d3
                         + 6.0 * d2 * d2
-                        + 15.0 * cc1sq * (2.0 * d2 + cc1sq)))
-                    .to_f32(),
-                cc5: cc5.to_f32(),
-                omgcof: omgcof.to_f32(),
-                xmcof: xmcof.to_f32(),
-                eta: eta.to_f32(),
-                delmo: delmo.to_f32(),
+                        + 15.0 * cc1sq * (2.0 * d2 + cc1sq)),
+                cc5,
+                omgcof,
+                xmcof,
+                eta,
+                delmo,
                 sinmao,
             })
         };
@@ -561,30 +582,30 @@ impl Sgp4 {
         let argpo = turns_of_degrees(argpo_deg);
         let sgp4 = Self {
             epoch: tle.epoch,
-            radius_km: radius_km.to_f32(),
+            radius_km: re,
             xke: g.xke.to_f32(),
-            j2: g.j2.to_f32(),
-            ao_km: (ao * radius_km).to_f32(),
+            j2,
+            ao_km,
             v_scale_kmps: (radius_km * g.xke / 60.0).to_f32(),
             mean_anomaly: Phase::from_turns(mo, mdot * INV_TAU),
             arg_perigee: Phase::from_turns(argpo, argpdot * INV_TAU),
             node: Phase::from_turns(turns_of_degrees(nodeo_deg), nodedot * INV_TAU),
             arg_latitude: Phase::from_turns(mo + argpo, (mdot + argpdot) * INV_TAU),
-            no: no.to_f32(),
-            ao: ao.to_f32(),
-            ecco: ecco.to_f32(),
-            bstar: bstar.to_f32(),
-            cosio: cosio.to_f32(),
-            sinio: sinio.to_f32(),
-            con41: con41.to_f32(),
-            x1mth2: x1mth2.to_f32(),
-            x7thm1: x7thm1.to_f32(),
-            cc1: cc1.to_f32(),
-            cc4: cc4.to_f32(),
-            nodecf: nodecf.to_f32(),
-            t2cof: t2cof.to_f32(),
-            xlcof: xlcof.to_f32(),
-            aycof: aycof.to_f32(),
+            no: no32,
+            ao,
+            ecco,
+            bstar,
+            cosio,
+            sinio,
+            con41,
+            x1mth2,
+            x7thm1,
+            cc1,
+            cc4,
+            nodecf,
+            t2cof,
+            xlcof,
+            aycof,
             full_drag,
         };
         if !sgp4.coefficients_finite() {
@@ -822,7 +843,7 @@ fn fourth_power(x: Df) -> Df {
     s * s
 }
 
-fn cube(x: Df) -> Df {
+fn cube(x: f32) -> f32 {
     x * x * x
 }
 
