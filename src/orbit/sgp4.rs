@@ -17,9 +17,16 @@
 //! frame of date.
 //!
 //! # Precision
-//! - **Initialisation in f64** ([`Sgp4::new`], once per element set): the secular rates need the
-//!   TLE's ten significant digits of mean motion (f32 keeps seven: 6e-8 of 300 rad of mean anomaly
-//!   after three days is 130 m). Everything else is then stored in f32.
+//! - **Initialisation in double-f32 where it matters, f32 elsewhere; no f64 arithmetic**
+//!   ([`Sgp4::new`], once per element set). The secular rates need the TLE's ten significant
+//!   digits of mean motion (f32 keeps seven: 6e-8 of 300 rad of mean anomaly after three days is
+//!   130 m) and cos i₀ beyond f32 (~2 m a week): the un-Kozai'd mean motion, a₀″, cos i₀ and the
+//!   rates Ṁ, ω̇, Ω̇ are computed as unevaluated sums of two f32 (`dfloat`, Dekker's algorithms,
+//!   ~48 bits), and so are the drag reference quantities (a₀″ − s, 1 − η², where low perigees
+//!   cancel) and C₁ (its t² term reaches radians on a decaying orbit: in f32, case 22312 moves
+//!   from 1.9 m to 2.9 m). The other coefficients multiply small terms and are f32. The TLE's
+//!   f64 fields are split into two f32 from their bits (integer operations), so the MSP430 build
+//!   pulls no f64 soft float and no f64 `libm`. Everything is then stored in f32.
 //! - **Propagation in f32**, with the `crate::fmath` functions, except for the secular angles
 //!   (mean anomaly, argument of perigee, node and their sum), which are [`Phase`]s: exact
 //!   fixed-point turns advanced by 64-bit integer products for the whole minutes, f32 only for the
@@ -32,9 +39,9 @@
 //! # Accuracy (measured, `cargo test --release --test sgp4 -- --nocapture`)
 //! Against the f64 Vallado reference files of `../shared/ref/sgp4/` (per-file figures in the
 //! README), position / velocity error:
-//! - the 9 near-Earth cases of `SGP4-VER.TLE` over their listed times: 3.3 m / 4.0 mm/s max
+//! - the 9 near-Earth cases of `SGP4-VER.TLE` over their listed times: 3.2 m / 3.5 mm/s max
 //!   (RMS 1.3 m / 1.4 mm/s);
-//! - the 12 `sat900xx` element sets from −1 to +3 days: 4.9 m / 4.5 mm/s max (RMS 1.2 m);
+//! - the 12 `sat900xx` element sets from −1 to +3 days: 4.9 m / 4.8 mm/s max (RMS 1.2 m);
 //! - DTUSAT over 7 days, WGS-72 and WGS-84: 4.7 m / 5.0 mm/s max (RMS 1.4 m).
 //!
 //! The error does not grow with time (it is the f32 spacing of angles near π, 1.2e-7 rad, met a
@@ -359,9 +366,8 @@ impl Sgp4 {
     /// `initl` and `sgp4init`, near-Earth part), then checks it by propagating to the epoch as
     /// Vallado's `sgp4init` does.
     ///
-    /// In double-f32 ([`Df`], about 48 bits, f32 operations only: no f64 arithmetic, so the
-    /// MSP430 build carries no f64 soft float), except the sines and cosines of ω₀ and M₀, which
-    /// only enter drag coefficients (f32 `fmath::sincos`). The TLE's f64 fields are split into
+    /// f32 and double-f32 operations only (module docs, "Precision"): no f64 arithmetic, so
+    /// the MSP430 build carries no f64 soft float. The TLE's f64 fields are split into
     /// double-f32 from their bits.
     ///
     /// # Errors
