@@ -248,6 +248,7 @@ pub fn run_flight<S: Sink>(s: &mut S) {
     if cfg!(feature = "group-det") {
         det_least_squares(s);
         det_attitude(s);
+        det_wahba3(s);
     }
 
     // ---- control
@@ -381,20 +382,27 @@ fn det_attitude<S: Sink>(s: &mut S) {
             s.out(q.map_or(f32::NAN, |q| q.q0));
             s.out(q.map_or(f32::NAN, |q| q.q1));
         }
-        det_wahba3(s, &obs);
     }
 }
 
 /// Wahba's problem with three pairs: the general path (Jacobi SVD of `B`, then one
 /// Gauss–Newton step).
 #[inline(never)]
-fn det_wahba3<S: Sink>(s: &mut S, obs: &[acs::determination::Observation; 2]) {
+fn det_wahba3<S: Sink>(s: &mut S) {
     use acs::determination::{self, Observation};
     use acs::linalg::Vec3;
     {
         let obs3 = [
-            obs[0],
-            obs[1],
+            Observation {
+                body: Vec3::new(s.input(0.2673), s.input(0.5345), s.input(0.8018)),
+                reference: Vec3::new(s.input(0.7448), s.input(-0.6383), s.input(-0.1949)),
+                weight: 0.5,
+            },
+            Observation {
+                body: Vec3::new(s.input(-0.3124), s.input(0.9370), s.input(0.1562)),
+                reference: Vec3::new(s.input(0.2), s.input(0.4), s.input(0.8944)),
+                weight: 0.5,
+            },
             Observation {
                 body: Vec3::new(s.input(0.6), s.input(-0.2), s.input(0.7746)),
                 reference: Vec3::new(s.input(-0.5), s.input(0.3), s.input(0.8124)),

@@ -220,8 +220,8 @@ pub(crate) fn unit(index: usize, o: &Observation) -> Result<Unit, DeterminationE
 }
 
 /// How many normalised observations [`Units`] keeps (the others are normalised again when
-/// iterated): 4 × 28 B of stack.
-pub(crate) const CACHED_UNITS: usize = 4;
+/// iterated): two (the flight case, Sun and field), 2 × 28 B of stack.
+pub(crate) const CACHED_UNITS: usize = 2;
 
 /// The observations, validated once and normalised (the first [`CACHED_UNITS`] kept), with
 /// the sum of their weights.

@@ -150,36 +150,31 @@ impl<const M: usize> ThinSvd<M> {
         if rows.iter().any(|r| !r.iter().all(|x| x.is_finite())) {
             return Err(SvdError::NonFinite);
         }
-        let mut w0 = [0.0f32; M];
-        let mut w1 = [0.0f32; M];
-        let mut w2 = [0.0f32; M];
-        for (r, (a, (b, c))) in rows
-            .iter()
-            .zip(w0.iter_mut().zip(w1.iter_mut().zip(w2.iter_mut())))
+        // Worked on in place (no copies of the columns: stack).
+        let mut w = [[0.0f32; M]; 3];
+        let mut v = [Vec3::x(), Vec3::y(), Vec3::z()];
         {
-            *a = r.x;
-            *b = r.y;
-            *c = r.z;
-        }
-        let mut v0 = Vec3::x();
-        let mut v1 = Vec3::y();
-        let mut v2 = Vec3::z();
-        for _ in 0..MAX_SWEEPS {
-            let r01 = rotate(&mut w0, &mut w1, &mut v0, &mut v1);
-            let r02 = rotate(&mut w0, &mut w2, &mut v0, &mut v2);
-            let r12 = rotate(&mut w1, &mut w2, &mut v1, &mut v2);
-            if !(r01 || r02 || r12) {
-                break;
+            let [w0, w1, w2] = &mut w;
+            let [v0, v1, v2] = &mut v;
+            for (r, (a, (b, c))) in rows
+                .iter()
+                .zip(w0.iter_mut().zip(w1.iter_mut().zip(w2.iter_mut())))
+            {
+                *a = r.x;
+                *b = r.y;
+                *c = r.z;
+            }
+            for _ in 0..MAX_SWEEPS {
+                let r01 = rotate(w0, w1, v0, v1);
+                let r02 = rotate(w0, w2, v0, v2);
+                let r12 = rotate(w1, w2, v1, v2);
+                if !(r01 || r02 || r12) {
+                    break;
+                }
             }
         }
-        let mut s = [
-            fmath::sqrt(dot(&w0, &w0)),
-            fmath::sqrt(dot(&w1, &w1)),
-            fmath::sqrt(dot(&w2, &w2)),
-        ];
+        let mut s = w.each_ref().map(|wj| fmath::sqrt(dot(wj, wj)));
         // Sort descending (three compare-and-swaps).
-        let mut w = [w0, w1, w2];
-        let mut v = [v0, v1, v2];
         for (i, j) in [(0usize, 1usize), (1, 2), (0, 1)] {
             let (si, sj) = match (s.get(i), s.get(j)) {
                 (Some(a), Some(b)) => (*a, *b),
