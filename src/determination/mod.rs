@@ -180,10 +180,11 @@ impl Unit {
     };
 }
 
-/// `v/|v|` given `|v|² > 0` (one `fmath::sqrt`, one division; nalgebra's `normalize` calls
-/// `libm`).
+/// `v/|v|` given `|v|² > 0` (`fmath::sqrt`; nalgebra's `normalize` calls `libm`). Three
+/// divisions rather than a reciprocal and three products: one rounding per component, for
+/// about the same cycles on the MSP430 (417 per division, 266 per product).
 pub(crate) fn scaled_unit(v: &Vec3, norm_squared: f32) -> Vec3 {
-    v * (1.0 / fmath::sqrt(norm_squared))
+    v / fmath::sqrt(norm_squared)
 }
 
 /// Checks and normalises observation `index`. A vector whose squared length overflows f32

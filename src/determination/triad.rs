@@ -51,9 +51,9 @@ pub fn solve(observations: &[Observation]) -> Result<Solution, DeterminationErro
             measure: nt.min(ns),
         });
     }
-    let (t1, t2) = (u1.body, t2 * (1.0 / nt));
+    let (t1, t2) = (u1.body, t2 / nt);
     let t3 = t1.cross(&t2);
-    let (s1, s2) = (u1.reference, s2 * (1.0 / ns));
+    let (s1, s2) = (u1.reference, s2 / ns);
     let s3 = s1.cross(&s2);
     let m_body = Mat3::from_columns(&[t1, t2, t3]);
     let m_ref = Mat3::from_columns(&[s1, s2, s3]);

@@ -154,10 +154,10 @@ fn two_observations(u1: &Unit, u2: &Unit, sum_w: f32) -> Result<Solution, Determ
     let kr = 1.0 / rho;
     let (c, s) = (x * kr, y * kr);
     let e1 = u1.body;
-    let e3 = nb * (1.0 / sb);
+    let e3 = nb / sb;
     let e2 = e3.cross(&e1);
     let f1 = u1.reference;
-    let f3 = nr * (1.0 / sr);
+    let f3 = nr / sr;
     let f2 = f3.cross(&f1);
     let g1 = e1 * c + e2 * s;
     let g2 = e2 * c - e1 * s;
