@@ -205,6 +205,55 @@ pub fn run_flight<S: Sink>(s: &mut S) {
         out3(s, &r);
     }
 
+    // The `sgp4` crate (f64, Vallado's code), the same elements, WGS-72, AFSPC mode: its image
+    // does not fit the FG439 (nor the 16-bit address space): `--groups sgp4-peer` reports by how
+    // much (README #9).
+    #[cfg(feature = "group-sgp4-peer")]
+    {
+        use core::f64::consts::PI;
+        let deg = PI / 180.0;
+        let geo = sgp4::WGS72;
+        let years = core::hint::black_box(0.491_409_8);
+        s.begin("sgp4 crate init");
+        let c = sgp4::Orbit::from_kozai_elements(
+            &geo,
+            34.268_2 * deg,
+            348.724_2 * deg,
+            0.185_966_7,
+            331.766_4 * deg,
+            19.326_4 * deg,
+            10.824_191_574 * PI / 720.0,
+        )
+        .ok()
+        .and_then(|o| {
+            sgp4::Constants::new(
+                geo,
+                sgp4::afspc_epoch_to_sidereal_time,
+                years,
+                0.280_98e-4,
+                o,
+            )
+            .ok()
+        });
+        core::hint::black_box(&c);
+        s.end();
+        let t = f64::from(s.input(360.0)) + f64::from(s.input(0.123_4));
+        s.begin("sgp4 crate propagate");
+        let p = c
+            .as_ref()
+            .and_then(|c| c.propagate(sgp4::MinutesSinceEpoch(t)).ok());
+        let p = core::hint::black_box(p);
+        s.end();
+        let r = p.map_or(nan3, |p| {
+            Vec3::new(
+                p.position[0] as f32,
+                p.position[1] as f32,
+                p.position[2] as f32,
+            )
+        });
+        out3(s, &r);
+    }
+
     // ---- environment
     if cfg!(feature = "group-env") {
         let utc: Option<Epoch<Utc>> = Epoch::from_parts(9_300, 43_210, 0).ok();
