@@ -191,6 +191,43 @@ fn cli_plan_writes_profile_errors_and_plot() {
     assert!(std::fs::read_to_string(dir.join("plan.svg"))
         .unwrap()
         .contains("<svg"));
+    assert!(stdout.contains("knot_times_s: 0.000 500.000 1000.000 1500.000"));
+    // variable grid (Table 6.5): the knot times are optimised and reported, increasing
+    std::fs::write(
+        &desc,
+        r#"{"duration_s": 150, "evals": 40, "restarts": 0, "steps": 150, "field": "dipole",
+            "variable_grid": true}"#,
+    )
+    .unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_acs"))
+        .args([
+            "plan",
+            desc.to_str().unwrap(),
+            "--out",
+            dir.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    println!("{stdout}");
+    assert!(out.status.success());
+    let times: Vec<f64> = stdout
+        .lines()
+        .find_map(|l| l.strip_prefix("knot_times_s: "))
+        .unwrap()
+        .split(' ')
+        .map(|t| t.parse().unwrap())
+        .collect();
+    assert_eq!(times.len(), 4);
+    assert!(times[0] == 0.0 && times[3] == 150.0, "{times:?}");
+    assert!(times.windows(2).all(|w| w[1] > w[0]), "{times:?}");
+    let interior: Vec<&str> = stdout
+        .lines()
+        .find_map(|l| l.strip_prefix("interior_knots_qv: "))
+        .unwrap()
+        .split(") (")
+        .collect();
+    assert_eq!(interior.len(), 2);
     // bad input: exit code 2
     std::fs::write(&desc, r#"{"duration_s": -1}"#).unwrap();
     let bad = std::process::Command::new(env!("CARGO_BIN_EXE_acs"))

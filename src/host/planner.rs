@@ -4,7 +4,8 @@
 //!
 //! One candidate (parameters `p` = vector parts `q_v` of the interior knots, 3 per knot):
 //! 1. the on-board profile [`AttitudeSpline`] through `q_start`, the interior knots and `q_end`
-//!    (uniform knots unless [`Problem::variable_grid`], clamped rest-to-rest ends; f32, exactly what the spacecraft would evaluate);
+//!    (uniform knots unless [`Problem::variable_grid`], clamped rest-to-rest ends; f32, exactly
+//!    what the spacecraft would evaluate);
 //! 2. at each time, ω, ω̇ from it and `τ_id = I ω̇ + ω × I ω` (seed 001 eq. 2.31); the field in body
 //!    axes of the **planned** attitude; the dipole by [`crate::planning::allocation::magnetic`]
 //!    (per-axis clip, as the thesis) or, with wheels, [`crate::planning::allocation::hybrid`];
@@ -16,8 +17,11 @@
 //!    δq the vector part of the error quaternion).
 //!
 //! The optimiser is a small bounded Nelder–Mead written here ([`nelder_mead`], coefficients
-//! 1, 2, ½, ½ and fminsearch's initial simplex, note 001 §3.7), restarted from its best point;
-//! no extra dependency. Direct dynamics and the pattern search are not implemented.
+//! 1, 2, ½, ½ and fminsearch's initial simplex, note 001 §3.7), restarted from its best point,
+//! or the compass [`pattern_search`] (Algorithm 2); no extra dependency. Also: **direct
+//! dynamics** ([`simulate_direct`]: the dipole splined per axis, cost 6.3/6.5), the variable
+//! knot grid of Table 6.5 for both ([`Problem::variable_grid`]), and the minimum-time scaling
+//! of eqs. 4.8–4.10 ([`simulate_time_scaled`], [`plan_minimum_time`]).
 //!
 //! Attitudes follow [`crate::attitude`] (scalar-first, `v_body = A(q) v_ref`).
 #![allow(clippy::needless_range_loop)] // fixed 3/4/10-element state arithmetic reads best indexed

@@ -9,8 +9,11 @@
 //!  "wheels": {"inertia_kgm2": 8e-4, "max_rpm": 5000, "max_torque_nm": 0.01},
 //!  "a_km": 6828.1, "omega0_radps": 1.119e-3, "inc_deg": 51, "greenwich0_deg": 0,
 //!  "weights": [1e5, 1e8, 0], "evals": 1500, "restarts": 2, "steps": 1500,
-//!  "optimiser": "nelder-mead", "field": "igrf", "start_utc": "2025-01-01T00:00:00Z"}
+//!  "optimiser": "nelder-mead", "field": "igrf", "start_utc": "2025-01-01T00:00:00Z",
+//!  "variable_grid": false}
 //! ```
+//! `variable_grid`: the interior knot times are optimised too (seed 001 Table 6.5,
+//! [`crate::host::planner::Problem::variable_grid`]); `errors.txt` gives the knot times.
 //! `field`: `igrf` (default: IGRF-14 degree 13 at the epoch `start_utc` + t, the orbit frame
 //! taken as TEME, `greenwich0_deg` unused) or `dipole` (seed 001's rotating tilted dipole, the
 //! thesis reproduction; `start_utc` unused).
@@ -67,6 +70,7 @@ struct Description {
     optimiser: String,
     field: String,
     start_utc: String,
+    variable_grid: bool,
 }
 
 impl Default for Description {
@@ -90,6 +94,7 @@ impl Default for Description {
             optimiser: "nelder-mead".into(),
             field: "igrf".into(),
             start_utc: "2025-01-01T00:00:00Z".into(),
+            variable_grid: false,
         }
     }
 }
@@ -183,7 +188,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         dt_s: d.duration_s / d.steps as f64,
         weights: d.weights,
         field,
-        variable_grid: false,
+        variable_grid: d.variable_grid,
     };
     // The field must be defined over the whole manoeuvre (IGRF: date range, altitude).
     for t in [0.0, d.duration_s] {
@@ -222,19 +227,27 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             s.h_rw[0], s.h_rw[1], s.h_rw[2]
         );
     }
-    let knots: Vec<String> = p
+    let n_qv = 3 * pb.knots.saturating_sub(2);
+    let (qv, grid) = p.split_at(n_qv.min(p.len()));
+    let knots: Vec<String> = qv
         .chunks(3)
         .map(|c| format!("({:.8}, {:.8}, {:.8})", c[0], c[1], c[2]))
         .collect();
+    let times: Vec<String> = pb
+        .knot_times(grid)
+        .iter()
+        .map(|t| format!("{t:.3}"))
+        .collect();
     let report = format!(
-        "final_attitude_error_deg: {:.6e}\nfinal_rate_error_degps: {:.6e}\ncost: {:.6e}\nlost_torque_integral_n2m2s: {:.6e}\nmax_dipole_am2: {:.6}\nmax_wheel_speed_rpm: {:.3}\ninterior_knots_qv: {}\n",
+        "final_attitude_error_deg: {:.6e}\nfinal_rate_error_degps: {:.6e}\ncost: {:.6e}\nlost_torque_integral_n2m2s: {:.6e}\nmax_dipole_am2: {:.6}\nmax_wheel_speed_rpm: {:.3}\ninterior_knots_qv: {}\nknot_times_s: {}\n",
         outcome.attitude_error_deg,
         outcome.rate_error_degps,
         outcome.cost,
         outcome.lost_integral,
         outcome.max_dipole_am2,
         outcome.max_wheel_speed_radps * 30.0 / std::f64::consts::PI,
-        knots.join(" ")
+        knots.join(" "),
+        times.join(" ")
     );
     std::fs::write(dir.join("profile.csv"), csv).map_err(|e| CliError::Compute(e.to_string()))?;
     std::fs::write(dir.join("errors.txt"), &report)
