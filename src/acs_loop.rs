@@ -60,7 +60,7 @@ use crate::env::sun::precise;
 use crate::hal::TileBus;
 use crate::linalg::{Vec2, Vec3};
 use crate::orbit::sgp4::Sgp4;
-use crate::tiles::{RawGyro, RawMagnetometer, RawSunAngles, TileState, Tiles, MAX_TILES};
+use crate::tiles::{RawGyro, RawMagnetometer, RawSunAngles, Tile, TileState, MAX_TILES};
 use crate::time::{gmst_rad, Epoch, Utc};
 
 /// Consecutive read failures after which a tile is marked failed.
@@ -107,11 +107,13 @@ pub struct Faults {
     pub saturated: bool,
 }
 
-/// Gains, limits and geometry of the loop.
+/// Gains, limits and geometry of the loop, for at most `N` tiles (`N` ≤ 32; the host default
+/// [`MAX_TILES`]; the flight firmware sizes it to its satellite, e.g. 6 for the thesis's cube, which
+/// keeps the loop's RAM small).
 #[derive(Clone, Debug)]
-pub struct AcsConfig {
+pub struct AcsConfig<const N: usize = MAX_TILES> {
     /// The satellite's tiles (their state is updated at run time in [`AcsLoop`]).
-    pub tiles: Tiles,
+    pub tiles: heapless::Vec<Tile, N>,
     /// Principal axes and inertia (kg·m², body).
     pub axes: PrincipalAxes,
     /// Magnetorquer coils: axis in body, dipole limit (A·m²), working flag.
@@ -209,10 +211,11 @@ struct SlewProgress {
     h_base: Vec3,
 }
 
-/// The loop's state: mode, estimator memories, commands in force, device health.
+/// The loop's state: mode, estimator memories, commands in force, device health; for at most
+/// `N` ≤ 32 tiles (see [`AcsConfig`]).
 #[derive(Clone, Debug)]
-pub struct AcsLoop {
-    config: AcsConfig,
+pub struct AcsLoop<const N: usize = MAX_TILES> {
+    config: AcsConfig<N>,
     orbit: Sgp4,
     mode: Mode,
     bdot: BdotState,
@@ -223,8 +226,8 @@ pub struct AcsLoop {
     /// Filtered attitude and the seconds since it last saw a measurement.
     estimate: Option<(Quaternion, f32)>,
     /// Commanded momentum of each tile's wheel, kg·m²/s along the tile normal.
-    wheel_h: [f32; MAX_TILES],
-    failures: [u8; MAX_TILES],
+    wheel_h: [f32; N],
+    failures: [u8; N],
     /// Allocators of the wheels and the coils, rebuilt when their working set changes.
     wheel_allocator: Option<Allocator>,
     coil_allocator: Option<Allocator>,
@@ -238,7 +241,8 @@ pub struct AcsLoop {
 #[derive(Copy, Clone, Debug, PartialEq)]
 #[non_exhaustive]
 pub enum AcsError {
-    /// A configuration value is not finite or not positive where it must be.
+    /// A configuration value is not finite or not positive where it must be, or the tile
+    /// capacity exceeds 32.
     InvalidConfig,
     /// A slew cannot be planned now (no valid attitude, or the planner refused).
     CannotSlew,
@@ -277,15 +281,15 @@ fn cached_allocation<const N: usize>(
 }
 
 /// Per-tile readings of one step.
-struct Readings {
-    sun: [Option<crate::tiles::SunAngles>; MAX_TILES],
-    mag: [Option<Vec2>; MAX_TILES],
-    gyro: [Option<f32>; MAX_TILES],
+struct Readings<const N: usize> {
+    sun: [Option<crate::tiles::SunAngles>; N],
+    mag: [Option<Vec2>; N],
+    gyro: [Option<f32>; N],
 }
 
-impl AcsLoop {
+impl<const N: usize> AcsLoop<N> {
     /// A loop in `Detumble` for the given configuration and orbit.
-    pub fn new(config: AcsConfig, orbit: Sgp4) -> Result<Self, AcsError> {
+    pub fn new(config: AcsConfig<N>, orbit: Sgp4) -> Result<Self, AcsError> {
         let gain_ok = config.filter_gain > 0.0 && config.filter_gain <= 1.0;
         let finite = gain_ok
             && config.max_propagation_s.is_finite()
@@ -297,7 +301,7 @@ impl AcsLoop {
             && config.control_period_s > 0.0
             && config.control_period_s.is_finite()
             && config.slew_pause_s >= 0.0;
-        if !finite || config.detumble_exit_radps >= config.detumble_enter_radps {
+        if !finite || config.detumble_exit_radps >= config.detumble_enter_radps || N > 32 {
             return Err(AcsError::InvalidConfig);
         }
         Ok(Self {
@@ -310,8 +314,8 @@ impl AcsLoop {
             invalid_steps: 0,
             last_time: None,
             estimate: None,
-            wheel_h: [0.0; MAX_TILES],
-            failures: [0; MAX_TILES],
+            wheel_h: [0.0; N],
+            failures: [0; N],
             wheel_allocator: None,
             coil_allocator: None,
             mag_solver: None,
@@ -325,7 +329,7 @@ impl AcsLoop {
     }
 
     /// The tiles with their run-time state.
-    pub fn tiles(&self) -> &Tiles {
+    pub fn tiles(&self) -> &heapless::Vec<Tile, N> {
         &self.config.tiles
     }
 
@@ -411,11 +415,11 @@ impl AcsLoop {
         faults
     }
 
-    fn read_tiles<B: TileBus>(&mut self, bus: &mut B, faults: &mut Faults) -> Readings {
+    fn read_tiles<B: TileBus>(&mut self, bus: &mut B, faults: &mut Faults) -> Readings<N> {
         let mut r = Readings {
-            sun: [None; MAX_TILES],
-            mag: [None; MAX_TILES],
-            gyro: [None; MAX_TILES],
+            sun: [None; N],
+            mag: [None; N],
+            gyro: [None; N],
         };
         let tiles = &mut self.config.tiles;
         for (i, tile) in tiles.iter_mut().enumerate() {
@@ -740,7 +744,7 @@ impl AcsLoop {
             axis_body: Vec3::z(),
             limit: 1.0,
             working: false,
-        }; MAX_TILES];
+        }; N];
         for (w, t) in wheels.iter_mut().zip(self.config.tiles.iter()) {
             *w = Wheel {
                 axis_body: t.normal_body(),

@@ -264,19 +264,18 @@ pub const CUBE_THESIS_MATRICES: [Mat3; 6] = [
 /// The chapter-12 cube: tiles 0..5 with A0..A5; tile 0 is a Telecommunication tile (no ACS
 /// device), tiles 1–5 Power Management tiles (note 000 §4.2).
 pub fn cube_thesis() -> Tiles {
-    CUBE_THESIS_MATRICES
-        .iter()
-        .enumerate()
-        .map(|(m, a)| {
-            let equipment = if m == 0 {
-                Equipment::TELECOM
-            } else {
-                Equipment::POWER
-            };
-            Tile::new(*a, equipment)
-        })
-        .collect()
+    CUBE_THESIS.iter().copied().collect()
 }
+
+/// The tiles of [`cube_thesis`] as a constant (for a flight configuration sized to six tiles).
+pub const CUBE_THESIS: [Tile; 6] = [
+    Tile::new(CUBE_THESIS_MATRICES[0], Equipment::TELECOM),
+    Tile::new(CUBE_THESIS_MATRICES[1], Equipment::POWER),
+    Tile::new(CUBE_THESIS_MATRICES[2], Equipment::POWER),
+    Tile::new(CUBE_THESIS_MATRICES[3], Equipment::POWER),
+    Tile::new(CUBE_THESIS_MATRICES[4], Equipment::POWER),
+    Tile::new(CUBE_THESIS_MATRICES[5], Equipment::POWER),
+];
 
 /// A cube with 4 tiles per face (24 Power Management tiles): tiles `4f..4f+3` are on face `f`
 /// and share the thesis's matrix `A_f` (their normals are parallel, so their measurements are

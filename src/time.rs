@@ -220,12 +220,15 @@ pub const fn days_from_civil(year: i32, month: u8, day: u8) -> i32 {
 
 /// The Gregorian (year, month, day) of a day count from 2000-01-01 (inverse of [`days_from_civil`]).
 ///
-/// Exact for every `i32` day count (the arithmetic is done in `i64`, so the extreme day counts a
-/// saturated [`Epoch::add`] can produce do not overflow).
+/// Exact for every `i32` day count: the 400-year era is found in `i64` (so the extreme day
+/// counts a saturated [`Epoch::add`] can produce do not overflow), the rest in `i32` (one 64-bit
+/// division instead of nine: on the MSP430 these are library calls).
 pub const fn civil_from_days(days: i32) -> (i32, u8, u8) {
     let z = days as i64 + 10_957 + 719_468;
     let era = if z >= 0 { z } else { z - 146_096 } / 146_097;
-    let doe = z - era * 146_097;
+    // 0 ≤ doe ≤ 146 096 and |era| ≤ 14 700: everything below fits i32
+    let doe = (z - era * 146_097) as i32;
+    let era = era as i32;
     let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
     let y = yoe + era * 400;
     let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
@@ -233,8 +236,7 @@ pub const fn civil_from_days(days: i32) -> (i32, u8, u8) {
     let d = doy - (153 * mp + 2) / 5 + 1;
     let m = if mp < 10 { mp + 3 } else { mp - 9 };
     let year = if m <= 2 { y + 1 } else { y };
-    // |year| ≤ 5.9 million for any i32 day count: fits i32
-    (year as i32, m as u8, d as u8)
+    (year, m as u8, d as u8)
 }
 
 /// True for a Gregorian leap year.

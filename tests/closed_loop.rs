@@ -156,6 +156,11 @@ fn loop_state_size() {
     let orbit = std::mem::size_of::<acs::orbit::sgp4::Sgp4>();
     println!("AcsLoop {total} B = configuration {config} B + SGP4 elements {orbit} B + state {} B (host, 64-bit)", total - config - orbit);
     assert!(total - config - orbit <= 512);
+    // sized to the thesis's six tiles, as the flight firmware is
+    let six = std::mem::size_of::<AcsLoop<6>>();
+    let six_config = std::mem::size_of::<AcsConfig<6>>();
+    println!("AcsLoop<6> {six} B = configuration {six_config} B + SGP4 elements {orbit} B + state {} B (host, 64-bit)", six - six_config - orbit);
+    assert!(six <= 1024);
 }
 
 /// With every wheel failed the allocation has nothing to work with: every wheel-equipped tile

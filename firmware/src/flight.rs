@@ -7,7 +7,7 @@
 
 use acs::acs_loop::{AcsConfig, AcsLoop};
 use acs::control::bdot::BdotConfig;
-use acs::control::principal_axes::principal_axes;
+use acs::control::principal_axes::PrincipalAxes;
 use acs::control::slew::SlewLimits;
 use acs::control::sun_safe::SunSafeGains;
 use acs::control::tracking::TrackingGains;
@@ -83,10 +83,33 @@ pub fn test_tle() -> Option<acs::tle::Tle> {
         })
 }
 
+/// The principal moments of inertia, kg·m²: the body axes are principal axes.
+pub const INERTIA_DIAGONAL: [f32; 3] = [0.010, 0.012, 0.014];
+
+/// The principal axes of a diagonal inertia tensor: `E = I`, the moments in body-axis order (what
+/// [`acs::control::principal_axes::principal_axes`] returns for it, checked on the host by
+/// `firmware/bench-host`), without its eigen-decomposition (3 KB of flash) on board.
+pub fn principal_axes_of_diagonal(moments: &[f32; 3]) -> PrincipalAxes {
+    let [a, b, c] = *moments;
+    let moments = Vec3::new(a, b, c);
+    PrincipalAxes {
+        e: Mat3::identity(),
+        moments,
+        inertia_body: Mat3::from_diagonal(&moments),
+    }
+}
+
+/// The number of tiles of the flight configuration (the thesis's cube): the loop is sized to it.
+pub const TILES: usize = 6;
+
 /// The loop with its flight configuration, or `None` if a part of it is invalid.
-pub fn new_loop() -> Option<AcsLoop> {
-    let inertia = Mat3::from_diagonal(&Vec3::new(0.010, 0.012, 0.014));
-    let axes = principal_axes(&inertia).ok()?;
+///
+/// Not inlined: its temporaries (configuration, SGP4 initialisation) leave the stack before the
+/// control loop starts.
+#[inline(never)]
+pub fn new_loop() -> Option<AcsLoop<TILES>> {
+    let axes = principal_axes_of_diagonal(&INERTIA_DIAGONAL);
+    let inertia = axes.inertia_body;
     let mut coils = heapless::Vec::new();
     for axis in [Vec3::x(), Vec3::y(), Vec3::z()] {
         coils
@@ -98,7 +121,7 @@ pub fn new_loop() -> Option<AcsLoop> {
             .ok()?;
     }
     let config = AcsConfig {
-        tiles: acs::tiles::cube_thesis(),
+        tiles: acs::tiles::CUBE_THESIS.iter().copied().collect(),
         axes,
         coils,
         wheel_limit_nms: 1.0e-3,

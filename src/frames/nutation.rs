@@ -139,6 +139,10 @@ pub fn mean_obliquity_rad<T: Real>(t: T) -> T {
 
 /// A fundamental argument in revolutions reduced to 0..1: `c0 + c1·T + c2·T² + c3·T³` with c0 in
 /// degrees, c1 as whole revolutions plus arcseconds per century, c2 and c3 in arcseconds.
+///
+/// Always inlined: the coefficients are then constants of the caller and their f64 → `T`
+/// conversions are done by the compiler (no f64 arithmetic on the MSP430).
+#[inline(always)]
 fn argument_rev<T: Real>(t: T, c0_deg: f64, rev: f64, c1_arcsec: f64, c2: f64, c3: f64) -> T {
     // Whole revolutions per century first, reduced on their own so the f32 sum stays small.
     let whole = T::of(rev) * t;

@@ -35,6 +35,14 @@ impl cases::Sink for Host {
 }
 
 fn main() {
+    #[cfg(feature = "group-step")]
+    {
+        // the flight configuration's principal axes are those the eigen-decomposition gives
+        let d = flight::INERTIA_DIAGONAL;
+        let inertia = acs::linalg::Mat3::from_diagonal(&acs::linalg::Vec3::new(d[0], d[1], d[2]));
+        let computed = acs::control::principal_axes::principal_axes(&inertia);
+        assert_eq!(computed.ok(), Some(flight::principal_axes_of_diagonal(&d)));
+    }
     let mut h = Host::default();
     cases::run(&mut h);
     let names: Vec<String> = h.names.iter().map(|n| format!("{n:?}")).collect();
