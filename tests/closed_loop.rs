@@ -160,7 +160,9 @@ fn loop_state_size() {
     let six = std::mem::size_of::<AcsLoop<6>>();
     let six_config = std::mem::size_of::<AcsConfig<6>>();
     println!("AcsLoop<6> {six} B = configuration {six_config} B + SGP4 elements {orbit} B + state {} B (host, 64-bit)", six - six_config - orbit);
-    assert!(six <= 1024);
+    // the tile table and the per-tile state shrink with the capacity (on the MSP430 the
+    // flight loop is 1 176 B: README "MSP430 firmware")
+    assert!(six + 800 <= total);
 }
 
 /// With every wheel failed the allocation has nothing to work with: every wheel-equipped tile

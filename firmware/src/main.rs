@@ -28,7 +28,9 @@ fn acs_step(sensors: &[TileSensors; TILES]) -> [TileCommands; TILES] {
 pub extern "C" fn main() -> ! {
     use acs_firmware::flight;
     tiles::command_safe();
-    let Some(mut acs) = flight::new_loop() else {
+    // used in place through a reference: moving it out of the Option would copy its 1.2 KB
+    let mut slot = flight::new_loop();
+    let Some(acs) = slot.as_mut() else {
         acs_firmware::safe_state();
         acs_firmware::fw_halt()
     };
