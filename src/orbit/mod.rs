@@ -115,7 +115,8 @@ impl Phase {
 /// −2⁴⁷..2⁴⁷ (non-finite input gives 0).
 fn fixed_turns(x: Df) -> i64 {
     let part = |v: f32| -> i64 {
-        if !v.is_finite() {
+        // not finite (from the bits: NaN-safe on the MSP430)
+        if v.to_bits() & 0x7f80_0000 == 0x7f80_0000 {
             return 0;
         }
         // v − round(v) is exact (Sterbenz); the 2⁴⁸ scaling too; beyond 2²³ it is an integer
@@ -159,6 +160,25 @@ mod tests {
             let d = got - exact;
             let d = d - libm::round(d);
             assert!(d.abs() < 1e-7, "w={w}: {got} vs {exact}");
+        }
+    }
+
+    #[test]
+    fn phase_from_double_f32_turns_matches_f64() {
+        // M₀ = 19.3264°, Ṁ of 15.5 rev/day, and a negative, larger-than-a-turn case
+        for &(deg, rev_day) in &[
+            (19.3264, 15.5),
+            (-725.25, 10.824_191_574),
+            (359.9999, 0.001),
+        ] {
+            let tau = core::f64::consts::TAU;
+            let rate = rev_day * tau / 1440.0;
+            let a = Phase::new(deg / 360.0 * tau, rate);
+            let turns = Df::from_f64(deg / 360.0).unwrap();
+            let b = Phase::from_turns(turns, Df::from_f64(rev_day / 1440.0).unwrap());
+            assert!((a.at_epoch - b.at_epoch).abs() <= 2, "{deg}: {a:?} {b:?}");
+            assert!((a.rate_fx - b.rate_fx).abs() <= 2, "{rev_day}: {a:?} {b:?}");
+            assert_eq!(a.rate_turns, b.rate_turns);
         }
     }
 
