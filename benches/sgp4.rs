@@ -91,7 +91,7 @@ fn bench(c: &mut Criterion) {
         .map(|(l1, l2)| sgp4::Elements::from_tle(None, l1.as_bytes(), l2.as_bytes()).expect("TLE"))
         .collect();
     init.throughput(Throughput::Elements(sets.len() as u64));
-    init.bench_function("acs (f64 init)", |b| {
+    init.bench_function("acs (double-f32 init)", |b| {
         b.iter(|| {
             for t in &tles {
                 let _ = black_box(Sgp4::new(black_box(t), Gravity::Wgs72));
