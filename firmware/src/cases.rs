@@ -57,6 +57,115 @@ pub fn run<S: Sink>(s: &mut S) {
     run_flight(s);
     #[cfg(feature = "group-step")]
     run_step(s);
+    if cfg!(feature = "group-parts") {
+        run_step_parts(s);
+    }
+}
+
+/// The parts of one ACS step that no other group measures, each called as
+/// `acs::acs_loop::AcsLoop::step` calls it, in the steady state (operators cached): with the
+/// model and determination cases of the other groups they add up to a step while the loop image
+/// itself does not fit the 16-bit address space (README "MSP430 firmware").
+#[inline(always)]
+fn run_step_parts<S: Sink>(s: &mut S) {
+    use acs::control::wheels::{Allocator, Wheel};
+    use acs::determination::least_squares::{
+        angular_rate_body_cached, magnetic_field_body_cached,
+    };
+    use acs::determination::sun_sensor::sun_direction_body;
+    use acs::env::eclipse::conical;
+    use acs::linalg::{Vec2, Vec3};
+    use acs::tiles::{SunAngles, CUBE_THESIS};
+    use acs::time::{Epoch, Utc};
+
+    let out3 = |s: &mut S, v: &Vec3| {
+        s.out(v.x);
+        s.out(v.y);
+        s.out(v.z);
+    };
+    let tiles = &CUBE_THESIS;
+    let mags: [Option<Vec2>; 6] = [
+        None,
+        Some(Vec2::new(s.input(21_000.0), s.input(-18_000.0))),
+        Some(Vec2::new(s.input(-9_000.0), s.input(32_000.0))),
+        Some(Vec2::new(s.input(15_000.0), s.input(24_000.0))),
+        Some(Vec2::new(s.input(-26_000.0), s.input(7_000.0))),
+        Some(Vec2::new(s.input(3_000.0), s.input(-31_000.0))),
+    ];
+    let mut cache = None;
+    let _ = magnetic_field_body_cached(&mut cache, tiles, &mags);
+    s.begin("step: magnetometer least squares (cached, 5 tiles)");
+    let b = magnetic_field_body_cached(&mut cache, tiles, &mags);
+    let b = core::hint::black_box(b).unwrap_or_default();
+    s.end();
+    out3(s, &b);
+
+    let rates: [Option<f32>; 6] = [
+        None,
+        Some(s.input(0.002_5)),
+        Some(s.input(-0.001_8)),
+        Some(s.input(0.003_1)),
+        Some(s.input(-0.001_2)),
+        Some(s.input(0.000_9)),
+    ];
+    let mut cache = None;
+    let _ = angular_rate_body_cached(&mut cache, tiles, &rates);
+    s.begin("step: gyro least squares (cached, 5 tiles)");
+    let w = angular_rate_body_cached(&mut cache, tiles, &rates);
+    let w = core::hint::black_box(w).unwrap_or_default();
+    s.end();
+    out3(s, &w);
+
+    let angles = |s: &mut S, a: f32, b: f32| {
+        Some(SunAngles {
+            a_rad: s.input(a),
+            b_rad: s.input(b),
+        })
+    };
+    let suns: [Option<SunAngles>; 6] = [
+        None,
+        angles(s, 0.12, -0.08),
+        angles(s, -0.05, 0.25),
+        angles(s, 0.3, 0.01),
+        None,
+        None,
+    ];
+    s.begin("step: Sun direction (3 lit tiles)");
+    let d = sun_direction_body(tiles, &suns);
+    let d = core::hint::black_box(d).unwrap_or_default();
+    s.end();
+    out3(s, &d);
+
+    let utc: Option<Epoch<Utc>> = Epoch::from_parts(9_300, 43_210, 0).ok();
+    let sun = utc.and_then(|t| acs::env::sun::precise::sun(&t).ok());
+    let r = Vec3::new(s.input(-4_100.0), s.input(1_200.0), s.input(-5_600.0));
+    s.begin("step: conical eclipse");
+    let ill = sun.as_ref().and_then(|sun| conical(&r, sun).ok());
+    let ill = core::hint::black_box(ill);
+    s.end();
+    s.out(ill.map_or(f32::NAN, |i| i.fraction));
+
+    let mut wheels = [Wheel {
+        axis_body: Vec3::z(),
+        limit: 1.0e-3,
+        working: false,
+    }; 6];
+    for (w, t) in wheels.iter_mut().zip(tiles.iter()) {
+        *w = Wheel {
+            axis_body: t.normal_body(),
+            limit: 1.0e-3,
+            working: t.has_working_wheel(),
+        };
+    }
+    let h = Vec3::new(s.input(2.0e-4), s.input(-1.5e-4), s.input(3.0e-4));
+    let alloc = Allocator::new(&wheels).ok();
+    s.begin("step: wheel allocation (cached, 5 wheels)");
+    let a = alloc.as_ref().and_then(|a| a.allocate(&wheels, &h).ok());
+    let a = core::hint::black_box(a);
+    s.end();
+    for x in a.map_or([f32::NAN; 6], |a| a.wheel) {
+        s.out(x);
+    }
 }
 
 /// One full ACS step (`crate::flight`: the loop over the mailbox tile bus).
@@ -65,6 +174,16 @@ pub fn run<S: Sink>(s: &mut S) {
 fn run_step<S: Sink>(s: &mut S) {
     let mut acs = crate::flight::new_loop();
     let mut bus = crate::flight::MailboxBus;
+    // Sensors as in orbit: Sun angles on every tile (the sensor model's average is then taken
+    // over five tiles), a 20–40 µT field, rates of a few mrad/s (below the detumble exit
+    // threshold: the first step leaves Detumble for SunSafe, which runs the wheel law). So a
+    // step runs every part: SGP4, Sun, eclipse, GMST, IGRF, least squares, QUEST, the filter,
+    // the law and the wheel and coil allocations.
+    crate::flight::set_mailboxes(
+        [[0, 0], [1200, -800], [-500, 2500], [3000, 100], [-2200, -1500], [700, 1900]],
+        [[0, 0], [2100, -1800], [-900, 3200], [1500, 2400], [-2600, 700], [300, -3100]],
+        [0, 25, -18, 31, -12, 9],
+    );
     for tick in 0..2u32 {
         let now = core::hint::black_box(crate::flight::tick_epoch(tick));
         s.begin(if tick == 0 {

@@ -28,6 +28,17 @@ pub static mut RAW_MAG: [[i16; 2]; 6] = [[0; 2]; 6];
 #[no_mangle]
 pub static mut RAW_GYRO: [i16; 6] = [0; 6];
 
+/// Writes the sensor mailboxes (what the tile drivers would deliver): raw Sun angles (1e-4 rad),
+/// magnetometer components (10 nT) and gyro rates (1e-4 rad/s), one entry per tile.
+pub fn set_mailboxes(sun: [[i16; 2]; 6], mag: [[i16; 2]; 6], gyro: [i16; 6]) {
+    // SAFETY: single-threaded firmware; volatile: read by the bus as if written from outside.
+    unsafe {
+        core::ptr::write_volatile(&raw mut RAW_SUN, sun);
+        core::ptr::write_volatile(&raw mut RAW_MAG, mag);
+        core::ptr::write_volatile(&raw mut RAW_GYRO, gyro);
+    }
+}
+
 /// The tile bus over the RAM mailboxes (`crate::tiles` for the commands).
 pub struct MailboxBus;
 
