@@ -66,7 +66,11 @@ use crate::time::{days_from_civil, Epoch, Tt, Utc};
 /// One arcsecond in radians.
 const ARCSEC: f32 = (core::f64::consts::PI / 648_000.0) as f32;
 /// 0.0001″ in radians (the unit of the IAU 1980 nutation table).
-const NUT_UNIT: f32 = (core::f64::consts::PI / 648_000.0 * 1e-4) as f32;
+/// 0.001″ × 2^-14 in radians: the unit of the nutation sums (amplitude in 0.001″ × Q14 cosine).
+const NUT_SUM_UNIT: f32 = (core::f64::consts::PI / 648_000.0 * 1e-3 / 16_384.0) as f32;
+/// Units of the integer amplitudes of the periodic terms: 2e-9 rad (L), 1e-9 AU (R).
+const L_UNIT: f64 = 2e-9;
+const R_UNIT: f64 = 1e-9;
 
 /// First and last TT day (since 2000-01-01) of the model's range, 1950-01-01 and 2100-12-31.
 const FIRST_DAY: i32 = days_from_civil(1950, 1, 1);
@@ -84,24 +88,46 @@ const M_OFFSET: f32 =
     ((4.669_256_8 - 1.753_470_46 - core::f64::consts::PI) / core::f64::consts::TAU) as f32;
 const M_RATE: f32 = ((6_283.075_85 - 6_283.319_667_47) / core::f64::consts::TAU) as f32;
 
-/// A fundamental argument `phase + rate·days` in 2^-16 turn: (phase, rate per day).
-const fn fundamental(phase_rad: f64, rate_rad_per_millennium: f64) -> (f32, f32) {
-    let unit = core::f64::consts::TAU / 65_536.0;
-    (
-        (phase_rad / unit) as f32,
-        (rate_rad_per_millennium / 365_250.0 / unit) as f32,
-    )
+/// A fundamental argument `phase + rate·days` in fixed point: phase at J2000.0 in 2^-32 turn,
+/// rate in 2^-32 turn per day (wrapping: negative rates in two's complement) and in 2^-16 turn
+/// per day (for the fraction of the day).
+#[derive(Copy, Clone)]
+struct Fundamental {
+    phase_q32: u32,
+    rate_q32: u32,
+    rate_q16: i16,
+}
+
+/// `x.floor()` for |x| < 2^53 (not in `core`).
+const fn floor_f64(x: f64) -> f64 {
+    let w = x as i64 as f64;
+    if w > x {
+        w - 1.0
+    } else {
+        w
+    }
+}
+
+const fn fundamental(phase_rad: f64, rate_rad_per_millennium: f64) -> Fundamental {
+    let turns = phase_rad / core::f64::consts::TAU;
+    let rate = rate_rad_per_millennium / core::f64::consts::TAU / 365_250.0;
+    let q32 = 4_294_967_296.0;
+    Fundamental {
+        phase_q32: ((turns - floor_f64(turns)) * q32) as u32,
+        rate_q32: ((rate - floor_f64(rate)) * q32) as u32,
+        rate_q16: (rate * 65_536.0) as i16,
+    }
 }
 
 /// Mean longitudes of VSOP87 (J. L. Simon et al., A&A 282, 663, 1994, as used by VSOP87).
-const VENUS: (f32, f32) = fundamental(3.176_146_69, 10_213.285_546_2);
-const MARS: (f32, f32) = fundamental(6.203_481_42, 3_340.612_426_7);
-const JUPITER: (f32, f32) = fundamental(0.599_546_91, 529.690_965_1);
-const SATURN: (f32, f32) = fundamental(0.874_016_75, 213.299_095_4);
+const VENUS: Fundamental = fundamental(3.176_146_69, 10_213.285_546_2);
+const MARS: Fundamental = fundamental(6.203_481_42, 3_340.612_426_7);
+const JUPITER: Fundamental = fundamental(0.599_546_91, 529.690_965_1);
+const SATURN: Fundamental = fundamental(0.874_016_75, 213.299_095_4);
 /// The Moon's mean elongation D (IAU 1980: 297.850 363 06° + 1 602 961 601.2090″/century).
-const ELONGATION: (f32, f32) = fundamental(5.198_466_741, 77_713.771_468_1);
+const ELONGATION: Fundamental = fundamental(5.198_466_741, 77_713.771_468_1);
 /// Longitude of the Moon's ascending node Ω (IAU 1980: 125.044 522 22° − 1 934.136 261°/century).
-const NODE: (f32, f32) = fundamental(
+const NODE: Fundamental = fundamental(
     125.044_522_22 * core::f64::consts::PI / 180.0,
     -1_934.136_261 * 10.0 * core::f64::consts::PI / 180.0,
 );
@@ -109,8 +135,29 @@ const NODE: (f32, f32) = fundamental(
 /// Nutation in longitude (IAU 1980, Seidelmann 1982 table; the `T` rates, ≤ 0.018″ by 2100,
 /// dropped), 0.0001″: coefficients of sin Ω, sin 2L☉, sin 2L☾, sin 2Ω, sin l′.
 const NUTATION_DPSI: [f32; 5] = [-171_996.0, -13_187.0, -2_274.0, 2_062.0, 1_426.0];
+/// [`NUTATION_DPSI`] in 0.001″ (rounded), for the integer sum.
+const DPSI_MAS: [i16; 5] = mas(NUTATION_DPSI);
 /// Nutation in obliquity, 0.0001″: coefficients of cos Ω, cos 2L☉, cos 2L☾, cos 2Ω.
 const NUTATION_DEPS: [f32; 4] = [92_025.0, 5_736.0, 977.0, -895.0];
+/// [`NUTATION_DEPS`] in 0.001″ (rounded).
+const DEPS_MAS: [i16; 4] = mas(NUTATION_DEPS);
+
+/// Table coefficients in 0.0001″ to i16 in 0.001″, rounded half away from zero.
+#[allow(clippy::indexing_slicing)] // const evaluation: an index out of range is a build error
+const fn mas<const N: usize>(c: [f32; N]) -> [i16; N] {
+    let mut out = [0; N];
+    let mut i = 0;
+    while i < N {
+        let x = c[i] / 10.0;
+        out[i] = if x < 0.0 {
+            (x - 0.5) as i16
+        } else {
+            (x + 0.5) as i16
+        };
+        i += 1;
+    }
+    out
+}
 
 /// Mean obliquity at J2000 (IAU 1976: 84 381.448″) and its rate (−46.8150″ per century).
 const EPS0_RAD: f64 = 84_381.448 * core::f64::consts::PI / 648_000.0;
@@ -202,26 +249,27 @@ const fn sin_f64(x: f64) -> f64 {
     sum
 }
 
-/// `cos(2π i / 1024)` for i = 0..=256 (a quarter turn), f32.
+/// `cos(2π i / 1024)` for i = 0..=256 (a quarter turn), in 2^-30 (Q30).
 #[allow(clippy::indexing_slicing)] // const evaluation: an index out of range is a build error
-const fn quarter_cos_table() -> [f32; 257] {
-    let mut t = [0.0; 257];
+const fn quarter_cos_table() -> [i32; 257] {
+    let mut t = [0; 257];
     let mut i = 0;
     while i < 257 {
-        t[i] = cos_f64(i as f64 * (core::f64::consts::FRAC_PI_2 / 256.0)) as f32;
+        let c = cos_f64(i as f64 * (core::f64::consts::FRAC_PI_2 / 256.0));
+        t[i] = (c * 1_073_741_824.0 + 0.5) as i32;
         i += 1;
     }
     t
 }
 
-/// `cos(2π i / 1024)`, i = 0..=256.
-static QUARTER_COS: [f32; 257] = quarter_cos_table();
+/// `cos(2π i / 1024)`, i = 0..=256, Q30 (1 KB of flash).
+static QUARTER_COS: [i32; 257] = quarter_cos_table();
 
-/// `(sin, cos)` of `i` 1024ths of a turn (`i` taken modulo 1024), exact to f32 rounding.
-fn table_sin_cos(i: u16) -> (f32, f32) {
+/// `(sin, cos)` of `i` 1024ths of a turn (`i` taken modulo 1024), Q30.
+fn table_sin_cos(i: u16) -> (i32, i32) {
     let k = usize::from(i & 0xFF);
-    let a = QUARTER_COS.get(k).copied().unwrap_or(1.0);
-    let b = QUARTER_COS.get(256 - k).copied().unwrap_or(0.0);
+    let a = QUARTER_COS.get(k).copied().unwrap_or(1 << 30);
+    let b = QUARTER_COS.get(256 - k).copied().unwrap_or(0);
     match (i >> 8) & 3 {
         0 => (b, a),
         1 => (a, -b),
@@ -230,19 +278,21 @@ fn table_sin_cos(i: u16) -> (f32, f32) {
     }
 }
 
-/// Cosine of an angle in 2^-16 turn, from the nearest of 1 024 table points: error at most
-/// `sin(π/1024)` = 3.1e-3 (for terms of a few arcseconds, where that is 0.02″). Not inlined: it is
-/// called 33 times, and a call costs a few cycles but saves about 1.5 KB of MSP430 flash.
+/// Cosine of an angle in 2^-16 turn, Q14, from the nearest of 1 024 table points: error at most
+/// `sin(π/1024)` = 3.1e-3 (for terms of a few arcseconds, where that is 0.02″). Not inlined: it
+/// is called 36 times, and a call costs a few cycles but saves about 1.5 KB of MSP430 flash.
 #[inline(never)]
-fn cos16(u: u16) -> f32 {
+fn cos16(u: u16) -> i16 {
     let i = u.wrapping_add(32) >> 6;
     let k = usize::from(i & 0xFF);
     let q = (i >> 8) & 3;
     let v = if q & 1 == 0 {
-        QUARTER_COS.get(k).copied().unwrap_or(1.0)
+        QUARTER_COS.get(k).copied().unwrap_or(1 << 30)
     } else {
-        QUARTER_COS.get(256 - k).copied().unwrap_or(0.0)
+        QUARTER_COS.get(256 - k).copied().unwrap_or(0)
     };
+    // The high half of Q30, rounded, is Q14 (|v| ≤ 2^30, so it fits i16).
+    let v = ((v + 0x8000) >> 16) as i16;
     if q == 1 || q == 2 {
         -v
     } else {
@@ -250,28 +300,49 @@ fn cos16(u: u16) -> f32 {
     }
 }
 
+/// `a·c` for an amplitude `a` and a Q14 cosine `c`, as i32 (16×16 → 32 bits, exact).
+fn scaled(a: i16, c: i16) -> i32 {
+    i32::from(a) * i32::from(c)
+}
+
+/// Nearest integer of `x` for |x| < 2^22 (ties to even), by adding 1.5·2^23: the sum's low
+/// mantissa bits are the integer. Exact, and a third of the cost of a saturating `as i32` on the
+/// MSP430 (which a value out of range cannot reach here: it would only give a wrong angle).
+fn round_small(x: f32) -> i32 {
+    const MAGIC: f32 = 12_582_912.0;
+    ((x + MAGIC).to_bits() as i32).wrapping_sub(0x4B40_0000)
+}
+
 /// `(sin, cos)` of `x` turns (|x| ≤ 2): the nearest table point `a` plus the second-order
 /// correction `sin(a + δ) = sin a (1 − δ²/2) + cos a δ` (error δ³/6 ≤ 5e-9 for |δ| ≤ π/1024,
 /// plus f32 rounding of a few 1e-8). `x·1024` is exact, so no floating range reduction is lost.
 fn sincos_turns(x: f32) -> (f32, f32) {
+    const Q30: f32 = 1.0 / 1_073_741_824.0;
     let u = x * 1024.0;
-    // Nearest integer for |u| < 2048 (`as` saturates, it never panics).
-    let k = (u + 2048.5) as i32 - 2048;
+    let k = round_small(u);
     let delta = (u - k as f32) * (core::f32::consts::TAU / 1024.0);
     let (s, c) = table_sin_cos(k as u16);
-    let w = 1.0 - 0.5 * delta * delta;
+    let (s, c) = (s as f32, c as f32);
+    // The Q30 scale folded into the factors (exact: a power of two).
+    let w = (1.0 - 0.5 * delta * delta) * Q30;
+    let delta = delta * Q30;
     (s * w + c * delta, c * w - s * delta)
 }
 
-/// An angle in turns to 2^-16 turn (wrapping). |x| < 32 768 turns.
+/// An angle in turns to 2^-16 turn (nearest, wrapping), |x| < 64 turns.
 fn turn16(x: f32) -> u16 {
-    ((x * 65_536.0) as i32) as u16
+    round_small(x * 65_536.0) as u16
 }
 
-/// A fundamental argument at `days` (f32 days since J2000.0; the f32 rounding, ≤ 2e-3 turn·
-/// rate, moves a term of a few arcseconds by < 0.01″), 2^-16 turn.
-fn at(arg: (f32, f32), days: f32) -> u16 {
-    ((arg.0 + arg.1 * days) as i32) as u16
+/// A fundamental argument at `n` whole days plus `f_q15` 2^-15 days (|f_q15| ≤ 2^14), 2^-16 turn:
+/// exact fixed point for the whole days (wrapping 32-bit turns: the rate's 2^-33 turn/day
+/// rounding is 5e-6 turn after 150 years), 1 unit/day rate rounding times ½ day for the fraction.
+fn at(arg: Fundamental, n: i32, f_q15: i16) -> u16 {
+    let whole = arg
+        .phase_q32
+        .wrapping_add(arg.rate_q32.wrapping_mul(n as u32));
+    let frac = scaled(arg.rate_q16, f_q15) >> 15;
+    ((whole >> 16) as u16).wrapping_add(frac as u16)
 }
 
 /// `c[0] + c[1] x + c[2] x² + …` (Horner).
@@ -292,17 +363,19 @@ fn nutation(node: u16, sun_lon: u16, d: u16, e: u16) -> (f32, f32) {
     let two_sun = sun_lon.wrapping_mul(2);
     let two_moon = d.wrapping_add(sun_lon).wrapping_mul(2);
     let two_node = node.wrapping_mul(2);
-    let [p0, p1, p2, p3, p4] = NUTATION_DPSI;
-    let dpsi = (p0 * cos16(node.wrapping_sub(QUARTER))
-        + p1 * cos16(two_sun.wrapping_sub(QUARTER))
-        + p2 * cos16(two_moon.wrapping_sub(QUARTER))
-        + p3 * cos16(two_node.wrapping_sub(QUARTER))
-        + p4 * cos16(e))
-        * NUT_UNIT;
-    let [q0, q1, q2, q3] = NUTATION_DEPS;
-    let deps =
-        (q0 * cos16(node) + q1 * cos16(two_sun) + q2 * cos16(two_moon) + q3 * cos16(two_node))
-            * NUT_UNIT;
+    // Σ amplitude (0.001″) × Q14 cosine: |sum| ≤ 19 095 · 2^14 < 2^31.
+    let [p0, p1, p2, p3, p4] = DPSI_MAS;
+    let dpsi = scaled(p0, cos16(node.wrapping_sub(QUARTER)))
+        .wrapping_add(scaled(p1, cos16(two_sun.wrapping_sub(QUARTER))))
+        .wrapping_add(scaled(p2, cos16(two_moon.wrapping_sub(QUARTER))))
+        .wrapping_add(scaled(p3, cos16(two_node.wrapping_sub(QUARTER))))
+        .wrapping_add(scaled(p4, cos16(e)));
+    let [q0, q1, q2, q3] = DEPS_MAS;
+    let deps = scaled(q0, cos16(node))
+        .wrapping_add(scaled(q1, cos16(two_sun)))
+        .wrapping_add(scaled(q2, cos16(two_moon)))
+        .wrapping_add(scaled(q3, cos16(two_node)));
+    let (dpsi, deps) = (dpsi as f32 * NUT_SUM_UNIT, deps as f32 * NUT_SUM_UNIT);
     (dpsi, deps)
 }
 
@@ -329,6 +402,7 @@ pub fn sun_tt(epoch: &Epoch<Tt>) -> Result<Sun, SunError> {
     }
     // Days since J2000.0 = 2000-01-01 12:00 TT: n whole days + f, f in −0.5..0.5.
     let f = (epoch.second_of_day() as f32 + epoch.nano() as f32 * 1e-9) * (1.0 / 86_400.0) - 0.5;
+    let f_q15 = round_small(f * 32_768.0) as i16;
     let days = n as f32 + f;
     let tau = days * (1.0 / 365_250.0);
     let t = tau * 10.0;
@@ -354,15 +428,18 @@ pub fn sun_tt(epoch: &Epoch<Tt>) -> Result<Sun, SunError> {
 
     // Fundamental arguments, 2^-16 turn.
     let e = turn16(m);
-    let v = at(VENUS, days);
-    let ma = at(MARS, days);
-    let j = at(JUPITER, days);
-    let s = at(SATURN, days);
-    let d = at(ELONGATION, days);
-    let node = at(NODE, days);
+    let v = at(VENUS, n, f_q15);
+    let ma = at(MARS, n, f_q15);
+    let j = at(JUPITER, n, f_q15);
+    let s = at(SATURN, n, f_q15);
+    let d = at(ELONGATION, n, f_q15);
+    let node = at(NODE, n, f_q15);
     let sun_lon = turn16(lon_mean);
 
     // Planetary and lunar terms: argument = Σ k·(M', V, Ma, J, S, D) + phase.
+    // Σ amplitude × Q14 cosine in i32: Σ|A_L| = 106 730 and Σ|A_R| = 89 020 units, times 2^14 < 2^31.
+    let mut sum_l: i32 = 0;
+    let mut sum_r: i32 = 0;
     macro_rules! term {
         ([$ke:literal, $kv:literal, $kma:literal, $kj:literal, $ks:literal, $kd:literal],
          $la:literal, $lp:literal, $ra:literal, $rp:literal) => {{
@@ -373,13 +450,17 @@ pub fn sun_tt(epoch: &Epoch<Tt>) -> Result<Sun, SunError> {
                 .wrapping_add(j.wrapping_mul($kj as i16 as u16))
                 .wrapping_add(s.wrapping_mul($ks as i16 as u16))
                 .wrapping_add(d.wrapping_mul($kd as i16 as u16));
-            dl += $la * cos16(arg.wrapping_add($lp));
+            const AL: i16 = ($la / L_UNIT + 0.5) as i16;
+            sum_l = sum_l.wrapping_add(scaled(AL, cos16(arg.wrapping_add($lp))));
             if $ra > 0.0 {
-                r_au += $ra * cos16(arg.wrapping_add($rp));
+                const AR: i16 = ($ra / R_UNIT + 0.5) as i16;
+                sum_r = sum_r.wrapping_add(scaled(AR, cos16(arg.wrapping_add($rp))));
             }
         }};
     }
     periodic_terms!(term);
+    dl += sum_l as f32 * (L_UNIT / 16_384.0) as f32;
+    r_au += sum_r as f32 * (R_UNIT / 16_384.0) as f32;
 
     let (dpsi, deps) = nutation(node, sun_lon, d, e);
 
@@ -421,7 +502,7 @@ mod tests {
         }
         for u in 0..=u16::MAX {
             let a = f64::from(u) / 65_536.0 * core::f64::consts::TAU;
-            assert!((f64::from(cos16(u)) - a.cos()).abs() < 3.1e-3);
+            assert!((f64::from(cos16(u)) / 16_384.0 - a.cos()).abs() < 3.1e-3);
         }
     }
 
@@ -430,6 +511,7 @@ mod tests {
     fn truncated_nutation_against_frames_nutation() {
         let arcsec = core::f64::consts::PI / 648_000.0;
         let (mut max_psi, mut max_eps) = (0.0f64, 0.0f64);
+        // f = 0.25 day: 8 192 in 2^-15 day.
         let mut n = FIRST_DAY;
         while n <= LAST_DAY {
             let f = 0.25f32;
@@ -438,9 +520,9 @@ mod tests {
             let lon_mean = MEAN_LONGITUDE.turns(n, f);
             let m = lon_mean + (M_OFFSET + M_RATE * tau);
             let (dpsi, deps) = nutation(
-                at(NODE, days),
+                at(NODE, n, 8_192),
                 turn16(lon_mean),
-                at(ELONGATION, days),
+                at(ELONGATION, n, 8_192),
                 turn16(m),
             );
             let t = (f64::from(n) + f64::from(f)) / 36_525.0;
