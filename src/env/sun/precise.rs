@@ -48,8 +48,11 @@
 //! The mean longitude is reduced modulo one turn in exact fixed point from the whole day count
 //! (`LinearAngle`); the longitude is kept in turns, so its sine and cosine need no floating
 //! range reduction ([`sincos_turns`]: table point + second-order correction, 5e-9 + f32
-//! rounding). Everything is f32; no f64, no division but the aberration's, 2 table sine-cosines,
-//! about 30 table cosines (MSP430 cycle count: README "MSP430 firmware and cycle budget").
+//! rounding). No f64, no division but the aberration's, 2 table sine-cosines; the 36 cosines of
+//! the periodic and nutation terms are Q14 table values times 16-bit amplitudes summed in i32
+//! (exact; one conversion to f32 per sum), and the fundamental arguments are exact 32-bit fixed
+//! point. 46 647 MSP430 cycles without hardware multiplier (README "MSP430 firmware and cycle
+//! budget").
 //!
 //! # Range and measured accuracy
 //! Years 1950–2100 in TT ([`sun_tt`]); from UTC ([`sun`]) 1972–2100, the leap-second era. Other
@@ -279,7 +282,7 @@ fn table_sin_cos(i: u16) -> (i32, i32) {
 }
 
 /// Cosine of an angle in 2^-16 turn, Q14, from the nearest of 1 024 table points: error at most
-/// `sin(π/1024)` = 3.1e-3 (for terms of a few arcseconds, where that is 0.02″). Not inlined: it
+/// `sin(π/1024)` + 2^-15 = 3.1e-3 (for terms of a few arcseconds, where that is 0.02″). Not inlined: it
 /// is called 36 times, and a call costs a few cycles but saves about 1.5 KB of MSP430 flash.
 #[inline(never)]
 fn cos16(u: u16) -> i16 {
