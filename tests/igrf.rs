@@ -621,3 +621,96 @@ fn cli_reproduces_the_reference_points() {
         assert!(err.contains(needle), "{input}: {err}");
     }
 }
+
+/// How long cached coefficients stay good: the field moves linearly in time within a 5-year
+/// interval, so the staleness error after Δt is Δt × the secular variation |dB/dt|, measured
+/// here as B(t + 1 yr) − B(t) on a global grid at 400 km (2025.5–2026.5, the secular-variation
+/// prediction, and 2021–2022, interpolation between DGRF-2020 and IGRF-2025).
+#[test]
+fn refresh_interval() {
+    let mut worst_nt_per_year = 0.0_f64;
+    for (y0, model) in [(2025.5_f32, &RECENT), (2021.0, &RECENT)] {
+        let a = Igrf::new(model, y0, Degree::FULL).unwrap();
+        let b = Igrf::new(model, y0 + 1.0, Degree::FULL).unwrap();
+        let mut sv = Stats::default();
+        for lat in (-89..=89).step_by(2) {
+            for lon in (-180..180).step_by(4) {
+                let (la, lo) = (rad(f64::from(lat)), rad(f64::from(lon)));
+                let fa = a.geodetic_ned(la, lo, 400.0).unwrap();
+                let fb = b.geodetic_ned(la, lo, 400.0).unwrap();
+                let d = [
+                    f64::from(fb.north_nt - fa.north_nt),
+                    f64::from(fb.east_nt - fa.east_nt),
+                    f64::from(fb.down_nt - fa.down_nt),
+                ];
+                sv.add((d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt());
+            }
+        }
+        println!(
+            "secular variation at 400 km from {y0}: |dB/dt| max {:.1} nT/yr, RMS {:.1} nT/yr",
+            sv.max,
+            sv.rms()
+        );
+        worst_nt_per_year = worst_nt_per_year.max(sv.max);
+    }
+    let year_s = 365.25 * 86_400.0;
+    for (what, dt_s) in [
+        ("1 min", 60.0),
+        ("10 min", 600.0),
+        ("1 orbit (95 min)", 5_700.0),
+        ("1 day", 86_400.0),
+    ] {
+        println!(
+            "staleness {what}: |ΔB| ≤ {:.4} nT",
+            worst_nt_per_year * dt_s / year_s
+        );
+    }
+    // The loop refreshes every 600 s (`acs_loop::FIELD_REFRESH_S`): below 0.01 nT.
+    assert!(worst_nt_per_year * 600.0 / year_s < 0.01);
+}
+
+/// `refresh` in place equals a fresh construction, bit for bit; a small capacity holding a
+/// low degree equals the full capacity; too small a capacity is a typed error.
+#[test]
+fn refresh_and_capacity() {
+    use acs::env::igrf::{coefficient_count, IgrfError};
+    use acs::time::{Calendar, Epoch, Utc};
+    let at = |day: u8| -> Epoch<Utc> {
+        Epoch::from_calendar(Calendar {
+            year: 2026,
+            month: 3,
+            day,
+            hour: 7,
+            minute: 30,
+            second: 0,
+            nano: 0,
+        })
+        .unwrap()
+    };
+    let eight = Degree::new(8).unwrap();
+    let mut small = Igrf::<{ coefficient_count(8) }>::from_epoch(&RECENT, &at(1), eight).unwrap();
+    small.refresh(&RECENT, &at(20)).unwrap();
+    let fresh = Igrf::at_epoch(&RECENT, &at(20), eight).unwrap();
+    let r = Vec3::new(4_000.0, -3_500.0, 4_200.0);
+    assert_eq!(
+        small.teme(&r, 1.234).unwrap(),
+        fresh.teme(&r, 1.234).unwrap()
+    );
+    assert_eq!(small.degree_one_nt(), fresh.degree_one_nt());
+    // A failed refresh leaves the coefficients alone.
+    let before = small.teme(&r, 1.0).unwrap();
+    assert!(matches!(
+        small.refresh_year(&RECENT, 2031.0),
+        Err(IgrfError::DateOutOfRange { .. })
+    ));
+    assert_eq!(small.teme(&r, 1.0).unwrap(), before);
+    assert_eq!(coefficient_count(8), 80);
+    assert_eq!(coefficient_count(13), 195);
+    assert!(matches!(
+        Igrf::<{ coefficient_count(8) }>::from_year(&RECENT, 2025.0, Degree::new(9).unwrap()),
+        Err(IgrfError::CapacityTooSmall {
+            degree: 9,
+            capacity: 80
+        })
+    ));
+}

@@ -19,10 +19,12 @@ last interval *is* the secular-variation extrapolation.
 
 Output (`src/env/igrf/tables.rs`), all f32, every table a separate `static` so that the linker
 keeps only the ones a firmware refers to:
-- `RECURSION`: the constants of the Schmidt semi-normalised Legendre recursion, in the
-  column order described below: for n > m, (a_nm, b_nm) with
-      a_nm = (2n - 1) / sqrt(n^2 - m^2),   b_nm = sqrt(((n - 1)^2 - m^2) / (n^2 - m^2)),
-  and for n = m >= 1 the sectoral factor (c_m, 0) with c_1 = 1, c_m = sqrt((2m - 1) / (2m)).
+- `SCHMIDT`: the Schmidt semi-normalisation factor of every term, in the column order
+  described below: N_n^0 = 1, N_n^m = sqrt(2 (n - m)! / (n + m)!) for m >= 1, so that
+  P_n^m(cos t) = N_n^m sin^m t d^m P_n(u)/du^m (the evaluator works with the unnormalised
+  derivatives d^m P_n/du^m and folds N_n^m into the coefficients once per date);
+- `BONNET`: ((2n - 1)/n, (n - 1)/n) for n = 2..N, Bonnet's recursion of the Legendre
+  polynomials n P_n = (2n - 1) u P_{n-1} - (n - 1) P_{n-2}.
 - one `[f32; 195]` snapshot per epoch, coefficients in column order:
       m = 0:       g_1^0, g_2^0, ..., g_N^0
       m = 1..N:    g_m^m, h_m^m, g_{m+1}^m, h_{m+1}^m, ..., g_N^m, h_N^m
@@ -99,16 +101,13 @@ def column_order(n_max):
     return order
 
 
-def recursion_constants(n_max):
+def schmidt_factors(n_max):
     rows = []
     for n, m in column_order(n_max):
-        if n == m:
-            c = 1.0 if m == 1 else math.sqrt((2 * m - 1) / (2 * m))
-            rows.append((n, m, c, 0.0))
+        if m == 0:
+            rows.append((n, m, 1.0))
         else:
-            a = (2 * n - 1) / math.sqrt(n * n - m * m)
-            b = math.sqrt(((n - 1) ** 2 - m * m) / (n * n - m * m))
-            rows.append((n, m, a, b))
+            rows.append((n, m, math.sqrt(2.0 * math.factorial(n - m) / math.factorial(n + m))))
     return rows
 
 
@@ -126,7 +125,7 @@ def generate(shc_path):
         raise SystemExit("epochs must be whole years with a whole-year step")
     n_coeffs = n_max * (n_max + 2)
     order = column_order(n_max)
-    rec = recursion_constants(n_max)
+    norm = schmidt_factors(n_max)
     shc_rel = os.path.relpath(shc_path, ROOT)
 
     out = []
@@ -147,10 +146,17 @@ def generate(shc_path):
     w(f"/// Number of (n, m) terms, one recursion entry each.")
     w(f"pub(super) const N_TERMS: usize = {len(order)};")
     w("")
-    w("/// Recursion constants in column order: (a_nm, b_nm) for n > m, (c_m, 0) for n = m.")
-    w(f"pub(super) static RECURSION: [[f32; 2]; N_TERMS] = [")
-    for n, m, a, b in rec:
-        w(f"    [{a!r}, {b!r}], // n={n} m={m}")
+    w("/// Schmidt semi-normalisation factors N_n^m in column order: 1 for m = 0,")
+    w("/// sqrt(2 (n - m)! / (n + m)!) for m >= 1.")
+    w(f"pub(super) static SCHMIDT: [f32; N_TERMS] = [")
+    for n, m, f in norm:
+        w(f"    {f!r}, // n={n} m={m}")
+    w("];")
+    w("")
+    w("/// Bonnet's recursion constants ((2n - 1)/n, (n - 1)/n) for n = 2..=N_MAX.")
+    w(f"pub(super) static BONNET: [[f32; 2]; N_MAX - 1] = [")
+    for n in range(2, n_max + 1):
+        w(f"    [{(2 * n - 1) / n!r}, {(n - 1) / n!r}], // n={n}")
     w("];")
     w("")
     names = []
@@ -176,7 +182,7 @@ def generate(shc_path):
         w("///")
         w(f"/// {title}: epochs {year_label(first)} to {year_label(last)} every {int(step)} years "
           f"({len(idx)} tables of {n_coeffs} f32, {size} bytes of flash, plus "
-          f"{len(order) * 8} bytes of recursion constants shared by all models).")
+          f"{len(order) * 4 + (n_max - 1) * 8} bytes of constants shared by all models).")
         w(f"pub static {name}: Model = Model {{")
         w(f"    name: {title.split(' --')[0].replace(' ', '-')!r},".replace("'", '"'))
         w(f"    first_year: {int(first)},")

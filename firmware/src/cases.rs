@@ -394,24 +394,10 @@ pub fn run_flight<S: Sink>(s: &mut S) {
         out3(s, &sun.map_or(nan3, |x| x.direction));
     }
     if cfg!(feature = "group-env") {
-        for (name, degree) in [
-            ("IGRF deg 8", 8u8),
-            ("IGRF deg 10", 10),
-            ("IGRF deg 13", 13),
-        ] {
-            use acs::env::igrf::{Degree, Igrf, RECENT};
-            let year = s.input(2025.5);
-            let field = Degree::new(degree)
-                .ok()
-                .and_then(|d| Igrf::new(&RECENT, year, d).ok());
-            let r = Vec3::new(s.input(4_000.0), s.input(-3_500.0), s.input(4_200.0));
-            let gmst = s.input(1.234);
-            s.begin(name);
-            let b = field.as_ref().and_then(|f| f.teme(&r, gmst).ok());
-            let b = core::hint::black_box(b);
-            s.end();
-            out3(s, &b.unwrap_or(nan3));
-        }
+        use acs::env::igrf::coefficient_count;
+        igrf_case::<{ coefficient_count(8) }, S>(s, "IGRF deg 8", "IGRF deg 8 at date", 8);
+        igrf_case::<{ coefficient_count(10) }, S>(s, "IGRF deg 10", "IGRF deg 10 at date", 10);
+        igrf_case::<{ coefficient_count(13) }, S>(s, "IGRF deg 13", "IGRF deg 13 at date", 13);
     }
 
     // ---- determination (own frames: their locals do not stay on the stack under the others)
@@ -594,4 +580,42 @@ fn out3<S: Sink>(s: &mut S, v: &acs::linalg::Vec3) {
     s.out(v.x);
     s.out(v.y);
     s.out(v.z);
+}
+
+/// IGRF at `degree` with a `C`-coefficient [`acs::env::igrf::Igrf`]: case `at_date` builds the
+/// coefficients at the date (once per refresh in flight), case `name` is one field evaluation
+/// (`Igrf::teme`, once per step). Not inlined, so that the three sizes do not share one stack
+/// frame.
+#[inline(never)]
+fn igrf_case<const C: usize, S: Sink>(
+    s: &mut S,
+    name: &'static str,
+    at_date: &'static str,
+    degree: u8,
+) {
+    use acs::env::igrf::{Degree, Igrf, RECENT};
+    use acs::linalg::Vec3;
+    let nan3 = Vec3::new(f32::NAN, f32::NAN, f32::NAN);
+    let year = s.input(2025.5);
+    // Built (not measured) at another date, then refreshed in place: the flight pattern. The
+    // `Result` is used in place (no copy of the coefficients on the 2 KB stack).
+    let mut field = match Degree::new(degree) {
+        Ok(d) => Igrf::<C>::from_year(&RECENT, 2021.0, d),
+        Err(e) => Err(e),
+    };
+    s.begin(at_date);
+    let refreshed = field
+        .as_mut()
+        .is_ok_and(|f| f.refresh_year(&RECENT, year).is_ok());
+    core::hint::black_box(&field);
+    s.end();
+    let field = field.as_ref().ok().filter(|_| refreshed);
+    s.out(field.map_or(f32::NAN, |f| f.degree_one_nt().0));
+    let r = Vec3::new(s.input(4_000.0), s.input(-3_500.0), s.input(4_200.0));
+    let gmst = s.input(1.234);
+    s.begin(name);
+    let b = field.and_then(|f| f.teme(&r, gmst).ok());
+    let b = core::hint::black_box(b);
+    s.end();
+    out3(s, &b.unwrap_or(nan3));
 }

@@ -14,20 +14,39 @@
 //! B_φ = −1/(r sin θ) ∂V/∂φ = Σ (R/r)^{n+2} m (g sin mφ − h cos mφ) P_n^m / sin θ
 //! ```
 //!
-//! `P_n^m` are Schmidt semi-normalised associated Legendre functions, computed by the standard
-//! recursions (Langel 1987, Winch et al. 2005) one order m at a time:
+//! `P_n^m` are Schmidt semi-normalised associated Legendre functions.
+//!
+//! # Algorithm: Cartesian synthesis (Pines 1973; Montenbruck & Gill 2000 §3.2.4–5)
+//! With the direction cosines `s, t, u = x/r, y/r, z/r` of the Earth-fixed position,
+//! `sin^m θ e^{imφ} = (s + i t)^m` and `P_n^m = N_n^m sin^m θ A_n^m(u)`, where
+//! `A_n^m = d^m P_n/du^m` is a polynomial in u and `N_n^m = √(2 (n−m)!/(n+m)!)` (1 for m = 0)
+//! the Schmidt factor, the potential is `V = R Σ (R/r)^{n+1} F_n(s,t,u)` with
+//! `F_n = Σ_m A_n^m(u) (γ_n^m Re(s+it)^m + η_n^m Im(s+it)^m)`, `γ = N g`, `η = N h`. No angle,
+//! no `atan2`/`asin`, no division by sin θ (the poles are ordinary points). Its gradient:
 //!
 //! ```text
-//! P_0^0 = 1,  P_m^m = c_m sin θ P_{m−1}^{m−1},  c_1 = 1, c_m = √((2m−1)/(2m))
-//! P_n^m = a_nm cos θ P_{n−1}^m − b_nm P_{n−2}^m,
-//!         a_nm = (2n−1)/√(n²−m²),  b_nm = √(((n−1)²−m²)/(n²−m²))   (b = 0 for n = m+1)
+//! B = −∇V = (H + r̂·G) r̂ − G,   H = Σ (n+1) (R/r)^{n+2} F_n (= B_r),   G = Σ (R/r)^{n+2} ∇_{s,t,u} F_n
+//! ∂F/∂s = m A_n^m (γ Re ζ^{m−1} + η Im ζ^{m−1}),  ∂F/∂t = m A_n^m (η Re ζ^{m−1} − γ Im ζ^{m−1}),
+//! ∂F/∂u = A_n^{m+1} (γ Re ζ^m + η Im ζ^m)                                   (ζ = s + i t)
 //! ```
 //!
-//! **Poles.** For m ≥ 1 the code carries `Q_n^m = P_n^m / sin θ`, which obeys the same
-//! recursion in n (its coefficients depend on cos θ only) with `Q_1^1 = 1`; `B_φ` uses `Q` and
-//! needs no division by sin θ. The fields are therefore exact (to f32 rounding) at and near the
-//! poles, with no clamp of the colatitude; at the pole itself longitude only orients the
-//! horizontal axes.
+//! With `Ã_n^m = (R/r)^{n+2} A_n^m` and τ = (R/r) u the recursions need no division, no square
+//! root and no per-term constant from flash:
+//!
+//! ```text
+//! m = 0 (Bonnet):  Ã_n^0 = ((2n−1)/n) τ Ã_{n−1}^0 − ((n−1)/n) (R/r)² Ã_{n−2}^0,  Ã_0^0 = (R/r)²
+//! m ≥ 1:           Ã_n^m = τ Ã_{n−1}^m + (n+m−1) (R/r) Ã_{n−1}^{m−1},            Ã_{m−1}^m = 0
+//! ```
+//!
+//! One order m at a time, the sums over n are taken top down (suffix sums, so the (n+1) weight
+//! of H costs two additions and no cancellation) and the powers of ζ applied once per order:
+//! per term (n, m ≥ 1) 6 f32 multiplications and 7 additions (the recursion 2 + 1, the sums
+//! P_g, P_h, D_g, D_h 4 + 4, the weights of H 2 additions), per order 14 multiplications and 10
+//! additions (ζ^m and the three components), per evaluation one `sqrt` and one division
+//! ([`Igrf::teme`]: and one `sincos` for GMST). The u-derivative of order m is order m + 1's
+//! weights times order m's coefficients, so one coefficient array serves both; time
+//! interpolation and the Schmidt factors are applied once per date ([`Igrf::refresh`]).
+//! Measured cost on the MSP430: README "MSP430 firmware and cycle budget (#9)".
 //!
 //! **Time.** Linear interpolation of the coefficients between the 5-year epochs of the model;
 //! after the last main-field model (2025.0 for IGRF-14) the secular variation is extrapolated:
@@ -45,12 +64,14 @@
 //! |---|---|---|
 //! | `REFERENCE_RADIUS_KM` | R = 6371.2 km | reference radius of the expansion |
 //! | `ratio` | R/r | |
-//! | `rho` | (R/r)^{n+2} | radial factor of degree n |
-//! | `cos_t`, `sin_t` | cos θ, sin θ | θ geocentric colatitude |
-//! | `cos_mp`, `sin_mp` | cos mφ, sin mφ | φ longitude (east) |
-//! | `q` | Q_n^m = P_n^m / sin θ | (m ≥ 1) |
-//! | `p`, `dp` | P_n^m, dP_n^m/dθ | |
-//! | `a`, `b`, `c` | a_nm, b_nm, c_m | recursion constants (generated table) |
+//! | `s`, `t`, `u` | x/r, y/r, z/r | direction cosines (Earth-fixed) |
+//! | `tau`, `kappa` | τ = (R/r) u, (R/r)² | |
+//! | `w[j]` | j (R/r) | |
+//! | `col[n]` | Ã_n^m = (R/r)^{n+2} d^mP_n/du^m | one order at a time |
+//! | `coeffs` | γ_n^m = N_n^m g_n^m(t), η_n^m = N_n^m h_n^m(t) | at the date, column order |
+//! | `re`, `im` | Re, Im of ζ^{m−1} = (s + i t)^{m−1} | |
+//! | `g1`, `g2`, `g3`, `h` | G, H | B = (H + r̂·G) r̂ − G |
+//! | `cos_t`, `sin_t`, `cos_p`, `sin_p` | cos θ, sin θ, cos φ, sin φ | spherical outputs |
 //! | `psi` | ψ = ε = lat_geodetic − lat_geocentric | eq. 7.24 |
 //!
 //! # Coefficient tables and flash
@@ -60,7 +81,10 @@
 //! the others, with no cargo feature to get wrong):
 //! - [`RECENT`]: 2020.0–2030.0 (DGRF-2020, IGRF-2025 and its SV): 2 340 bytes;
 //! - [`FULL`]: 1900.0–2030.0, 27 epochs: 21 060 bytes;
-//! - both use the 832-byte table of recursion constants.
+//! - both use 512 bytes of constants (Schmidt factors, Bonnet's recursion).
+//!
+//! An [`Igrf`] holds the coefficients at its date in RAM: `4 × COEFFS` bytes (320 at degree 8,
+//! 480 at 10, 780 at 13), [`coefficient_count`].
 //!
 //! # Inputs and outputs
 //! | function | input | output |
@@ -74,16 +98,16 @@
 //! Dates 1900.0–2030.0 ([`FULL`]) or 2020.0–2030.0 ([`RECENT`]); radius from
 //! [`MIN_RADIUS_KM`] up (no upper limit: the field tends to zero). Measured against 1 500
 //! points of the reference implementation (`../shared/ref/igrf/igrf14_points.csv`: ppigrf,
-//! f64, 1965–2030, 0–3000 km), degree 13, in f32: max 0.21 nT, RMS 0.04 nT on every component
+//! f64, 1965–2030, 0–3000 km), degree 13, in f32: max 0.20 nT, RMS 0.04 nT on every component
 //! of both the geodetic (N, E, D) and geocentric (B_r, B_θ, B_φ) outputs, every row within
 //! 1 nT (`cargo test --test igrf -- --nocapture`; ppigrf interpolates in days rather than
 //! decimal years, a difference included in these figures). Frames: the TEME output adds the
 //! rotation by GMST, whose f32 error (2.4e-7 rad, [`crate::time::gmst_rad`]) moves a 50 000 nT
 //! vector by 0.012 nT. Truncation at degree 8 / 10 costs up to 170 / 36 nT (0.37° / 0.08°) at
-//! 400 km, less higher up (README). Cost: about 22 f32 operations per zonal term and 35 per
-//! tesseral term (104 terms at degree 13, 65 at 10, 44 at 8), plus two `sincos` for the
-//! geocentric input, four for the geodetic one, none for [`Igrf::earth_fixed`] and one (GMST)
-//! for [`Igrf::teme`].
+//! 400 km, less higher up (README). Staleness: the secular variation is at most 165 nT/yr at
+//! 400 km, so coefficients evaluated 10 min ago are within 0.003 nT, a day ago within 0.45 nT
+//! (`refresh_interval` in `tests/igrf.rs`). Cost (f32 operations): see "Algorithm" (104 terms
+//! at degree 13, 65 at 10, 44 at 8).
 //!
 //! # Example
 //! ```
@@ -104,8 +128,8 @@ use crate::frames::{self, Geodetic};
 use crate::linalg::Vec3;
 use crate::time::{Epoch, TimeScale};
 
+use tables::{BONNET, N_COEFFS, N_MAX, SCHMIDT};
 pub use tables::{FULL, RECENT};
-use tables::{N_COEFFS, N_MAX, RECURSION};
 
 /// Reference radius R of the IGRF expansion, km.
 pub const REFERENCE_RADIUS_KM: f32 = 6371.2;
@@ -168,8 +192,9 @@ impl Model {
     }
 }
 
-/// Bytes of the recursion-constant table shared by all models.
-pub const RECURSION_TABLE_BYTES: usize = core::mem::size_of::<[[f32; 2]; tables::N_TERMS]>();
+/// Bytes of the constant tables shared by all models (Schmidt factors and Bonnet's recursion).
+pub const RECURSION_TABLE_BYTES: usize =
+    core::mem::size_of::<[f32; tables::N_TERMS]>() + core::mem::size_of::<[[f32; 2]; N_MAX - 1]>();
 
 /// Maximum degree N of the expansion, 1..=13. Lower degrees are cheaper (about N²/2 terms)
 /// and, in low Earth orbit, accurate to a few tens of nT (README).
@@ -234,6 +259,13 @@ pub enum IgrfError {
         /// The requested degree.
         degree: u8,
     },
+    /// The [`Igrf`] capacity is smaller than the degree's [`coefficient_count`].
+    CapacityTooSmall {
+        /// The requested degree.
+        degree: u8,
+        /// The capacity, coefficients.
+        capacity: usize,
+    },
 }
 
 impl fmt::Display for IgrfError {
@@ -258,6 +290,11 @@ impl fmt::Display for IgrfError {
             Self::DegreeOutOfRange { degree } => {
                 write!(f, "degree {degree} is not in 1..=13")
             }
+            Self::CapacityTooSmall { degree, capacity } => write!(
+                f,
+                "degree {degree} needs {} coefficients, capacity is {capacity}",
+                coefficient_count(*degree)
+            ),
         }
     }
 }
@@ -286,24 +323,64 @@ pub struct Ned {
     pub down_nt: f32,
 }
 
-/// The geomagnetic model at one instant and degree: construct once per date, evaluate at any
-/// number of points.
+/// Number of Gauss coefficients of an expansion of degree `degree`, N(N+2): the capacity
+/// `COEFFS` an [`Igrf`] needs for that degree (80 for degree 8, 120 for 10, 195 for 13).
+pub const fn coefficient_count(degree: u8) -> usize {
+    let n = degree as usize;
+    n * (n + 2)
+}
+
+/// Capacity of the full-degree [`Igrf`] (degree 13): 195 coefficients.
+pub const FULL_COEFFS: usize = N_COEFFS;
+
+/// The geomagnetic model at one date and degree, its coefficients evaluated at that date and
+/// held in RAM: construct once per date (a few tens of thousands of cycles on the MSP430),
+/// evaluate at any number of points.
+///
+/// `COEFFS` is the capacity, `4 × COEFFS` bytes of RAM: [`coefficient_count`] of the largest
+/// degree it will hold. The default is the full model (195, 780 bytes), which [`Igrf::new`] and
+/// [`Igrf::at_epoch`] build; a flight build at degree 8 uses `Igrf<80>` (320 bytes) through
+/// [`Igrf::from_year`] / [`Igrf::from_epoch`].
+///
+/// The field changes with the date by at most 165 nT per year in low Earth orbit (0.003 nT in
+/// 10 minutes, 0.45 nT in a day: the secular variation, README), so a copy refreshed every few
+/// minutes ([`Igrf::refresh`], in place) is as good as a fresh one.
 #[derive(Debug, Clone, Copy)]
-pub struct Igrf {
-    /// Coefficients at the start of the interval.
-    start: &'static [f32; N_COEFFS],
-    /// Coefficients at its end.
-    end: &'static [f32; N_COEFFS],
-    /// Position in the interval, 0..=1.
-    fraction: f32,
+pub struct Igrf<const COEFFS: usize = FULL_COEFFS> {
+    /// `N_n^m g_n^m(t)` and `N_n^m h_n^m(t)` (Schmidt factor folded in) in column order for
+    /// n ≤ degree: m = 0: g_1^0..g_N^0; then for m = 1..N the pairs (g, h) for n = m..N.
+    coeffs: [f32; COEFFS],
     degree: Degree,
 }
 
 impl Igrf {
-    /// The field of `model` at `decimal_year` (e.g. `2025.5`), truncated at `degree`.
+    /// The field of `model` at `decimal_year` (e.g. `2025.5`), truncated at `degree`, with the
+    /// full capacity (780 bytes; [`Igrf::from_year`] for a smaller one).
     ///
     /// Errors: [`IgrfError::NotFinite`], [`IgrfError::DateOutOfRange`].
     pub fn new(model: &Model, decimal_year: f32, degree: Degree) -> Result<Self, IgrfError> {
+        Self::from_year(model, decimal_year, degree)
+    }
+
+    /// The field of `model` at `epoch`, truncated at `degree`, with the full capacity
+    /// ([`Igrf::from_epoch`] for a smaller one).
+    ///
+    /// Errors: [`IgrfError::DateOutOfRange`].
+    pub fn at_epoch<S: TimeScale>(
+        model: &Model,
+        epoch: &Epoch<S>,
+        degree: Degree,
+    ) -> Result<Self, IgrfError> {
+        Self::from_epoch(model, epoch, degree)
+    }
+}
+
+impl<const COEFFS: usize> Igrf<COEFFS> {
+    /// The field of `model` at `decimal_year` (e.g. `2025.5`), truncated at `degree`.
+    ///
+    /// Errors: [`IgrfError::NotFinite`], [`IgrfError::DateOutOfRange`],
+    /// [`IgrfError::CapacityTooSmall`] (`COEFFS` < [`coefficient_count`]`(degree)`).
+    pub fn from_year(model: &Model, decimal_year: f32, degree: Degree) -> Result<Self, IgrfError> {
         finite("decimal_year", decimal_year)?;
         // Exact in f32 for dates within a factor 2 of the first year (Sterbenz).
         Self::from_years_since_first(
@@ -318,8 +395,8 @@ impl Igrf {
     /// IGRF convention; any time scale: IGRF does not resolve the seconds between them),
     /// truncated at `degree`.
     ///
-    /// Errors: [`IgrfError::DateOutOfRange`].
-    pub fn at_epoch<S: TimeScale>(
+    /// Errors: [`IgrfError::DateOutOfRange`], [`IgrfError::CapacityTooSmall`].
+    pub fn from_epoch<S: TimeScale>(
         model: &Model,
         epoch: &Epoch<S>,
         degree: Degree,
@@ -330,13 +407,65 @@ impl Igrf {
         Self::from_years_since_first(model, whole + fraction, year as f32 + fraction, degree)
     }
 
-    /// `years` since the model's first year; `decimal_year` only for the error report.
+    /// The same field moved to `epoch`, in place (same model choice and degree): the refresh of
+    /// a long-lived copy, without a `4·COEFFS`-byte temporary on the stack. On error the
+    /// coefficients are left as they were.
+    ///
+    /// Errors: [`IgrfError::DateOutOfRange`].
+    pub fn refresh<S: TimeScale>(
+        &mut self,
+        model: &Model,
+        epoch: &Epoch<S>,
+    ) -> Result<(), IgrfError> {
+        let (year, fraction) = epoch.decimal_year_split();
+        let whole = year.saturating_sub(i32::from(model.first_year)) as f32;
+        self.set_years_since_first(model, whole + fraction, year as f32 + fraction)
+    }
+
+    /// [`Igrf::refresh`] to a decimal year.
+    ///
+    /// Errors: [`IgrfError::NotFinite`], [`IgrfError::DateOutOfRange`].
+    pub fn refresh_year(&mut self, model: &Model, decimal_year: f32) -> Result<(), IgrfError> {
+        finite("decimal_year", decimal_year)?;
+        self.set_years_since_first(model, decimal_year - model.first_year(), decimal_year)
+    }
+
+    /// `years` since the model's first year; `decimal_year` only for the error report. Not
+    /// inlined: it then builds its result in the caller's slot (inlined, LLVM keeps a second
+    /// `4·COEFFS`-byte copy on the stack, measured on the MSP430).
+    #[inline(never)]
     fn from_years_since_first(
         model: &Model,
         years: f32,
         decimal_year: f32,
         degree: Degree,
     ) -> Result<Self, IgrfError> {
+        if coefficient_count(degree.get()) > COEFFS {
+            return Err(IgrfError::CapacityTooSmall {
+                degree: degree.get(),
+                capacity: COEFFS,
+            });
+        }
+        // Built in its return slot: no `4·COEFFS`-byte temporary on a 2 KB stack.
+        let mut out = Ok(Self {
+            coeffs: [0.0_f32; COEFFS],
+            degree,
+        });
+        if let Ok(field) = &mut out {
+            if let Err(e) = field.set_years_since_first(model, years, decimal_year) {
+                out = Err(e);
+            }
+        }
+        out
+    }
+
+    /// Evaluates the coefficients (n ≤ degree) at `years` since the model's first year.
+    fn set_years_since_first(
+        &mut self,
+        model: &Model,
+        years: f32,
+        decimal_year: f32,
+    ) -> Result<(), IgrfError> {
         let step = f32::from(model.step_years);
         let span = model.last_year() - model.first_year();
         let out_of_range = IgrfError::DateOutOfRange {
@@ -353,27 +482,44 @@ impl Igrf {
         let k = (fmath::floor(years / step) as usize).min(intervals.saturating_sub(1));
         // Measured from the interval's own start (exact in f32), so that every model holding
         // the same two snapshots interpolates bit-identically.
-        let fraction = (years - step * k as f32) / step;
-        match (model.snapshots.get(k), model.snapshots.get(k + 1)) {
-            (Some(start), Some(end)) => Ok(Self {
-                start,
-                end,
-                fraction,
-                degree,
-            }),
-            _ => Err(out_of_range),
+        let f = (years - step * k as f32) / step;
+        let (Some(start), Some(end)) = (model.snapshots.get(k), model.snapshots.get(k + 1)) else {
+            return Err(out_of_range);
+        };
+        // Walk the full tables in column order and keep the terms n ≤ degree: the truncated
+        // column order is the same sequence without the higher degrees.
+        let max_n = usize::from(self.degree.get());
+        let mut out = self.coeffs.iter_mut();
+        let mut pairs = start.iter().zip(end.iter());
+        let mut norms = SCHMIDT.iter();
+        for m in 0..=N_MAX {
+            let per_term = if m == 0 { 1 } else { 2 }; // g only for m = 0, (g, h) otherwise
+            for n in m.max(1)..=N_MAX {
+                let norm = norms.next().copied().unwrap_or(0.0);
+                for _ in 0..per_term {
+                    let Some((g0, g1)) = pairs.next() else {
+                        break;
+                    };
+                    if n <= max_n {
+                        if let Some(slot) = out.next() {
+                            // g(t) = g_start + f (g_end − g_start), then the Schmidt factor.
+                            *slot = norm * (g0 + f * (g1 - g0));
+                        }
+                    }
+                }
+            }
         }
+        Ok(())
     }
 
     /// The interpolated degree-1 Gauss coefficients `(g₁⁰, g₁¹, h₁¹)`, nT: the tilted dipole
     /// ([`crate::env::dipole::Dipole::from_igrf`]).
     pub fn degree_one_nt(&self) -> (f32, f32, f32) {
-        let at = |i: usize| match (self.start.get(i), self.end.get(i)) {
-            (Some(g0), Some(g1)) => g0 + self.fraction * (g1 - g0),
-            _ => 0.0,
-        };
-        // Column order: g_1^0 is first, (g_1^1, h_1^1) follow the N_MAX zonal terms.
-        (at(0), at(N_MAX), at(N_MAX + 1))
+        // Column order: g_1^0 is first, (g_1^1, h_1^1) follow the `degree` zonal terms; their
+        // Schmidt factors are exactly 1.
+        let at = |i: usize| self.coeffs.get(i).copied().unwrap_or(0.0);
+        let n = usize::from(self.degree.get());
+        (at(0), at(n), at(n + 1))
     }
 
     /// The degree of this evaluation.
@@ -403,7 +549,7 @@ impl Igrf {
         }
         let (sin_t, cos_t) = fmath::sincos(colat_rad);
         let (sin_p, cos_p) = fmath::sincos(lon_rad);
-        self.synthesize(r_km, cos_t, sin_t, cos_p, sin_p)
+        self.spherical(r_km, cos_t, sin_t, cos_p, sin_p)
     }
 
     /// Field at WGS-84 geodetic latitude `lat_rad` (−π/2..=π/2), east longitude `lon_rad` and
@@ -437,7 +583,7 @@ impl Igrf {
         let sin_t = meridian_km.x / r_km;
         let cos_t = meridian_km.z / r_km;
         let (sin_p, cos_p) = fmath::sincos(lon_rad);
-        let b = self.synthesize(r_km, cos_t, sin_t, cos_p, sin_p)?;
+        let b = self.spherical(r_km, cos_t, sin_t, cos_p, sin_p)?;
         let (sin_lat, cos_lat) = fmath::sincos(lat_rad);
         // ψ = lat − (π/2 − θ):  sin ψ = sin lat sin θ − cos lat cos θ,
         //                       cos ψ = cos lat sin θ + sin lat cos θ.
@@ -458,32 +604,55 @@ impl Igrf {
         finite("r_ecef_km.x", r_ecef_km.x)?;
         finite("r_ecef_km.y", r_ecef_km.y)?;
         finite("r_ecef_km.z", r_ecef_km.z)?;
-        let basis = SphericalBasis::at(r_ecef_km);
-        let b = self.synthesize(
-            basis.r_km,
-            basis.cos_t,
-            basis.sin_t,
-            basis.cos_p,
-            basis.sin_p,
-        )?;
-        Ok(basis.to_cartesian(&b))
+        self.cartesian(r_ecef_km)
     }
 
     /// Field at the TEME position `r_teme_km` (km) when the Greenwich mean sidereal angle is
     /// `gmst_rad` (IAU-82, [`crate::time`]), as a TEME vector (nT): the pipeline of note 000
-    /// §3.5 (Earth-fixed = TEME rotated by GMST about z, field, rotated back; eqs. 7.26–7.27).
+    /// §3.5 (Earth-fixed = TEME rotated by GMST about z, field, rotated back; eqs. 7.26–7.27),
+    /// with one `sincos` for both rotations.
     ///
     /// Errors: [`IgrfError::NotFinite`], [`IgrfError::BelowSurface`].
     pub fn teme(&self, r_teme_km: &Vec3, gmst_rad: f32) -> Result<Vec3, IgrfError> {
+        finite("r_teme_km.x", r_teme_km.x)?;
+        finite("r_teme_km.y", r_teme_km.y)?;
+        finite("r_teme_km.z", r_teme_km.z)?;
         finite("gmst_rad", gmst_rad)?;
-        let r_ecef_km = frames::teme_to_ecef_position(r_teme_km, gmst_rad);
-        let b_ecef_nt = self.earth_fixed(&r_ecef_km)?;
-        Ok(frames::ecef_to_teme_position(&b_ecef_nt, gmst_rad))
+        let (sin_g, cos_g) = fmath::sincos(gmst_rad);
+        // r_ecef = R3(θ) r_teme, B_teme = R3(−θ) B_ecef ([`frames::teme_to_ecef_matrix`]).
+        let r = r_teme_km;
+        let r_ecef_km = Vec3::new(cos_g * r.x + sin_g * r.y, cos_g * r.y - sin_g * r.x, r.z);
+        let b = self.cartesian(&r_ecef_km)?;
+        Ok(Vec3::new(
+            cos_g * b.x - sin_g * b.y,
+            sin_g * b.x + cos_g * b.y,
+            b.z,
+        ))
     }
 
-    /// The synthesis: field at radius `r_km`, colatitude θ and longitude φ given by their
-    /// cosines and sines, in spherical components.
-    fn synthesize(
+    /// The field at a finite Earth-fixed position, Earth-fixed Cartesian components.
+    fn cartesian(&self, r_km: &Vec3) -> Result<Vec3, IgrfError> {
+        let r2 = r_km.x * r_km.x + r_km.y * r_km.y + r_km.z * r_km.z;
+        if r2.is_infinite() {
+            // Beyond 1.8e19 km the field (≤ (R/r)³ × 10⁵ nT) is below the smallest f32.
+            return Ok(Vec3::zeros());
+        }
+        let radius_km = fmath::sqrt(r2);
+        if radius_km.is_nan() || radius_km < MIN_RADIUS_KM {
+            return Err(IgrfError::BelowSurface { radius_km });
+        }
+        let inv_r = 1.0 / radius_km;
+        let (s, t, u) = (r_km.x * inv_r, r_km.y * inv_r, r_km.z * inv_r);
+        let sums = self.synthesize(REFERENCE_RADIUS_KM * inv_r, s, t, u);
+        // B = (H + r̂·G) r̂ − G.
+        let [g1, g2, g3] = sums.g;
+        let radial = sums.h + s * g1 + t * g2 + u * g3;
+        Ok(Vec3::new(radial * s - g1, radial * t - g2, radial * u - g3))
+    }
+
+    /// The field in spherical components at radius `r_km`, colatitude θ and longitude φ given
+    /// by their cosines and sines.
+    fn spherical(
         &self,
         r_km: f32,
         cos_t: f32,
@@ -494,155 +663,164 @@ impl Igrf {
         if r_km.is_nan() || r_km < MIN_RADIUS_KM {
             return Err(IgrfError::BelowSurface { radius_km: r_km });
         }
-        let degree = usize::from(self.degree.get());
-        let ratio = REFERENCE_RADIUS_KM / r_km;
-        let f = self.fraction;
-        // (g_start, g_end) pairs walked in the tables' column order; interpolated only for the
-        // terms used: g(t) = g_start + f (g_end − g_start).
-        let mut coeffs = self.start.iter().zip(self.end.iter());
-        let lerp = |(g0, g1): (&f32, &f32)| g0 + f * (g1 - g0);
-        let mut consts = RECURSION.iter();
-
-        let mut br = 0.0_f32;
-        let mut btheta = 0.0_f32;
-        let mut bphi = 0.0_f32;
-
-        // Order m = 0 (zonal terms): P_n^0 directly.
-        let mut rho = ratio * ratio; // (R/r)^{n+2} for n = 0
-        let (mut p1, mut p2) = (1.0_f32, 0.0_f32); // P_{n−1}^0, P_{n−2}^0
-        let (mut dp1, mut dp2) = (0.0_f32, 0.0_f32);
-        for n in 1..=N_MAX {
-            let (Some(g), Some(&[a, b])) = (coeffs.next(), consts.next()) else {
-                break;
-            };
-            if n > degree {
-                continue; // keep the iterators in step with the tables
-            }
-            let g = lerp(g);
-            rho *= ratio;
-            // P_n = a cos θ P_{n−1} − b P_{n−2};  dP_n = a (cos θ dP_{n−1} − sin θ P_{n−1}) − b dP_{n−2}
-            let p = a * cos_t * p1 - b * p2;
-            let dp = a * (cos_t * dp1 - sin_t * p1) - b * dp2;
-            let n_plus_1 = (n + 1) as f32;
-            br += n_plus_1 * rho * g * p;
-            btheta -= rho * g * dp;
-            (p2, p1, dp2, dp1) = (p1, p, dp1, dp);
-        }
-
-        // Orders m ≥ 1: Q_n^m = P_n^m / sin θ, started from the sectoral term.
-        let mut p_diag = 1.0_f32; // P_{m−1}^{m−1}
-        let mut dp_diag = 0.0_f32; // dP_{m−1}^{m−1}/dθ
-        let mut rho_diag = ratio * ratio; // (R/r)^{m+1}
-        let (mut cos_mp, mut sin_mp) = (1.0_f32, 0.0_f32);
-        for m in 1..=N_MAX.min(degree) {
-            // cos mφ, sin mφ by the angle-addition recursion.
-            (cos_mp, sin_mp) = (
-                cos_mp * cos_p - sin_mp * sin_p,
-                sin_mp * cos_p + cos_mp * sin_p,
-            );
-            rho_diag *= ratio;
-            let mut rho = rho_diag;
-            let m_f = m as f32;
-            let (mut q1, mut q2) = (0.0_f32, 0.0_f32); // Q_{n−1}^m, Q_{n−2}^m
-            let (mut dp1, mut dp2) = (0.0_f32, 0.0_f32);
-            for n in m..=N_MAX {
-                let (Some(g), Some(h), Some(&[a, b])) =
-                    (coeffs.next(), coeffs.next(), consts.next())
-                else {
-                    break;
-                };
-                if n > degree {
-                    continue;
-                }
-                let (g, h) = (lerp(g), lerp(h));
-                let (q, dp) = if n == m {
-                    // Q_m^m = c_m P_{m−1}^{m−1};  dP_m^m = c_m (cos θ P_{m−1}^{m−1} + sin θ dP_{m−1}^{m−1})
-                    let q = a * p_diag;
-                    let dp = a * (cos_t * p_diag + sin_t * dp_diag);
-                    (p_diag, dp_diag) = (sin_t * q, dp);
-                    (q, dp)
-                } else {
-                    rho *= ratio;
-                    // Q_n = a cos θ Q_{n−1} − b Q_{n−2};
-                    // dP_n = a (cos θ dP_{n−1} − sin²θ Q_{n−1}) − b dP_{n−2}
-                    let q = a * cos_t * q1 - b * q2;
-                    let dp = a * (cos_t * dp1 - sin_t * sin_t * q1) - b * dp2;
-                    (q, dp)
-                };
-                let p = sin_t * q;
-                // g cos mφ + h sin mφ and g sin mφ − h cos mφ
-                let even = g * cos_mp + h * sin_mp;
-                let odd = g * sin_mp - h * cos_mp;
-                let n_plus_1 = (n + 1) as f32;
-                br += n_plus_1 * rho * even * p;
-                btheta -= rho * even * dp;
-                bphi += rho * m_f * odd * q;
-                (q2, q1, dp2, dp1) = (q1, q, dp1, dp);
-            }
-        }
+        let (s, t, u) = (sin_t * cos_p, sin_t * sin_p, cos_t);
+        let sums = self.synthesize(REFERENCE_RADIUS_KM / r_km, s, t, u);
+        let [g1, g2, g3] = sums.g;
+        // B_r = r̂·B = H;  B_θ = −θ̂·G with θ̂ = (cθcφ, cθsφ, −sθ);  B_φ = −φ̂·G with φ̂ = (−sφ, cφ, 0).
         Ok(Spherical {
-            br_nt: br,
-            btheta_nt: btheta,
-            bphi_nt: bphi,
+            br_nt: sums.h,
+            btheta_nt: sin_t * g3 - cos_t * (cos_p * g1 + sin_p * g2),
+            bphi_nt: sin_p * g1 - cos_p * g2,
         })
     }
-}
 
-/// The local spherical basis (r̂, θ̂ south, φ̂ east) at an Earth-fixed position, from the
-/// position's direction cosines. [`crate::frames`] has the same conversion from angles
-/// (`spherical_to_cartesian_components`); this private one needs no trigonometric call, which
-/// on the MSP430 saves four of them per field evaluation.
-struct SphericalBasis {
-    r_km: f32,
-    cos_t: f32,
-    sin_t: f32,
-    cos_p: f32,
-    sin_p: f32,
-}
+    /// The synthesis (module doc, "Algorithm"): the sums `H` and `G` at the point with
+    /// direction cosines (s, t, u) and `ratio` = R/r.
+    fn synthesize(&self, ratio: f32, s: f32, t: f32, u: f32) -> Sums {
+        let degree = usize::from(self.degree.get());
+        let (zonal, mut tesseral) = self.coeffs.split_at(degree.min(COEFFS));
+        let tau = ratio * u;
+        let kappa = ratio * ratio;
 
-impl SphericalBasis {
-    /// Radius, colatitude and longitude of the finite vector `r_km` as cosines and sines (no
-    /// trigonometric call). On the polar axis the longitude is taken as 0. The vector is scaled
-    /// by its largest component first, so that no square overflows or underflows.
-    fn at(r_km: &Vec3) -> Self {
-        let scale = r_km.x.abs().max(r_km.y.abs()).max(r_km.z.abs());
-        if scale.is_nan() || scale <= 0.0 {
-            return Self {
-                r_km: 0.0,
-                cos_t: 1.0,
-                sin_t: 0.0,
-                cos_p: 1.0,
-                sin_p: 0.0,
+        // w[j] = j·(R/r) for j < 2N: doubling is exact, so each entry has one rounding at most.
+        let mut w = [0.0_f32; 2 * N_MAX];
+        for j in 1..(2 * degree).min(2 * N_MAX) {
+            let value = if j % 2 == 0 {
+                w.get(j / 2).map_or(0.0, |h| h + h)
+            } else {
+                w.get(j - 1).map_or(0.0, |p| p + ratio)
             };
+            if let Some(slot) = w.get_mut(j) {
+                *slot = value;
+            }
         }
-        let u = r_km / scale;
-        let rho = fmath::sqrt(u.x * u.x + u.y * u.y);
-        let r = fmath::sqrt(rho * rho + u.z * u.z); // in 1..=√3
-        let (cos_p, sin_p) = if rho > 0.0 {
-            (u.x / rho, u.y / rho)
-        } else {
-            (1.0, 0.0)
-        };
-        Self {
-            // May overflow to +∞ beyond 2e38 km: the field is then exactly zero.
-            r_km: r * scale,
-            cos_t: u.z / r,
-            sin_t: rho / r,
-            cos_p,
-            sin_p,
-        }
-    }
 
-    /// B = B_r r̂ + B_θ θ̂ + B_φ φ̂ with r̂ = (sθcφ, sθsφ, cθ), θ̂ = (cθcφ, cθsφ, −sθ),
-    /// φ̂ = (−sφ, cφ, 0).
-    fn to_cartesian(&self, b: &Spherical) -> Vec3 {
-        let horizontal = b.br_nt * self.sin_t + b.btheta_nt * self.cos_t;
-        Vec3::new(
-            horizontal * self.cos_p - b.bphi_nt * self.sin_p,
-            horizontal * self.sin_p + b.bphi_nt * self.cos_p,
-            b.br_nt * self.cos_t - b.btheta_nt * self.sin_t,
-        )
+        // Column m = 0: Ã_n^0 = (R/r)^{n+2} P_n(u) by Bonnet's recursion, n = 0..=N.
+        let mut col = [0.0_f32; N_MAX + 1];
+        let (mut p2, mut p1) = (kappa, tau * kappa); // Ã_0^0, Ã_1^0
+        col[0] = p2;
+        col[1] = p1;
+        for (slot, &[a, b]) in col
+            .iter_mut()
+            .skip(2)
+            .take(degree.saturating_sub(1))
+            .zip(&BONNET)
+        {
+            let p = a * (tau * p1) - b * (kappa * p2);
+            *slot = p;
+            (p2, p1) = (p1, p);
+        }
+        // X = Σ g Ã, Y = Σ n g Ã (suffix sums, n from 1: weight n − 1 + 1).
+        let (mut x0, mut y0) = (0.0_f32, 0.0_f32);
+        for (a, g) in col
+            .iter()
+            .skip(1)
+            .take(degree)
+            .rev()
+            .zip(zonal.iter().rev())
+        {
+            x0 += g * a;
+            y0 += x0;
+        }
+
+        // Orders k = 1..=N.
+        let mut g1 = 0.0_f32;
+        let mut g2 = 0.0_f32;
+        let mut g3 = 0.0_f32;
+        let mut hy = 0.0_f32; // Σ_k Re(ζ_k Y_k)
+        let (mut re, mut im) = (1.0_f32, 0.0_f32); // ζ_{k−1} = (s + i t)^{k−1}
+        let mut k_f = 1.0_f32;
+        let mut below: &[f32] = &[];
+        for k in 1..=degree {
+            let len = 2 * (degree + 1 - k);
+            let Some((current, rest)) = tesseral.split_at_checked(len) else {
+                break;
+            };
+            tesseral = rest;
+            // Column k from column k − 1: Ã_n^k = τ Ã_{n−1}^k + (n + k − 1)(R/r) Ã_{n−1}^{k−1},
+            // from Ã_{k−1}^k = 0; col[n − 1] is overwritten once read.
+            let mut prev = 0.0_f32;
+            for (n, slot) in (k..=degree).zip(col.iter_mut().skip(k - 1)) {
+                let a = tau * prev + w.get(n + k - 1).copied().unwrap_or(0.0) * *slot;
+                *slot = prev;
+                prev = a;
+            }
+            if let Some(last) = col.get_mut(degree) {
+                *last = prev;
+            }
+            let weights = col.get(k..=degree).unwrap_or(&[]);
+            // Sums over n, from the top (suffix sums, no cancellation):
+            //   P = Σ (g, h)_{n,k} Ã_n^k,  Y = Σ (n − k + 1)(g, h)_{n,k} Ã_n^k,
+            //   D = Σ (g, h)_{n,k−1} Ã_n^k (column k − 1's u-derivative).
+            let sums = if k == 1 {
+                let below_zonal = zonal.iter().map(|&g| [g, 0.0]);
+                column_sums(weights, current, below_zonal)
+            } else {
+                let below_pairs = below
+                    .get(2..)
+                    .unwrap_or(&[])
+                    .chunks_exact(2)
+                    .map(|p| match p {
+                        [g, h] => [*g, *h],
+                        _ => [0.0, 0.0],
+                    });
+                column_sums(weights, current, below_pairs)
+            };
+            let [pg, ph, yg, yh, dg, dh] = sums;
+            // G1 − i G2 += k ζ_{k−1} (P_g − i P_h);  G3 += Re(ζ_{k−1} (D_g − i D_h)).
+            g1 += k_f * (re * pg + im * ph);
+            g2 += k_f * (re * ph - im * pg);
+            g3 += re * dg + im * dh;
+            (re, im) = (re * s - im * t, re * t + im * s);
+            hy += re * yg + im * yh;
+            k_f += 1.0;
+            below = current;
+        }
+        // H = Σ (n + 1) … = column 0's X + Y, and per order k Re(ζ_k (Y_k + k P_k)), whose
+        // second part sums to s G1 + t G2.
+        Sums {
+            h: x0 + y0 + hy + (s * g1 + t * g2),
+            g: [g1, g2, g3],
+        }
     }
+}
+
+/// The synthesis sums: B = (H + r̂·G) r̂ − G.
+struct Sums {
+    /// H = Σ (n + 1) (R/r)^{n+2} F_n = B_r.
+    h: f32,
+    /// G = Σ (R/r)^{n+2} ∇F_n (s, t, u derivatives).
+    g: [f32; 3],
+}
+
+/// The sums of one order k over n = k..=N (top down): `weights` = Ã_n^k, `current` the pairs
+/// (g, h)_{n,k}, `below` the pairs (g, h)_{n,k−1}. Returns [P_g, P_h, Y_g, Y_h, D_g, D_h].
+#[inline(always)]
+fn column_sums(
+    weights: &[f32],
+    current: &[f32],
+    below: impl DoubleEndedIterator<Item = [f32; 2]> + ExactSizeIterator,
+) -> [f32; 6] {
+    let mut s = [0.0_f32; 6];
+    let [pg, ph, yg, yh, dg, dh] = &mut s;
+    for ((a, cur), [gb, hb]) in weights
+        .iter()
+        .rev()
+        .zip(current.chunks_exact(2).rev())
+        .zip(below.rev())
+    {
+        let (g, h) = match cur {
+            [g, h] => (*g, *h),
+            _ => (0.0, 0.0),
+        };
+        *pg += g * a;
+        *ph += h * a;
+        *yg += *pg;
+        *yh += *ph;
+        *dg += gb * a;
+        *dh += hb * a;
+    }
+    s
 }
 
 fn finite(input: &'static str, value: f32) -> Result<(), IgrfError> {
