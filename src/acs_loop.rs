@@ -56,12 +56,6 @@ use crate::determination::sun_sensor::sun_direction_body;
 use crate::determination::{quest, Observation};
 use crate::env::eclipse::{conical, Shadow};
 use crate::env::igrf::{Degree, Igrf, Model};
-
-/// Age at which the loop re-evaluates its field coefficients at the current date, s: the
-/// secular variation moves the field by less than 0.01 nT in that time (`tests/igrf.rs`,
-/// `refresh_interval`), and the refresh (87 000 MCLK cycles at degree 8) is then paid once per
-/// 600 steps.
-const FIELD_REFRESH_S: f32 = 600.0;
 use crate::env::sun::precise;
 use crate::hal::TileBus;
 use crate::linalg::{Vec2, Vec3};
@@ -229,9 +223,6 @@ pub struct AcsLoop<const N: usize = MAX_TILES> {
     target: Option<Quaternion>,
     invalid_steps: u16,
     last_time: Option<Epoch<Utc>>,
-    /// The field model's coefficients at a recent date (refreshed every [`FIELD_REFRESH_S`])
-    /// and that date.
-    field_model: Option<(Igrf, Epoch<Utc>)>,
     /// Filtered attitude and the seconds since it last saw a measurement.
     estimate: Option<(Quaternion, f32)>,
     /// Commanded momentum of each tile's wheel, kg·m²/s along the tile normal.
@@ -322,7 +313,6 @@ impl<const N: usize> AcsLoop<N> {
             target: None,
             invalid_steps: 0,
             last_time: None,
-            field_model: None,
             estimate: None,
             wheel_h: [0.0; N],
             failures: [0; N],
@@ -483,37 +473,10 @@ impl<const N: usize> AcsLoop<N> {
         r
     }
 
-    /// Brings the cached field coefficients to `now` when they are [`FIELD_REFRESH_S`] old (or
-    /// from the future), in place; `None` outside the model's dates.
-    fn refresh_field_model(&mut self, now: &Epoch<Utc>) {
-        let fresh =
-            matches!(&self.field_model, Some((_, at)) if span_s(now, at).abs() < FIELD_REFRESH_S);
-        if fresh {
-            return;
-        }
-        let model = self.config.igrf_model;
-        let refreshed = match &mut self.field_model {
-            Some((field, at)) => {
-                *at = *now;
-                field.refresh(model, now).is_ok()
-            }
-            None => {
-                self.field_model = Igrf::at_epoch(model, now, self.config.igrf_degree)
-                    .ok()
-                    .map(|f| (f, *now));
-                self.field_model.is_some()
-            }
-        };
-        if !refreshed {
-            self.field_model = None;
-        }
-    }
-
     /// One control step at UTC epoch `now`, `dt_s` seconds after the previous one.
     pub fn step<B: TileBus>(&mut self, bus: &mut B, now: Epoch<Utc>, dt_s: f32) -> StepReport {
         let mut faults = self.safe(bus);
         let readings = self.read_tiles(bus, &mut faults);
-        self.refresh_field_model(&now);
         let n = self.config.tiles.len();
         let tiles = self.config.tiles.as_slice();
 
@@ -524,14 +487,15 @@ impl<const N: usize> AcsLoop<N> {
             .ok();
         faults.orbit = orbit.is_none();
         let sun = precise::sun(&now).ok();
-        let field_model = self.field_model.as_ref().map(|(field, _)| field);
+        let field_model =
+            Igrf::at_epoch(self.config.igrf_model, &now, self.config.igrf_degree).ok();
         let gmst = now.to_ut1(None).ok().map(|ut1| gmst_rad(&ut1));
         faults.model = sun.is_none() || field_model.is_none() || gmst.is_none();
         let illumination = match (&orbit, &sun) {
             (Some(o), Some(s)) => conical(&o.r_teme_km, s).ok(),
             _ => None,
         };
-        let b_teme_nt = match (&orbit, field_model, gmst) {
+        let b_teme_nt = match (&orbit, &field_model, gmst) {
             (Some(o), Some(f), Some(g)) => f.teme(&o.r_teme_km, g).ok(),
             _ => None,
         };

@@ -665,7 +665,7 @@ fn refresh_interval() {
             worst_nt_per_year * dt_s / year_s
         );
     }
-    // The loop refreshes every 600 s (`acs_loop::FIELD_REFRESH_S`): below 0.01 nT.
+    // Coefficients refreshed every 10 minutes are within 0.01 nT of the current date's.
     assert!(worst_nt_per_year * 600.0 / year_s < 0.01);
 }
 

@@ -678,7 +678,7 @@ impl<const COEFFS: usize> Igrf<COEFFS> {
     /// direction cosines (s, t, u) and `ratio` = R/r.
     fn synthesize(&self, ratio: f32, s: f32, t: f32, u: f32) -> Sums {
         let degree = usize::from(self.degree.get());
-        let (zonal, mut tesseral) = self.coeffs.split_at(degree.min(COEFFS));
+        let (zonal, tesseral) = self.coeffs.split_at(degree.min(COEFFS));
         let tau = ratio * u;
         let kappa = ratio * ratio;
 
@@ -723,50 +723,53 @@ impl<const COEFFS: usize> Igrf<COEFFS> {
             y0 += x0;
         }
 
-        // Orders k = 1..=N.
-        let mut g1 = 0.0_f32;
-        let mut g2 = 0.0_f32;
-        let mut g3 = 0.0_f32;
-        let mut hy = 0.0_f32; // Σ_k Re(ζ_k Y_k)
-        let (mut re, mut im) = (1.0_f32, 0.0_f32); // ζ_{k−1} = (s + i t)^{k−1}
-        let mut k_f = 1.0_f32;
-        let mut below: &[f32] = &[];
-        for k in 1..=degree {
+        // Order k = 1: ζ^0 = 1, and order 0 below it has no h.
+        next_order(&mut col, 1, degree, tau, &w);
+        let (first, mut tesseral) = tesseral
+            .split_at_checked(2 * degree)
+            .unwrap_or((tesseral, &[]));
+        let (mut pg, mut ph, mut yg, mut yh, mut dg) =
+            (0.0_f32, 0.0_f32, 0.0_f32, 0.0_f32, 0.0_f32);
+        for ((a, cur), g_below) in col
+            .iter()
+            .skip(1)
+            .take(degree)
+            .rev()
+            .zip(first.chunks_exact(2).rev())
+            .zip(zonal.iter().rev())
+        {
+            let (g, h) = match cur {
+                [g, h] => (*g, *h),
+                _ => (0.0, 0.0),
+            };
+            pg += g * a;
+            ph += h * a;
+            yg += pg;
+            yh += ph;
+            dg += g_below * a;
+        }
+        let mut g1 = pg;
+        let mut g2 = ph;
+        let mut g3 = dg;
+        let (mut re, mut im) = (s, t); // ζ_{k−1} = (s + i t)^{k−1}, here ζ^1
+        let mut hy = s * yg + t * yh; // Σ_k Re(ζ_k Y_k)
+
+        // Orders k = 2..=N.
+        let mut k_f = 2.0_f32;
+        let mut below = first;
+        for k in 2..=degree {
             let len = 2 * (degree + 1 - k);
             let Some((current, rest)) = tesseral.split_at_checked(len) else {
                 break;
             };
             tesseral = rest;
-            // Column k from column k − 1: Ã_n^k = τ Ã_{n−1}^k + (n + k − 1)(R/r) Ã_{n−1}^{k−1},
-            // from Ã_{k−1}^k = 0; col[n − 1] is overwritten once read.
-            let mut prev = 0.0_f32;
-            for (n, slot) in (k..=degree).zip(col.iter_mut().skip(k - 1)) {
-                let a = tau * prev + w.get(n + k - 1).copied().unwrap_or(0.0) * *slot;
-                *slot = prev;
-                prev = a;
-            }
-            if let Some(last) = col.get_mut(degree) {
-                *last = prev;
-            }
+            next_order(&mut col, k, degree, tau, &w);
             let weights = col.get(k..=degree).unwrap_or(&[]);
             // Sums over n, from the top (suffix sums, no cancellation):
             //   P = Σ (g, h)_{n,k} Ã_n^k,  Y = Σ (n − k + 1)(g, h)_{n,k} Ã_n^k,
-            //   D = Σ (g, h)_{n,k−1} Ã_n^k (column k − 1's u-derivative).
-            let sums = if k == 1 {
-                let below_zonal = zonal.iter().map(|&g| [g, 0.0]);
-                column_sums(weights, current, below_zonal)
-            } else {
-                let below_pairs = below
-                    .get(2..)
-                    .unwrap_or(&[])
-                    .chunks_exact(2)
-                    .map(|p| match p {
-                        [g, h] => [*g, *h],
-                        _ => [0.0, 0.0],
-                    });
-                column_sums(weights, current, below_pairs)
-            };
-            let [pg, ph, yg, yh, dg, dh] = sums;
+            //   D = Σ (g, h)_{n,k−1} Ã_n^k (order k − 1's u-derivative).
+            let [pg, ph, yg, yh, dg, dh] =
+                column_sums(weights, current, below.get(2..).unwrap_or(&[]));
             // G1 − i G2 += k ζ_{k−1} (P_g − i P_h);  G3 += Re(ζ_{k−1} (D_g − i D_h)).
             g1 += k_f * (re * pg + im * ph);
             g2 += k_f * (re * ph - im * pg);
@@ -793,25 +796,37 @@ struct Sums {
     g: [f32; 3],
 }
 
-/// The sums of one order k over n = k..=N (top down): `weights` = Ã_n^k, `current` the pairs
-/// (g, h)_{n,k}, `below` the pairs (g, h)_{n,k−1}. Returns [P_g, P_h, Y_g, Y_h, D_g, D_h].
+/// Column k from column k − 1 in `col` (module doc): Ã_n^k = τ Ã_{n−1}^k + (n + k − 1)(R/r)
+/// Ã_{n−1}^{k−1} for n = k..=N, from Ã_{k−1}^k = 0; `col[n − 1]` is overwritten once read, so
+/// that afterwards `col[n]` = Ã_n^k for n ≥ k − 1.
 #[inline(always)]
-fn column_sums(
-    weights: &[f32],
-    current: &[f32],
-    below: impl DoubleEndedIterator<Item = [f32; 2]> + ExactSizeIterator,
-) -> [f32; 6] {
+fn next_order(col: &mut [f32; N_MAX + 1], k: usize, degree: usize, tau: f32, w: &[f32]) {
+    let mut prev = 0.0_f32;
+    for (n, slot) in (k..=degree).zip(col.iter_mut().skip(k - 1)) {
+        let a = tau * prev + w.get(n + k - 1).copied().unwrap_or(0.0) * *slot;
+        *slot = prev;
+        prev = a;
+    }
+    if let Some(last) = col.get_mut(degree) {
+        *last = prev;
+    }
+}
+
+/// The sums of one order k ≥ 2 over n = k..=N (top down): `weights` = Ã_n^k, `current` the
+/// pairs (g, h)_{n,k}, `below` the pairs (g, h)_{n,k−1}. Returns [P_g, P_h, Y_g, Y_h, D_g, D_h].
+#[inline(always)]
+fn column_sums(weights: &[f32], current: &[f32], below: &[f32]) -> [f32; 6] {
     let mut s = [0.0_f32; 6];
     let [pg, ph, yg, yh, dg, dh] = &mut s;
-    for ((a, cur), [gb, hb]) in weights
+    for ((a, cur), low) in weights
         .iter()
         .rev()
         .zip(current.chunks_exact(2).rev())
-        .zip(below.rev())
+        .zip(below.chunks_exact(2).rev())
     {
-        let (g, h) = match cur {
-            [g, h] => (*g, *h),
-            _ => (0.0, 0.0),
+        let (g, h, gb, hb) = match (cur, low) {
+            ([g, h], [gb, hb]) => (*g, *h, *gb, *hb),
+            _ => (0.0, 0.0, 0.0, 0.0),
         };
         *pg += g * a;
         *ph += h * a;
