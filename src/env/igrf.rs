@@ -174,6 +174,37 @@ impl Model {
         self.snapshots.len() * core::mem::size_of::<[f32; N_COEFFS]>()
     }
 
+    /// The snapshots around `years` since the first year and the fraction of the way from the
+    /// first to the second; `decimal_year` only for the error report.
+    #[allow(clippy::type_complexity)]
+    fn interval(
+        &self,
+        years: f32,
+        decimal_year: f32,
+    ) -> Result<(&'static [f32; N_COEFFS], &'static [f32; N_COEFFS], f32), IgrfError> {
+        let step = f32::from(self.step_years);
+        let span = self.last_year() - self.first_year();
+        let out_of_range = IgrfError::DateOutOfRange {
+            decimal_year,
+            first_year: self.first_year(),
+            last_year: self.last_year(),
+        };
+        if years.is_nan() || years < 0.0 || years > span {
+            return Err(out_of_range);
+        }
+        // Interval k covers [k·step, (k+1)·step] years; the last date belongs to the last one.
+        let intervals = self.snapshots.len().saturating_sub(1);
+        // 0 <= years/step <= intervals (at most a few dozen): the cast is exact.
+        let k = (fmath::floor(years / step) as usize).min(intervals.saturating_sub(1));
+        // Measured from the interval's own start (exact in f32), so that every model holding
+        // the same two snapshots interpolates bit-identically.
+        let f = (years - step * k as f32) / step;
+        match (self.snapshots.get(k), self.snapshots.get(k + 1)) {
+            (Some(start), Some(end)) => Ok((start, end, f)),
+            _ => Err(out_of_range),
+        }
+    }
+
     /// Gauss coefficients `(g_n^m, h_n^m)` in nT of snapshot `epoch_index` (0 = `first_year`),
     /// as stored (`h_n^0 = 0`); `None` if any index is out of range.
     pub fn gauss(&self, epoch_index: usize, n: usize, m: usize) -> Option<(f32, f32)> {
@@ -446,17 +477,23 @@ impl<const COEFFS: usize> Igrf<COEFFS> {
                 capacity: COEFFS,
             });
         }
-        // Built in its return slot: no `4·COEFFS`-byte temporary on a 2 KB stack.
-        let mut out = Ok(Self {
+        let (start, end, f) = model.interval(years, decimal_year)?;
+        Ok(Self::interpolated(start, end, f, degree))
+    }
+
+    /// The coefficients up to `degree` at fraction `f` of the interval from `start` to `end`.
+    fn interpolated(
+        start: &[f32; N_COEFFS],
+        end: &[f32; N_COEFFS],
+        f: f32,
+        degree: Degree,
+    ) -> Self {
+        let mut field = Self {
             coeffs: [0.0_f32; COEFFS],
             degree,
-        });
-        if let Ok(field) = &mut out {
-            if let Err(e) = field.set_years_since_first(model, years, decimal_year) {
-                out = Err(e);
-            }
-        }
-        out
+        };
+        field.fill(start, end, f);
+        field
     }
 
     /// Evaluates the coefficients (n ≤ degree) at `years` since the model's first year.
@@ -466,26 +503,13 @@ impl<const COEFFS: usize> Igrf<COEFFS> {
         years: f32,
         decimal_year: f32,
     ) -> Result<(), IgrfError> {
-        let step = f32::from(model.step_years);
-        let span = model.last_year() - model.first_year();
-        let out_of_range = IgrfError::DateOutOfRange {
-            decimal_year,
-            first_year: model.first_year(),
-            last_year: model.last_year(),
-        };
-        if years.is_nan() || years < 0.0 || years > span {
-            return Err(out_of_range);
-        }
-        // Interval k covers [k·step, (k+1)·step] years; the last date belongs to the last one.
-        let intervals = model.snapshots.len().saturating_sub(1);
-        // 0 <= years/step <= intervals (at most a few dozen): the cast is exact.
-        let k = (fmath::floor(years / step) as usize).min(intervals.saturating_sub(1));
-        // Measured from the interval's own start (exact in f32), so that every model holding
-        // the same two snapshots interpolates bit-identically.
-        let f = (years - step * k as f32) / step;
-        let (Some(start), Some(end)) = (model.snapshots.get(k), model.snapshots.get(k + 1)) else {
-            return Err(out_of_range);
-        };
+        let (start, end, f) = model.interval(years, decimal_year)?;
+        self.fill(start, end, f);
+        Ok(())
+    }
+
+    /// Sets the coefficients (n ≤ degree) to `N_n^m (g_start + f (g_end − g_start))`.
+    fn fill(&mut self, start: &[f32; N_COEFFS], end: &[f32; N_COEFFS], f: f32) {
         // Walk the full tables in column order and keep the terms n ≤ degree: the truncated
         // column order is the same sequence without the higher degrees.
         let max_n = usize::from(self.degree.get());
@@ -509,7 +533,6 @@ impl<const COEFFS: usize> Igrf<COEFFS> {
                 }
             }
         }
-        Ok(())
     }
 
     /// The interpolated degree-1 Gauss coefficients `(g₁⁰, g₁¹, h₁¹)`, nT: the tilted dipole
