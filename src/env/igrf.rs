@@ -41,7 +41,7 @@
 //! One order m at a time, the sums over n are taken top down (suffix sums, so the (n+1) weight
 //! of H costs two additions and no cancellation) and the powers of ζ applied once per order:
 //! per term (n, m ≥ 1) 6 f32 multiplications and 7 additions (the recursion 2 + 1, the sums
-//! P_g, P_h, D_g, D_h 4 + 4, the weights of H 2 additions), per order 14 multiplications and 10
+//! P_g, P_h, D_g, D_h 4 + 4, the weights of H 2 additions), per order 14 multiplications and 11
 //! additions (ζ^m and the three components), per evaluation one `sqrt` and one division
 //! ([`Igrf::teme`]: and one `sincos` for GMST). The u-derivative of order m is order m + 1's
 //! weights times order m's coefficients, so one coefficient array serves both; time
