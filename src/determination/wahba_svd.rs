@@ -8,7 +8,8 @@
 //! `B = Σ aᵢ b̂ᵢ r̂ᵢᵀ` (Markley 1988).
 //!
 //! # Solution (Markley 1988)
-//! `B = U·S·Vᵀ`, `A = U·diag(1, 1, det U·det V)·Vᵀ`. The SVD is the one-sided Jacobi of
+//! `B = U·S·Vᵀ`, `A = U·diag(1, 1, det U·det V)·Vᵀ`. With three or more observations the SVD
+//! is the one-sided Jacobi of
 //! [`crate::linalg::svd::nearest_rotation`] (bounded sweeps, allocation-free), which takes the
 //! third left singular vector as `u₁ × u₂`, so two observations (rank-2 `B`) are exact.
 //!
@@ -43,8 +44,11 @@
 //! of equal weight at angle θ, `s₂/s₁ = (1 − cos θ)/(1 + cos θ) ≈ θ²/4`, so the threshold
 //! refuses pairs closer than about 1.1°: below that, rounding `B` to f32 alone turns the
 //! rotation about the common direction by more than 1e-3 rad). Measured on the 200 problems of
-//! `../shared/ref/attitude/wahba.json` (2–6 vectors, noise 0–0.01 rad): see the README and
-//! `cargo test --test determination wahba -- --nocapture`.
+//! `../shared/ref/attitude/wahba.json` (2–6 vectors, 51 of them with two, noise 0–0.01 rad):
+//! [`solve`] within 1.8e-5° of the f64 optimum (RMS 5.9e-6°), [`solve_raw`] within 1.6e-5°
+//! (`cargo test --test determination wahba -- --nocapture`; README). MSP430 (no hardware
+//! multiplier): 103 684 cycles for two observations, 512 037 for three
+//! (`firmware/msp430-bench --groups det`).
 //!
 //! # Example
 //! ```
