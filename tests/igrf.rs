@@ -705,6 +705,20 @@ fn refresh_and_capacity() {
         Err(IgrfError::DateOutOfRange { .. })
     ));
     assert_eq!(small.teme(&r, 1.0).unwrap(), before);
+    // Built in place: the same field; `None` after an error.
+    let mut slot = None;
+    let placed =
+        Igrf::<{ coefficient_count(8) }>::emplace_epoch(&mut slot, &RECENT, &at(20), eight)
+            .unwrap();
+    assert_eq!(
+        placed.teme(&r, 1.234).unwrap(),
+        fresh.teme(&r, 1.234).unwrap()
+    );
+    assert!(Igrf::emplace_year(&mut slot, &RECENT, 2031.0, eight).is_err());
+    assert!(slot.is_none());
+    assert!(Igrf::emplace_year(&mut slot, &RECENT, f32::NAN, eight).is_err());
+    let nine = Degree::new(9).unwrap();
+    assert!(Igrf::emplace_year(&mut slot, &RECENT, 2025.0, nine).is_err());
     assert_eq!(coefficient_count(8), 80);
     assert_eq!(coefficient_count(13), 195);
     assert!(matches!(

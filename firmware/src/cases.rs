@@ -597,10 +597,11 @@ fn igrf_case<const C: usize, S: Sink>(
     use acs::linalg::Vec3;
     let nan3 = Vec3::new(f32::NAN, f32::NAN, f32::NAN);
     let year = s.input(2025.5);
-    // Built (not measured) at another date, then refreshed in place: the flight pattern. The
-    // `Result` is used in place (no copy of the coefficients on the 2 KB stack).
+    // Built (not measured) in place at another date, then refreshed in place: the flight
+    // pattern (no copy of the coefficients on the 2 KB stack).
+    let mut slot = None;
     let mut field = match Degree::new(degree) {
-        Ok(d) => Igrf::<C>::from_year(&RECENT, 2021.0, d),
+        Ok(d) => Igrf::<C>::emplace_year(&mut slot, &RECENT, 2021.0, d),
         Err(e) => Err(e),
     };
     s.begin(at_date);

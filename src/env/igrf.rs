@@ -371,7 +371,8 @@ pub const FULL_COEFFS: usize = N_COEFFS;
 /// `COEFFS` is the capacity, `4 × COEFFS` bytes of RAM: [`coefficient_count`] of the largest
 /// degree it will hold. The default is the full model (195, 780 bytes), which [`Igrf::new`] and
 /// [`Igrf::at_epoch`] build; a flight build at degree 8 uses `Igrf<80>` (320 bytes) through
-/// [`Igrf::from_year`] / [`Igrf::from_epoch`].
+/// [`Igrf::from_year`] / [`Igrf::from_epoch`], or, without a second copy on the stack while it
+/// is built, in its own storage with [`Igrf::emplace_epoch`].
 ///
 /// The field changes with the date by at most 165 nT per year in low Earth orbit (0.003 nT in
 /// 10 minutes, 0.45 nT in a day: the secular variation, README), so a copy refreshed every few
@@ -436,6 +437,81 @@ impl<const COEFFS: usize> Igrf<COEFFS> {
         // Whole years since the model start are exact integers; only the fraction rounds.
         let whole = year.saturating_sub(i32::from(model.first_year)) as f32;
         Self::from_years_since_first(model, whole + fraction, year as f32 + fraction, degree)
+    }
+
+    /// [`Igrf::from_epoch`] built directly in `slot` (which is `None` after an error): on a
+    /// 2 KB MCU, returning a `4·COEFFS`-byte value costs a second copy on the stack (measured:
+    /// 784 B at degree 13); this does not.
+    ///
+    /// Errors: as [`Igrf::from_epoch`].
+    pub fn emplace_epoch<'a, S: TimeScale>(
+        slot: &'a mut Option<Self>,
+        model: &Model,
+        epoch: &Epoch<S>,
+        degree: Degree,
+    ) -> Result<&'a mut Self, IgrfError> {
+        let (year, fraction) = epoch.decimal_year_split();
+        let whole = year.saturating_sub(i32::from(model.first_year)) as f32;
+        Self::emplace(
+            slot,
+            model,
+            whole + fraction,
+            year as f32 + fraction,
+            degree,
+        )
+    }
+
+    /// [`Igrf::from_year`] built directly in `slot` ([`Igrf::emplace_epoch`]).
+    ///
+    /// Errors: as [`Igrf::from_year`].
+    pub fn emplace_year<'a>(
+        slot: &'a mut Option<Self>,
+        model: &Model,
+        decimal_year: f32,
+        degree: Degree,
+    ) -> Result<&'a mut Self, IgrfError> {
+        if let Err(e) = finite("decimal_year", decimal_year) {
+            *slot = None;
+            return Err(e);
+        }
+        Self::emplace(
+            slot,
+            model,
+            decimal_year - model.first_year(),
+            decimal_year,
+            degree,
+        )
+    }
+
+    fn emplace<'a>(
+        slot: &'a mut Option<Self>,
+        model: &Model,
+        years: f32,
+        decimal_year: f32,
+        degree: Degree,
+    ) -> Result<&'a mut Self, IgrfError> {
+        let checked = if coefficient_count(degree.get()) > COEFFS {
+            Err(IgrfError::CapacityTooSmall {
+                degree: degree.get(),
+                capacity: COEFFS,
+            })
+        } else {
+            model.interval(years, decimal_year)
+        };
+        match checked {
+            Ok((start, end, f)) => {
+                let field = slot.insert(Self {
+                    coeffs: [0.0_f32; COEFFS],
+                    degree,
+                });
+                field.fill(start, end, f);
+                Ok(field)
+            }
+            Err(e) => {
+                *slot = None;
+                Err(e)
+            }
+        }
     }
 
     /// The same field moved to `epoch`, in place (same model choice and degree): the refresh of
