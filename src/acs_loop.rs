@@ -487,8 +487,15 @@ impl<const N: usize> AcsLoop<N> {
             .ok();
         faults.orbit = orbit.is_none();
         let sun = precise::sun(&now).ok();
-        let field_model =
-            Igrf::at_epoch(self.config.igrf_model, &now, self.config.igrf_degree).ok();
+        // Built in place: no second 780-byte copy on the stack (`Igrf::emplace_epoch`).
+        let mut field_slot: Option<Igrf> = None;
+        let field_model = Igrf::emplace_epoch(
+            &mut field_slot,
+            self.config.igrf_model,
+            &now,
+            self.config.igrf_degree,
+        )
+        .ok();
         let gmst = now.to_ut1(None).ok().map(|ut1| gmst_rad(&ut1));
         faults.model = sun.is_none() || field_model.is_none() || gmst.is_none();
         let illumination = match (&orbit, &sun) {
