@@ -13,7 +13,7 @@
 //! 2. SGP4 position at the step's UTC epoch; precise Sun (TEME); conical eclipse test;
 //!    IGRF field in TEME through GMST (UT1 ≈ UTC).
 //! 3. Body field and rate by least squares over the tiles; Sun direction averaged over the lit
-//!    tiles (only outside the umbra); attitude by QUEST from the Sun and field pairs, filtered
+//!    tiles (only outside the umbra); attitude by Wahba SVD (two-vector closed form) from the Sun and field pairs, filtered
 //!    with the gyros (a complementary filter that also bridges short gaps, e.g. eclipse entry,
 //!    for at most `max_propagation_s`).
 //! 4. Mode logic (below), the mode's law, wheel momentum and coil dipole commands.
@@ -53,7 +53,7 @@ use crate::determination::least_squares::{
     angular_rate_body_cached, magnetic_field_body_cached, TileSolver,
 };
 use crate::determination::sun_sensor::sun_direction_body;
-use crate::determination::{quest, Observation};
+use crate::determination::{wahba_svd, Observation};
 use crate::env::eclipse::{conical, Shadow};
 use crate::env::igrf::{Degree, Igrf, Model};
 use crate::env::sun::precise;
@@ -148,7 +148,7 @@ pub struct AcsConfig<const N: usize = MAX_TILES> {
     pub igrf_model: &'static Model,
     /// Degree of the on-board field model.
     pub igrf_degree: Degree,
-    /// Weights of the Sun and field observations in QUEST (`σ⁻²`, rad⁻²).
+    /// Weights of the Sun and field observations in Wahba's loss (`σ⁻²`, rad⁻²).
     pub weights: (f32, f32),
     /// Gain of the attitude filter, 0 < k ≤ 1: the fraction of the measured-minus-predicted
     /// rotation taken each step (1 = raw measurements; about 0.1 averages ten steps of noise).
@@ -182,7 +182,7 @@ pub enum Command {
 pub struct StepReport {
     /// The mode after this step's transitions.
     pub mode: Mode,
-    /// The attitude measured this step by QUEST (reference TEME → body), if any.
+    /// The attitude measured this step by Wahba SVD (reference TEME → body), if any.
     pub measured_attitude: Option<Quaternion>,
     /// The filtered attitude the laws used (reference TEME → body), if valid.
     pub attitude: Option<Quaternion>,
@@ -542,7 +542,7 @@ impl<const N: usize> AcsLoop<N> {
                         weight: w_mag,
                     },
                 ];
-                quest::solve(&obs).ok().map(|s| s.quaternion)
+                wahba_svd::solve(&obs).ok().map(|s| s.quaternion)
             }
             _ => None,
         };

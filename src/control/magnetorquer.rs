@@ -107,7 +107,7 @@ pub fn dipole_two_coil_xz(
     Ok((m, residual_y))
 }
 
-/// AtmoCube's actual two-coil law, coils on x and y (`m_z = 0`, note 002 §4.4 [derived]):
+/// AtmoCube's actual two-coil law, coils on x and y (`m_z = 0`, note 002 §4.4 \[derived\]):
 /// `m_y = τ_x / B_z`, `m_x = −τ_y / B_z`; returns the dipole and the residual
 /// `τ_z,res = −(B_y τ_y + B_x τ_x) / B_z` (N·m). Singular at the magnetic equator (`B_z → 0`).
 pub fn dipole_two_coil_xy(
@@ -168,7 +168,7 @@ pub fn coil_currents(
 }
 
 /// Wheel momentum dumping: the dipole whose torque removes the excess wheel momentum,
-/// `m = B × (−k (h − h_target)) / |B|²` (note 002 §8.5 [derived]). `h_wheels` is the total
+/// `m = B × (−k (h − h_target)) / |B|²` (note 002 §8.5 \[derived\]). `h_wheels` is the total
 /// wheel angular momentum in body axes (kg·m²/s) and `gain_per_s` is `k` (1/s). The magnetic
 /// torque acts on the body; the wheel controller absorbs it, so the wheels slow down: the
 /// external torque `τ = −k Δh` drains the stored momentum at rate `k` (the part along `B`

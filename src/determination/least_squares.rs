@@ -108,8 +108,8 @@ pub fn angular_rate_body(
 }
 
 /// `(HᵀH)⁻¹` of the rows of one set of tiles (bit `i` of `tiles` set: tile `i` contributes),
-/// built by [`TileSolver::magnetometers`] or [`TileSolver::gyros`] and reused while the set does
-/// not change (see the [module docs](self)).
+/// built on first use by [`magnetic_field_body_cached`] or [`angular_rate_body_cached`] and
+/// reused while the set does not change (see the [module docs](self)).
 #[derive(Copy, Clone, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct TileSolver {

@@ -53,7 +53,7 @@ use std::fmt::Write as _;
 
 use crate::time::{Calendar, Epoch, TimeSpan, Utc};
 
-/// The version line written by [`write`].
+/// The version line written by [`write()`].
 pub const VERSION: &str = "stk.v.11.0";
 
 /// The data format keyword this module reads and writes.

@@ -14,7 +14,7 @@
 //!
 //! # Inverse
 //! `ΞᵀΞ = I₃` for a unit `q`, hence `ω = 2 Ξ(q)ᵀ q̇` and, since `Ξ(q̇)ᵀ q̇ ≡ 0`,
-//! `ω̇ = 2 Ξ(q)ᵀ q̈` (note 001 §1.5 [D]); in quaternion form `ω = 2 (q* ⊗ q̇)_v`. This replaces
+//! `ω̇ = 2 Ξ(q)ᵀ q̈` (note 001 §1.5 \[D\]); in quaternion form `ω = 2 (q* ⊗ q̇)_v`. This replaces
 //! the thesis's symbolic inversion with a dynamically dropped equation (no division).
 //!
 //! # Accuracy (measured, `cargo test --test planning -- --nocapture kinematics`)

@@ -47,7 +47,7 @@
 //! # Precision and cost
 //! The mean longitude is reduced modulo one turn in exact fixed point from the whole day count
 //! (`LinearAngle`); the longitude is kept in turns, so its sine and cosine need no floating
-//! range reduction ([`sincos_turns`]: table point + second-order correction, 5e-9 + f32
+//! range reduction (`sincos_turns`: table point + second-order correction, 5e-9 + f32
 //! rounding). No f64, no division but the aberration's, 2 table sine-cosines; the 36 cosines of
 //! the periodic and nutation terms are Q14 table values times 16-bit amplitudes summed in i32
 //! (exact; one conversion to f32 per sum), and the fundamental arguments are exact 32-bit fixed
