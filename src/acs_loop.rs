@@ -55,7 +55,7 @@ use crate::determination::least_squares::{
 use crate::determination::sun_sensor::sun_direction_body;
 use crate::determination::{wahba_svd, Observation};
 use crate::env::eclipse::{conical, Shadow};
-use crate::env::igrf::{Degree, Igrf, Model};
+use crate::env::igrf::{coefficient_count, Degree, Igrf, Model, FULL_COEFFS};
 use crate::env::sun::precise;
 use crate::hal::TileBus;
 use crate::linalg::{Vec2, Vec3};
@@ -70,6 +70,11 @@ pub const FAILURES_TO_MARK_FAILED: u8 = 3;
 pub const INVALID_STEPS_TO_SAFE: u16 = 30;
 /// Maximum number of magnetorquer coils.
 pub const MAX_COILS: usize = 6;
+/// Age (s) after which the cached IGRF coefficients are recomputed for the current date: the
+/// secular variation is at most 165 nT/yr at 400 km, so 600 s costs ≤ 0.003 nT (`tests/igrf.rs`,
+/// `refresh_interval`) and saves the per-date build (87 058 MSP430 cycles at degree 8) on all
+/// but one step in 600.
+pub const FIELD_REFRESH_S: f32 = 600.0;
 
 /// The operating mode.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -212,9 +217,11 @@ struct SlewProgress {
 }
 
 /// The loop's state: mode, estimator memories, commands in force, device health; for at most
-/// `N` ≤ 32 tiles (see [`AcsConfig`]).
+/// `N` ≤ 32 tiles (see [`AcsConfig`]), with room for `F` IGRF coefficients (`F` ≥
+/// [`coefficient_count`] of the configured degree: 80 for degree 8, the default 195 for 13; the
+/// coefficients at the date are kept, `4·F` bytes).
 #[derive(Clone, Debug)]
-pub struct AcsLoop<const N: usize = MAX_TILES> {
+pub struct AcsLoop<const N: usize = MAX_TILES, const F: usize = FULL_COEFFS> {
     config: AcsConfig<N>,
     orbit: Sgp4,
     mode: Mode,
@@ -235,14 +242,17 @@ pub struct AcsLoop<const N: usize = MAX_TILES> {
     /// tiles giving a reading changes.
     mag_solver: Option<TileSolver>,
     gyro_solver: Option<TileSolver>,
+    /// IGRF coefficients at `field_time` (refreshed in place, [`FIELD_REFRESH_S`]).
+    field: Option<Igrf<F>>,
+    field_time: Option<Epoch<Utc>>,
 }
 
 /// Errors of [`AcsLoop::new`] and [`AcsLoop::command`].
 #[derive(Copy, Clone, Debug, PartialEq)]
 #[non_exhaustive]
 pub enum AcsError {
-    /// A configuration value is not finite or not positive where it must be, or the tile
-    /// capacity exceeds 32.
+    /// A configuration value is not finite or not positive where it must be, the tile capacity
+    /// exceeds 32, or the IGRF degree needs more coefficients than the loop has room for.
     InvalidConfig,
     /// A slew cannot be planned now (no valid attitude, or the planner refused).
     CannotSlew,
@@ -287,7 +297,7 @@ struct Readings<const N: usize> {
     gyro: [Option<f32>; N],
 }
 
-impl<const N: usize> AcsLoop<N> {
+impl<const N: usize, const F: usize> AcsLoop<N, F> {
     /// A loop in `Detumble` for the given configuration and orbit.
     pub fn new(config: AcsConfig<N>, orbit: Sgp4) -> Result<Self, AcsError> {
         let gain_ok = config.filter_gain > 0.0 && config.filter_gain <= 1.0;
@@ -301,7 +311,11 @@ impl<const N: usize> AcsLoop<N> {
             && config.control_period_s > 0.0
             && config.control_period_s.is_finite()
             && config.slew_pause_s >= 0.0;
-        if !finite || config.detumble_exit_radps >= config.detumble_enter_radps || N > 32 {
+        if !finite
+            || config.detumble_exit_radps >= config.detumble_enter_radps
+            || N > 32
+            || coefficient_count(config.igrf_degree.get()) > F
+        {
             return Err(AcsError::InvalidConfig);
         }
         Ok(Self {
@@ -320,6 +334,8 @@ impl<const N: usize> AcsLoop<N> {
             coil_allocator: None,
             mag_solver: None,
             gyro_solver: None,
+            field: None,
+            field_time: None,
         })
     }
 
@@ -477,6 +493,7 @@ impl<const N: usize> AcsLoop<N> {
     pub fn step<B: TileBus>(&mut self, bus: &mut B, now: Epoch<Utc>, dt_s: f32) -> StepReport {
         let mut faults = self.safe(bus);
         let readings = self.read_tiles(bus, &mut faults);
+        self.refresh_field(&now);
         let n = self.config.tiles.len();
         let tiles = self.config.tiles.as_slice();
 
@@ -487,15 +504,7 @@ impl<const N: usize> AcsLoop<N> {
             .ok();
         faults.orbit = orbit.is_none();
         let sun = precise::sun(&now).ok();
-        // Built in place: no second 780-byte copy on the stack (`Igrf::emplace_epoch`).
-        let mut field_slot: Option<Igrf> = None;
-        let field_model = Igrf::emplace_epoch(
-            &mut field_slot,
-            self.config.igrf_model,
-            &now,
-            self.config.igrf_degree,
-        )
-        .ok();
+        let field_model = self.field.as_ref();
         let gmst = now.to_ut1(None).ok().map(|ut1| gmst_rad(&ut1));
         faults.model = sun.is_none() || field_model.is_none() || gmst.is_none();
         let illumination = match (&orbit, &sun) {
@@ -742,6 +751,30 @@ impl<const N: usize> AcsLoop<N> {
             _ => None,
         };
         self.estimate.map(|(q, _)| q)
+    }
+
+    /// Recomputes the cached IGRF coefficients in place if they are older than
+    /// [`FIELD_REFRESH_S`] or from another date (a jump in time), or missing; `None` after an
+    /// error (a date outside the model).
+    fn refresh_field(&mut self, now: &Epoch<Utc>) {
+        let fresh = self.field.is_some()
+            && self.field_time.is_some_and(|t| {
+                let age = span_s(now, &t);
+                age.is_finite() && crate::fmath::abs(age) <= FIELD_REFRESH_S
+            });
+        if fresh {
+            return;
+        }
+        self.field_time = None;
+        let built = Igrf::emplace_epoch(
+            &mut self.field,
+            self.config.igrf_model,
+            now,
+            self.config.igrf_degree,
+        );
+        if built.is_ok() {
+            self.field_time = Some(*now);
+        }
     }
 
     /// Allocates a total body momentum to the wheels (the wheels hold `h`, the body the

@@ -151,17 +151,32 @@ fn sun_safe_through_a_whole_eclipse() {
 #[test]
 fn loop_state_size() {
     use acs::acs_loop::{AcsConfig, AcsLoop};
-    let total = std::mem::size_of::<AcsLoop>();
-    let config = std::mem::size_of::<AcsConfig>();
-    let orbit = std::mem::size_of::<acs::orbit::sgp4::Sgp4>();
-    println!("AcsLoop {total} B = configuration {config} B + SGP4 elements {orbit} B + state {} B (host, 64-bit)", total - config - orbit);
-    assert!(total - config - orbit <= 512);
-    // sized to the thesis's six tiles, as the flight firmware is
-    let six = std::mem::size_of::<AcsLoop<6>>();
-    let six_config = std::mem::size_of::<AcsConfig<6>>();
-    println!("AcsLoop<6> {six} B = configuration {six_config} B + SGP4 elements {orbit} B + state {} B (host, 64-bit)", six - six_config - orbit);
+    use acs::env::igrf::{coefficient_count, Igrf};
+    use acs::time::{Epoch, Utc};
+    use std::mem::size_of;
+    let orbit = size_of::<acs::orbit::sgp4::Sgp4>();
+    let field = |coeffs: usize| coeffs * 4;
+    let total = size_of::<AcsLoop>();
+    let config = size_of::<AcsConfig>();
+    let full_cache = size_of::<Option<Igrf>>() + size_of::<Option<Epoch<Utc>>>();
+    println!(
+        "AcsLoop {total} B = configuration {config} B + SGP4 elements {orbit} B + IGRF cache {full_cache} B + state {} B (host, 64-bit)",
+        total - config - orbit - full_cache
+    );
+    assert!(total - config - orbit - full_cache <= 512);
+    assert!(full_cache <= field(coefficient_count(13)) + 32);
+    // sized as the flight firmware is: six tiles, IGRF degree 8
+    const F8: usize = coefficient_count(8);
+    let six = size_of::<AcsLoop<6, F8>>();
+    let six_config = size_of::<AcsConfig<6>>();
+    let cache8 = size_of::<Option<Igrf<F8>>>() + size_of::<Option<Epoch<Utc>>>();
+    println!(
+        "AcsLoop<6, {F8}> {six} B = configuration {six_config} B + SGP4 elements {orbit} B + IGRF cache {cache8} B + state {} B (host, 64-bit)",
+        six - six_config - orbit - cache8
+    );
+    assert!(six - six_config - orbit - cache8 <= 512);
     // the tile table and the per-tile state shrink with the capacity (on the MSP430 the
-    // flight loop is 1 176 B: README "MSP430 firmware")
+    // flight loop's size is in README "MSP430 firmware")
     assert!(six + 800 <= total);
 }
 
@@ -196,7 +211,7 @@ fn no_working_wheel_stops_every_wheel() {
     let scenario = scenarios::tracking(None).unwrap();
     let tle = acs::tle::Tle::parse(&scenario.sim.tle.0, &scenario.sim.tle.1).unwrap();
     let orbit = Sgp4::new(&tle, scenario.gravity).unwrap();
-    let mut acs = AcsLoop::new(scenario.flight.clone(), orbit).unwrap();
+    let mut acs: AcsLoop = AcsLoop::new(scenario.flight.clone(), orbit).unwrap();
     let wheel_tiles: Vec<usize> = (0..acs.tiles().len())
         .filter(|&i| acs.tiles()[i].equipment.reaction_wheel)
         .collect();
@@ -214,4 +229,21 @@ fn no_working_wheel_stops_every_wheel() {
             bus.0
         );
     }
+}
+
+/// A loop without room for the configured IGRF degree's coefficients is refused.
+#[test]
+fn igrf_capacity_is_checked() {
+    use acs::acs_loop::{AcsError, AcsLoop};
+    use acs::env::igrf::coefficient_count;
+    let scenario = scenarios::tracking(None).unwrap(); // degree 13
+    let tle = acs::tle::Tle::parse(&scenario.sim.tle.0, &scenario.sim.tle.1).unwrap();
+    let orbit = acs::orbit::sgp4::Sgp4::new(&tle, scenario.gravity).unwrap();
+    const F8: usize = coefficient_count(8);
+    const F13: usize = coefficient_count(13);
+    assert_eq!(
+        AcsLoop::<24, F8>::new(scenario.flight.clone(), orbit.clone()).err(),
+        Some(AcsError::InvalidConfig)
+    );
+    assert!(AcsLoop::<24, F13>::new(scenario.flight.clone(), orbit).is_ok());
 }

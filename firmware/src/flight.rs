@@ -110,6 +110,9 @@ pub fn principal_axes_of_diagonal(moments: &[f32; 3]) -> PrincipalAxes {
     }
 }
 
+/// Room for the IGRF coefficients of the flight degree (8): 320 B of loop state.
+pub const FIELD_COEFFS: usize = acs::env::igrf::coefficient_count(8);
+
 /// The number of tiles of the flight configuration (the thesis's cube): the loop is sized to it.
 pub const TILES: usize = 6;
 
@@ -118,7 +121,7 @@ pub const TILES: usize = 6;
 /// Not inlined: its temporaries (configuration, SGP4 initialisation) leave the stack before the
 /// control loop starts.
 #[inline(never)]
-pub fn new_loop() -> Option<AcsLoop<TILES>> {
+pub fn new_loop() -> Option<AcsLoop<TILES, FIELD_COEFFS>> {
     let axes = principal_axes_of_diagonal(&INERTIA_DIAGONAL);
     let inertia = axes.inertia_body;
     let mut coils = heapless::Vec::new();

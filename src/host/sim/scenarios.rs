@@ -163,7 +163,7 @@ impl Scenario {
         let tle = crate::tle::Tle::parse(&self.sim.tle.0, &self.sim.tle.1)
             .map_err(|e| SimError::Tle(e.to_string()))?;
         let orbit = Sgp4::new(&tle, self.gravity).map_err(|e| SimError::Model(format!("{e:?}")))?;
-        let mut acs =
+        let mut acs: AcsLoop =
             AcsLoop::new(self.flight.clone(), orbit).map_err(|e| SimError::Model(e.to_string()))?;
         let mut sim = Simulator::new(self.sim.clone(), self.initial.0, self.initial.1)?;
         let target = self.target;
