@@ -16,7 +16,7 @@
 //!
 //! # Algorithm
 //! 1. `n = n̄·2π/86 400` rad/s; `a = (μ/n²)^(1/3)` (eq. 4.9); `p = a(1 − e²)` (eq. 4.10).
-//! 2. `M = M₀ + n·Δt` (eq. 4.13), kept as an exact [`Phase`] and reduced to −π..π.
+//! 2. `M = M₀ + n·Δt` (eq. 4.13), kept as an exact `Phase` and reduced to −π..π.
 //! 3. Kepler's equation `M = E − e sin E` by Newton–Raphson (eq. 4.4) from the thesis's first
 //!    guess (`E = M − e` for M in −π..0, else `M + e`), to f32 resolution, at most 30 steps.
 //! 4. True anomaly from `cos ν = (cos E − e)/(1 − e cos E)`,
@@ -192,7 +192,7 @@ impl Kepler {
 }
 
 /// Solves `M = E − e sin E` for E (eq. 4.4) by Newton–Raphson from the thesis's first guess.
-/// `m` in −π..π, `0 ≤ e < 1`; at most [`MAX_ITERATIONS`] steps.
+/// `m` in −π..π, `0 ≤ e < 1`; at most 30 steps.
 pub fn solve_kepler(m: f32, e: f32) -> f32 {
     // thesis: E₀ = M − e if M ∈ (−π, 0) or M > π, else M + e
     let mut ecc_anomaly = if (m > -core::f32::consts::PI && m < 0.0) || m > core::f32::consts::PI {

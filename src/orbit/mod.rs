@@ -2,9 +2,9 @@
 //!
 //! Both propagators take the time since the element set's epoch as a [`TimeSpan`] (exact integer
 //! seconds and nanoseconds) and return a [`TemeState`]. Their secular angles grow by hundreds of
-//! radians a week, more than f32 can hold to the metre, so they are kept as a [`Phase`]: a
+//! radians a week, more than f32 can hold to the metre, so they are kept as a `Phase`: a
 //! fixed-point fraction of a turn that is advanced exactly by the whole time units and in f32
-//! only by the sub-unit remainder (see [`Phase`] for the numbers).
+//! only by the sub-unit remainder (see `Phase` for the numbers).
 
 use crate::linalg::Vec3;
 use crate::time::TimeSpan;

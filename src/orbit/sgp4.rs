@@ -28,7 +28,7 @@
 //!   f64 fields are split into two f32 from their bits (integer operations), so the MSP430 build
 //!   pulls no f64 soft float and no f64 `libm`. Everything is then stored in f32.
 //! - **Propagation in f32**, with the `crate::fmath` functions, except for the secular angles
-//!   (mean anomaly, argument of perigee, node and their sum), which are [`Phase`]s: exact
+//!   (mean anomaly, argument of perigee, node and their sum), which are `Phase`s: exact
 //!   fixed-point turns advanced by 64-bit integer products for the whole minutes, f32 only for the
 //!   sub-minute remainder and the small periodic terms. Angles are reduced to −π..π (not 0..2π),
 //!   which halves the f32 spacing of the argument of latitude.
