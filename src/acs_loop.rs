@@ -357,6 +357,18 @@ impl<const N: usize, const F: usize> AcsLoop<N, F> {
         }
     }
 
+    /// Returns a tile to service (ground command, e.g. after a power cycle of a tile marked
+    /// failed): its devices are used again from the next step, its bus-failure count restarts,
+    /// and the cached allocators and least-squares operators are rebuilt for the new set.
+    pub fn restore(&mut self, tile: usize) {
+        if let Some(t) = self.config.tiles.get_mut(tile) {
+            t.state = TileState::Working;
+        }
+        if let Some(count) = self.failures.get_mut(tile) {
+            *count = 0;
+        }
+    }
+
     /// Accepts a ground command. A slew is planned from the last determined attitude
     /// (`attitude`, reference → body), so it needs one.
     pub fn command(

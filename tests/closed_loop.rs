@@ -247,3 +247,64 @@ fn igrf_capacity_is_checked() {
     );
     assert!(AcsLoop::<24, F13>::new(scenario.flight.clone(), orbit).is_ok());
 }
+
+/// A tile marked failed and restored by the ground is used again: its wheel is commanded by the
+/// allocation (rebuilt for the new working set), not held at zero.
+#[test]
+fn restored_tile_returns_to_service() {
+    use acs::acs_loop::AcsLoop;
+    use acs::hal::{ErrorKind, TileBus};
+    use acs::tiles::TileState;
+
+    struct Bus(Vec<(usize, f32)>);
+    impl TileBus for Bus {
+        fn read_sun(&mut self, _: usize) -> Result<Option<[i16; 2]>, ErrorKind> {
+            Ok(None)
+        }
+        fn read_magnetometer(&mut self, tile: usize) -> Result<[i16; 2], ErrorKind> {
+            Ok([100 + tile as i16 * 300, -200])
+        }
+        fn read_gyro(&mut self, tile: usize) -> Result<i16, ErrorKind> {
+            Ok(20 - tile as i16 * 7)
+        }
+        fn set_wheel_momentum(&mut self, tile: usize, h_nms: f32) -> Result<(), ErrorKind> {
+            self.0.push((tile, h_nms));
+            Ok(())
+        }
+        fn set_dipole(&mut self, _: usize, _: f32) -> Result<(), ErrorKind> {
+            Ok(())
+        }
+    }
+
+    let scenario = scenarios::tracking(None).unwrap();
+    let tle = acs::tle::Tle::parse(&scenario.sim.tle.0, &scenario.sim.tle.1).unwrap();
+    let orbit = acs::orbit::sgp4::Sgp4::new(&tle, scenario.gravity).unwrap();
+    let mut acs: AcsLoop = AcsLoop::new(scenario.flight.clone(), orbit).unwrap();
+    let tile = (0..acs.tiles().len())
+        .find(|&i| acs.tiles()[i].equipment.reaction_wheel)
+        .unwrap();
+    acs.mark_failed(tile);
+    let mut t = tle.epoch.add(acs::time::TimeSpan::new(60, 0));
+    let mut bus = Bus(Vec::new());
+    for _ in 0..3 {
+        acs.step(&mut bus, t, 1.0);
+        t = t.add(acs::time::TimeSpan::new(1, 0));
+    }
+    assert!(bus
+        .0
+        .iter()
+        .filter(|(i, _)| *i == tile)
+        .all(|(_, h)| *h == 0.0));
+    acs.restore(tile);
+    assert_eq!(acs.tiles()[tile].state, TileState::Working);
+    let mut bus = Bus(Vec::new());
+    for _ in 0..3 {
+        acs.step(&mut bus, t, 1.0);
+        t = t.add(acs::time::TimeSpan::new(1, 0));
+    }
+    assert!(
+        bus.0.iter().any(|(i, h)| *i == tile && *h != 0.0),
+        "restored wheel never commanded: {:?}",
+        bus.0
+    );
+}
