@@ -54,6 +54,101 @@ fn check_lengths(tiles: usize, readings: usize) -> Result<(), DeterminationError
     }
 }
 
+/// A tile sensor's reading and the rows it adds to the stacked system: the magnetometer's two
+/// components (`x̂_m·B = φ_xm`, `ŷ_m·B = φ_ym`) or the gyro's one (`ẑ_m·ω = ω_zm`).
+trait Reading: Copy {
+    /// The tile has this sensor and it works.
+    fn works(tile: &Tile) -> bool;
+    /// Every component is finite.
+    fn is_finite(&self) -> bool;
+    /// Folds this reading's rows (body-frame row, measured value) into `ls`.
+    fn push_rows<const K: usize>(
+        &self,
+        tile: &Tile,
+        ls: &mut QrLeastSquares<K>,
+        rhs: impl Fn(f32) -> SVector<f32, K>,
+    ) -> Result<(), DeterminationError>;
+    /// `Hᵀy` of this reading's rows.
+    fn transposed_rows(&self, tile: &Tile) -> Vec3;
+}
+
+impl Reading for Vec2 {
+    fn works(tile: &Tile) -> bool {
+        tile.has_working_magnetometer()
+    }
+    fn is_finite(&self) -> bool {
+        self.x.is_finite() && self.y.is_finite()
+    }
+    fn push_rows<const K: usize>(
+        &self,
+        tile: &Tile,
+        ls: &mut QrLeastSquares<K>,
+        rhs: impl Fn(f32) -> SVector<f32, K>,
+    ) -> Result<(), DeterminationError> {
+        ls.push(&tile.x_body(), &rhs(self.x))?;
+        ls.push(&tile.y_body(), &rhs(self.y))?;
+        Ok(())
+    }
+    fn transposed_rows(&self, tile: &Tile) -> Vec3 {
+        tile.x_body() * self.x + tile.y_body() * self.y
+    }
+}
+
+impl Reading for f32 {
+    fn works(tile: &Tile) -> bool {
+        tile.has_working_gyro()
+    }
+    fn is_finite(&self) -> bool {
+        f32::is_finite(*self)
+    }
+    fn push_rows<const K: usize>(
+        &self,
+        tile: &Tile,
+        ls: &mut QrLeastSquares<K>,
+        rhs: impl Fn(f32) -> SVector<f32, K>,
+    ) -> Result<(), DeterminationError> {
+        ls.push(&tile.normal_body(), &rhs(*self))?;
+        Ok(())
+    }
+    fn transposed_rows(&self, tile: &Tile) -> Vec3 {
+        tile.normal_body() * *self
+    }
+}
+
+/// Calls `f` for each working tile with a reading, in order; a non-finite reading stops the
+/// walk with [`DeterminationError::NonFinite`] and its index.
+fn for_each_reading<R: Reading>(
+    tiles: &[Tile],
+    readings: &[Option<R>],
+    mut f: impl FnMut(&Tile, &R) -> Result<(), DeterminationError>,
+) -> Result<(), DeterminationError> {
+    check_lengths(tiles.len(), readings.len())?;
+    for (index, (tile, reading)) in tiles.iter().zip(readings.iter()).enumerate() {
+        let Some(value) = reading else { continue };
+        if !R::works(tile) {
+            continue;
+        }
+        if !value.is_finite() {
+            return Err(DeterminationError::NonFinite { index });
+        }
+        f(tile, value)?;
+    }
+    Ok(())
+}
+
+/// The one-shot least-squares solution by Givens QR with the readings as the right-hand side.
+fn solve<R: Reading>(tiles: &[Tile], readings: &[Option<R>]) -> Result<Vec3, DeterminationError> {
+    let mut ls = QrLeastSquares::<1>::new();
+    for_each_reading(tiles, readings, |tile, value| {
+        value.push_rows(tile, &mut ls, SVector::<f32, 1>::new)
+    })?;
+    if ls.rows() == 0 {
+        return Err(DeterminationError::NotObservable { rank: 0 });
+    }
+    let x = ls.solve_full_rank(RANK_REL_TOL)?;
+    Ok(x.column(0).into_owned())
+}
+
 /// The body-frame magnetic field `B_uvw = 𝐁⁺·Φ` (eq. 8.16) from the tiles whose reading is
 /// `Some((B_x, B_y))` (tile-frame components) and whose magnetometer is working. `readings`
 /// has one entry per tile.
@@ -61,24 +156,7 @@ pub fn magnetic_field_body(
     tiles: &[Tile],
     readings: &[Option<Vec2>],
 ) -> Result<Vec3, DeterminationError> {
-    check_lengths(tiles.len(), readings.len())?;
-    let mut ls = QrLeastSquares::<1>::new();
-    for (index, (tile, reading)) in tiles.iter().zip(readings.iter()).enumerate() {
-        let Some(b_tile) = reading else { continue };
-        if !tile.has_working_magnetometer() {
-            continue;
-        }
-        if !(b_tile.x.is_finite() && b_tile.y.is_finite()) {
-            return Err(DeterminationError::NonFinite { index });
-        }
-        ls.push(&tile.x_body(), &SVector::<f32, 1>::new(b_tile.x))?;
-        ls.push(&tile.y_body(), &SVector::<f32, 1>::new(b_tile.y))?;
-    }
-    if ls.rows() == 0 {
-        return Err(DeterminationError::NotObservable { rank: 0 });
-    }
-    let x = ls.solve_full_rank(RANK_REL_TOL)?;
-    Ok(x.column(0).into_owned())
+    solve(tiles, readings)
 }
 
 /// The body-frame angular rate `ω_uvw = Z⁺·Ω` (eq. 8.25) from the tiles whose reading is
@@ -88,23 +166,7 @@ pub fn angular_rate_body(
     tiles: &[Tile],
     readings: &[Option<f32>],
 ) -> Result<Vec3, DeterminationError> {
-    check_lengths(tiles.len(), readings.len())?;
-    let mut ls = QrLeastSquares::<1>::new();
-    for (index, (tile, reading)) in tiles.iter().zip(readings.iter()).enumerate() {
-        let Some(omega_z) = reading else { continue };
-        if !tile.has_working_gyro() {
-            continue;
-        }
-        if !omega_z.is_finite() {
-            return Err(DeterminationError::NonFinite { index });
-        }
-        ls.push(&tile.normal_body(), &SVector::<f32, 1>::new(*omega_z))?;
-    }
-    if ls.rows() == 0 {
-        return Err(DeterminationError::NotObservable { rank: 0 });
-    }
-    let x = ls.solve_full_rank(RANK_REL_TOL)?;
-    Ok(x.column(0).into_owned())
+    solve(tiles, readings)
 }
 
 /// `(HᵀH)⁻¹` of the rows of one set of tiles (bit `i` of `tiles` set: tile `i` contributes),
@@ -117,55 +179,66 @@ pub struct TileSolver {
     tiles: u32,
 }
 
+impl TileSolver {
+    /// The solver of the `R` sensors of the tiles in `mask` (bit i: tile i): the rows of
+    /// `readings` (values ignored) by the same QR and SVD as the one-shot solution.
+    fn new<R: Reading>(
+        tiles: &[Tile],
+        readings: &[Option<R>],
+        mask: u32,
+    ) -> Result<Self, DeterminationError> {
+        let mut ls = QrLeastSquares::<1>::new();
+        for_each_reading(tiles, readings, |tile, value| {
+            value.push_rows(tile, &mut ls, |_| SVector::<f32, 1>::zeros())
+        })?;
+        if ls.rows() == 0 {
+            return Err(DeterminationError::NotObservable { rank: 0 });
+        }
+        Ok(Self {
+            inverse_gram: SymMat3::from_upper(&ls.inverse_gram(RANK_REL_TOL)?),
+            tiles: mask,
+        })
+    }
+}
+
 /// Bit `i` set for each tile `i` (< 32) that contributes, or `None` if a contributing tile has
 /// an index ≥ 32 (no cache: the one-shot function is used).
-fn contributing<T>(
-    tiles: &[Tile],
-    readings: &[Option<T>],
-    works: impl Fn(&Tile) -> bool,
-) -> Option<u32> {
+fn contributing<R: Reading>(tiles: &[Tile], readings: &[Option<R>]) -> Option<u32> {
     let mut mask = 0u32;
     for (i, (tile, reading)) in tiles.iter().zip(readings.iter()).enumerate() {
-        if reading.is_some() && works(tile) {
+        if reading.is_some() && R::works(tile) {
             mask |= 1u32.checked_shl(u32::try_from(i).ok()?)?;
         }
     }
     Some(mask)
 }
 
-impl TileSolver {
-    /// The solver of the magnetometers of the tiles in `mask` (bit i: tile i).
-    fn magnetometers(tiles: &[Tile], mask: u32) -> Result<Self, DeterminationError> {
-        let mut ls = QrLeastSquares::<1>::new();
-        for (i, tile) in tiles.iter().enumerate().take(32) {
-            if mask & (1 << i) != 0 {
-                ls.push(&tile.x_body(), &SVector::<f32, 1>::zeros())?;
-                ls.push(&tile.y_body(), &SVector::<f32, 1>::zeros())?;
-            }
+/// The solution with the operator kept in `cache`, rebuilt when the set of contributing tiles
+/// changes (left `None` when that set is not observable).
+fn solve_cached<R: Reading>(
+    cache: &mut Option<TileSolver>,
+    tiles: &[Tile],
+    readings: &[Option<R>],
+) -> Result<Vec3, DeterminationError> {
+    check_lengths(tiles.len(), readings.len())?;
+    let Some(mask) = contributing(tiles, readings) else {
+        return solve(tiles, readings);
+    };
+    let mut rhs = Vec3::zeros(); // Hᵀy
+    for_each_reading(tiles, readings, |tile, value| {
+        rhs += value.transposed_rows(tile);
+        Ok(())
+    })?;
+    let solver = match cache {
+        Some(s) if s.tiles == mask => *s,
+        _ => {
+            *cache = None;
+            let s = TileSolver::new(tiles, readings, mask)?;
+            *cache = Some(s);
+            s
         }
-        Self::finish(&ls, mask)
-    }
-
-    /// The solver of the gyros of the tiles in `mask` (bit i: tile i).
-    fn gyros(tiles: &[Tile], mask: u32) -> Result<Self, DeterminationError> {
-        let mut ls = QrLeastSquares::<1>::new();
-        for (i, tile) in tiles.iter().enumerate().take(32) {
-            if mask & (1 << i) != 0 {
-                ls.push(&tile.normal_body(), &SVector::<f32, 1>::zeros())?;
-            }
-        }
-        Self::finish(&ls, mask)
-    }
-
-    fn finish(ls: &QrLeastSquares<1>, tiles: u32) -> Result<Self, DeterminationError> {
-        if ls.rows() == 0 {
-            return Err(DeterminationError::NotObservable { rank: 0 });
-        }
-        Ok(Self {
-            inverse_gram: SymMat3::from_upper(&ls.inverse_gram(RANK_REL_TOL)?),
-            tiles,
-        })
-    }
+    };
+    Ok(solver.inverse_gram.mul_vec(&rhs))
 }
 
 /// [`magnetic_field_body`] with the operator kept in `cache` (rebuilt when the set of
@@ -175,23 +248,7 @@ pub fn magnetic_field_body_cached(
     tiles: &[Tile],
     readings: &[Option<Vec2>],
 ) -> Result<Vec3, DeterminationError> {
-    check_lengths(tiles.len(), readings.len())?;
-    let Some(mask) = contributing(tiles, readings, Tile::has_working_magnetometer) else {
-        return magnetic_field_body(tiles, readings);
-    };
-    let mut rhs = Vec3::zeros(); // 𝐁ᵀΦ
-    for (index, (tile, reading)) in tiles.iter().zip(readings.iter()).enumerate() {
-        let Some(b_tile) = reading else { continue };
-        if !tile.has_working_magnetometer() {
-            continue;
-        }
-        if !(b_tile.x.is_finite() && b_tile.y.is_finite()) {
-            return Err(DeterminationError::NonFinite { index });
-        }
-        rhs += tile.x_body() * b_tile.x + tile.y_body() * b_tile.y;
-    }
-    let solver = cached(cache, mask, || TileSolver::magnetometers(tiles, mask))?;
-    Ok(solver.inverse_gram.mul_vec(&rhs))
+    solve_cached(cache, tiles, readings)
 }
 
 /// [`angular_rate_body`] with the operator kept in `cache` (rebuilt when the set of
@@ -201,38 +258,5 @@ pub fn angular_rate_body_cached(
     tiles: &[Tile],
     readings: &[Option<f32>],
 ) -> Result<Vec3, DeterminationError> {
-    check_lengths(tiles.len(), readings.len())?;
-    let Some(mask) = contributing(tiles, readings, Tile::has_working_gyro) else {
-        return angular_rate_body(tiles, readings);
-    };
-    let mut rhs = Vec3::zeros(); // ZᵀΩ
-    for (index, (tile, reading)) in tiles.iter().zip(readings.iter()).enumerate() {
-        let Some(omega_z) = reading else { continue };
-        if !tile.has_working_gyro() {
-            continue;
-        }
-        if !omega_z.is_finite() {
-            return Err(DeterminationError::NonFinite { index });
-        }
-        rhs += tile.normal_body() * *omega_z;
-    }
-    let solver = cached(cache, mask, || TileSolver::gyros(tiles, mask))?;
-    Ok(solver.inverse_gram.mul_vec(&rhs))
-}
-
-/// The cached solver if it is for `mask`, else a new one from `build` (stored on success).
-fn cached(
-    cache: &mut Option<TileSolver>,
-    mask: u32,
-    build: impl FnOnce() -> Result<TileSolver, DeterminationError>,
-) -> Result<TileSolver, DeterminationError> {
-    match cache {
-        Some(s) if s.tiles == mask => Ok(*s),
-        _ => {
-            *cache = None;
-            let s = build()?;
-            *cache = Some(s);
-            Ok(s)
-        }
-    }
+    solve_cached(cache, tiles, readings)
 }
