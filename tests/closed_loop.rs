@@ -180,37 +180,44 @@ fn loop_state_size() {
     assert!(six + 800 <= total);
 }
 
+/// The `tracking` scenario, its TLE and the flight SGP4 of it.
+fn tracking_setup() -> (scenarios::Scenario, acs::tle::Tle, acs::orbit::sgp4::Sgp4) {
+    let scenario = scenarios::tracking(None).unwrap();
+    let tle = acs::tle::Tle::parse(&scenario.sim.tle.0, &scenario.sim.tle.1).unwrap();
+    let orbit = acs::orbit::sgp4::Sgp4::new(&tle, scenario.gravity).unwrap();
+    (scenario, tle, orbit)
+}
+
+/// A tile bus with constant readings (no Sun, a field and rates that differ per tile) that
+/// records the wheel commands.
+struct WheelRecorder(Vec<(usize, f32)>);
+
+impl acs::hal::TileBus for WheelRecorder {
+    fn read_sun(&mut self, _: usize) -> Result<Option<[i16; 2]>, acs::hal::ErrorKind> {
+        Ok(None)
+    }
+    fn read_magnetometer(&mut self, tile: usize) -> Result<[i16; 2], acs::hal::ErrorKind> {
+        Ok([100 + tile as i16 * 300, -200])
+    }
+    fn read_gyro(&mut self, tile: usize) -> Result<i16, acs::hal::ErrorKind> {
+        Ok(20 - tile as i16 * 7)
+    }
+    fn set_wheel_momentum(&mut self, tile: usize, h_nms: f32) -> Result<(), acs::hal::ErrorKind> {
+        self.0.push((tile, h_nms));
+        Ok(())
+    }
+    fn set_dipole(&mut self, _: usize, _: f32) -> Result<(), acs::hal::ErrorKind> {
+        Ok(())
+    }
+}
+
 /// With every wheel failed the allocation has nothing to work with: every wheel-equipped tile
 /// is still commanded to zero momentum (stopped), not left at its last command.
 #[test]
 fn no_working_wheel_stops_every_wheel() {
     use acs::acs_loop::AcsLoop;
-    use acs::hal::{ErrorKind, TileBus};
-    use acs::orbit::sgp4::Sgp4;
 
-    struct Recorder(Vec<(usize, f32)>);
-    impl TileBus for Recorder {
-        fn read_sun(&mut self, _: usize) -> Result<Option<[i16; 2]>, ErrorKind> {
-            Ok(None)
-        }
-        fn read_magnetometer(&mut self, _: usize) -> Result<[i16; 2], ErrorKind> {
-            Ok([100, -200])
-        }
-        fn read_gyro(&mut self, _: usize) -> Result<i16, ErrorKind> {
-            Ok(3)
-        }
-        fn set_wheel_momentum(&mut self, tile: usize, h_nms: f32) -> Result<(), ErrorKind> {
-            self.0.push((tile, h_nms));
-            Ok(())
-        }
-        fn set_dipole(&mut self, _: usize, _: f32) -> Result<(), ErrorKind> {
-            Ok(())
-        }
-    }
-
-    let scenario = scenarios::tracking(None).unwrap();
-    let tle = acs::tle::Tle::parse(&scenario.sim.tle.0, &scenario.sim.tle.1).unwrap();
-    let orbit = Sgp4::new(&tle, scenario.gravity).unwrap();
+    let (scenario, tle, orbit) = tracking_setup();
     let mut acs: AcsLoop = AcsLoop::new(scenario.flight.clone(), orbit).unwrap();
     let wheel_tiles: Vec<usize> = (0..acs.tiles().len())
         .filter(|&i| acs.tiles()[i].equipment.reaction_wheel)
@@ -219,7 +226,7 @@ fn no_working_wheel_stops_every_wheel() {
     for &i in &wheel_tiles {
         acs.mark_failed(i);
     }
-    let mut bus = Recorder(Vec::new());
+    let mut bus = WheelRecorder(Vec::new());
     let now = tle.epoch.add(acs::time::TimeSpan::new(60, 0));
     acs.step(&mut bus, now, 1.0);
     for &i in &wheel_tiles {
@@ -236,9 +243,7 @@ fn no_working_wheel_stops_every_wheel() {
 fn igrf_capacity_is_checked() {
     use acs::acs_loop::{AcsError, AcsLoop};
     use acs::env::igrf::coefficient_count;
-    let scenario = scenarios::tracking(None).unwrap(); // degree 13
-    let tle = acs::tle::Tle::parse(&scenario.sim.tle.0, &scenario.sim.tle.1).unwrap();
-    let orbit = acs::orbit::sgp4::Sgp4::new(&tle, scenario.gravity).unwrap();
+    let (scenario, _, orbit) = tracking_setup(); // IGRF degree 13
     const F8: usize = coefficient_count(8);
     const F13: usize = coefficient_count(13);
     assert_eq!(
@@ -253,39 +258,16 @@ fn igrf_capacity_is_checked() {
 #[test]
 fn restored_tile_returns_to_service() {
     use acs::acs_loop::AcsLoop;
-    use acs::hal::{ErrorKind, TileBus};
     use acs::tiles::TileState;
 
-    struct Bus(Vec<(usize, f32)>);
-    impl TileBus for Bus {
-        fn read_sun(&mut self, _: usize) -> Result<Option<[i16; 2]>, ErrorKind> {
-            Ok(None)
-        }
-        fn read_magnetometer(&mut self, tile: usize) -> Result<[i16; 2], ErrorKind> {
-            Ok([100 + tile as i16 * 300, -200])
-        }
-        fn read_gyro(&mut self, tile: usize) -> Result<i16, ErrorKind> {
-            Ok(20 - tile as i16 * 7)
-        }
-        fn set_wheel_momentum(&mut self, tile: usize, h_nms: f32) -> Result<(), ErrorKind> {
-            self.0.push((tile, h_nms));
-            Ok(())
-        }
-        fn set_dipole(&mut self, _: usize, _: f32) -> Result<(), ErrorKind> {
-            Ok(())
-        }
-    }
-
-    let scenario = scenarios::tracking(None).unwrap();
-    let tle = acs::tle::Tle::parse(&scenario.sim.tle.0, &scenario.sim.tle.1).unwrap();
-    let orbit = acs::orbit::sgp4::Sgp4::new(&tle, scenario.gravity).unwrap();
+    let (scenario, tle, orbit) = tracking_setup();
     let mut acs: AcsLoop = AcsLoop::new(scenario.flight.clone(), orbit).unwrap();
     let tile = (0..acs.tiles().len())
         .find(|&i| acs.tiles()[i].equipment.reaction_wheel)
         .unwrap();
     acs.mark_failed(tile);
     let mut t = tle.epoch.add(acs::time::TimeSpan::new(60, 0));
-    let mut bus = Bus(Vec::new());
+    let mut bus = WheelRecorder(Vec::new());
     for _ in 0..3 {
         acs.step(&mut bus, t, 1.0);
         t = t.add(acs::time::TimeSpan::new(1, 0));
@@ -297,7 +279,7 @@ fn restored_tile_returns_to_service() {
         .all(|(_, h)| *h == 0.0));
     acs.restore(tile);
     assert_eq!(acs.tiles()[tile].state, TileState::Working);
-    let mut bus = Bus(Vec::new());
+    let mut bus = WheelRecorder(Vec::new());
     for _ in 0..3 {
         acs.step(&mut bus, t, 1.0);
         t = t.add(acs::time::TimeSpan::new(1, 0));

@@ -29,9 +29,8 @@
 //! only when a device fails or comes back. [`TileSolver`] keeps `(𝐁ᵀ𝐁)⁻¹` (by the same QR and
 //! SVD, so the same rank decision) for one such set; a step is then `B = (𝐁ᵀ𝐁)⁻¹·𝐁ᵀΦ`, two rows
 //! of dot products per tile. Its rounding grows with κ² instead of κ (κ ≤ 1.41 for the presets):
-//! measured relative difference from the one-shot functions ≤ 4.0e-7 (field) and 4.6e-7 (rate)
-//! on all presets
-//! (`cargo test --test determination cached -- --nocapture`).
+//! measured relative difference from the one-shot functions ≤ 2.7e-7 (field) and 2.8e-7 (rate)
+//! on all presets (`cargo test --test determination least_squares -- --nocapture`).
 //!
 //! Units: whatever the readings are in (nT for [`crate::tiles::RawMagnetometer::to_nt`];
 //! the thesis used 10 nT), rad/s for the rates.
