@@ -11,11 +11,13 @@
 //!    working tile: Sun angles (lit or not), magnetometer, gyro. A device that fails
 //!    [`FAILURES_TO_MARK_FAILED`] times in a row has its tile marked failed.
 //! 2. SGP4 position at the step's UTC epoch; precise Sun (TEME); conical eclipse test;
-//!    IGRF field in TEME through GMST (UT1 ≈ UTC).
-//! 3. Body field and rate by least squares over the tiles; Sun direction averaged over the lit
-//!    tiles (only outside the umbra); attitude by Wahba SVD (two-vector closed form) from the Sun and field pairs, filtered
-//!    with the gyros (a complementary filter that also bridges short gaps, e.g. eclipse entry,
-//!    for at most `max_propagation_s`).
+//!    IGRF field in TEME through GMST (UT1 ≈ UTC), coefficients at the date refreshed every
+//!    [`FIELD_REFRESH_S`].
+//! 3. Body field and rate by least squares over the tiles (operators cached per set of working
+//!    tiles); Sun direction averaged over the lit tiles (only outside the umbra); attitude by
+//!    Wahba's SVD (two-vector closed form) from the Sun and field pairs, filtered with the gyros
+//!    (a complementary filter that also bridges short gaps, e.g. eclipse entry, for at most
+//!    `max_propagation_s`).
 //! 4. Mode logic (below), the mode's law, wheel momentum and coil dipole commands.
 //!
 //! # Modes and transitions
