@@ -152,3 +152,25 @@ fn propagate_output_reads_back() {
     println!("acs propagate t=0 vs reference: {d:.3} m");
     assert!(d < 100.0, "{d} m");
 }
+
+/// `acs sim plan-flight-wheels` plans seed 001's wheel-assisted manoeuvre and flies it: the
+/// flown error is the planned one plus the zero-order hold (README "Flying a plan").
+#[test]
+fn sim_plan_flight_wheels_reports_planned_and_flown_errors() {
+    let dir = std::env::temp_dir().join(format!("acs-cli-pfw-{}", std::process::id()));
+    let out = acs(&["sim", "plan-flight-wheels", "--out", dir.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let report = std::fs::read_to_string(dir.join("errors.txt")).unwrap();
+    let value = |key: &str| -> f64 {
+        report
+            .lines()
+            .find_map(|l| l.strip_prefix(key))
+            .and_then(|v| v.trim().parse().ok())
+            .unwrap()
+    };
+    let planned = value("planned_attitude_error_deg:");
+    let flown = value("flown_attitude_error_deg:");
+    assert!(planned < 1e-4, "{report}");
+    assert!((flown - planned).abs() < 2e-3, "{report}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

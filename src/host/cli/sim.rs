@@ -9,7 +9,8 @@ use crate::host::sim::{plan_flight, plot, scenarios};
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// Built-in scenario: detumble, thesis-slew, thesis-slew-noisy, sun-safe, tracking,
-    /// failed-tile; or plan-flight (a ground plan flown open loop, [`plan_flight`]).
+    /// failed-tile; or plan-flight / plan-flight-wheels (a ground plan flown open loop,
+    /// [`plan_flight`]: seed 001's manoeuvre with magnetorquers alone, or with three wheels).
     scenario: String,
     /// Output folder for CSV and SVG files (default: `acs-sim-<scenario>`).
     #[arg(long)]
@@ -18,8 +19,8 @@ pub struct Args {
 
 /// Runs `acs sim`.
 pub fn run(args: &Args) -> Result<(), CliError> {
-    if args.scenario == "plan-flight" {
-        return plan_flight_run(args.out.clone());
+    if args.scenario == "plan-flight" || args.scenario == "plan-flight-wheels" {
+        return plan_flight_run(&args.scenario, args.out.clone());
     }
     let scenario = match scenarios::by_name(&args.scenario) {
         Some(s) => s.map_err(|e| CliError::Compute(e.to_string()))?,
@@ -83,20 +84,33 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     Ok(())
 }
 
-/// `acs sim plan-flight`: plans [`plan_flight::thesis_case`] in the simulator's field and flies
-/// it open loop; prints and writes (`DIR/errors.txt`) planned and flown final errors.
-fn plan_flight_run(out: Option<PathBuf>) -> Result<(), CliError> {
-    let (config, pb) = plan_flight::thesis_case().map_err(CliError::Compute)?;
-    let f =
-        plan_flight::plan_and_fly(&config, &pb, 5.0, 400, 1, 0.02).map_err(CliError::Compute)?;
+/// `acs sim plan-flight[-wheels]`: plans [`plan_flight::thesis_case`] (magnetorquers alone) or
+/// [`plan_flight::thesis_case_wheels`] (150 s, with three wheels; seed 001 Table 6.6) in the
+/// simulator's field and flies it open loop with commands every 0.02 s; prints and writes
+/// (`DIR/errors.txt`) the planned and flown final errors.
+fn plan_flight_run(name: &str, out: Option<PathBuf>) -> Result<(), CliError> {
+    let wheels = name == "plan-flight-wheels";
+    let (case, field_step_s) = if wheels {
+        (plan_flight::thesis_case_wheels(150.0), 1.0)
+    } else {
+        (plan_flight::thesis_case(), 5.0)
+    };
+    let (config, pb) = case.map_err(CliError::Compute)?;
+    let f = plan_flight::plan_and_fly(&config, &pb, field_step_s, 400, 1, 0.02)
+        .map_err(CliError::Compute)?;
+    let what = if wheels {
+        "with three wheels"
+    } else {
+        "with magnetorquers alone"
+    };
     let report = format!(
-        "scenario: plan-flight — seed 001 manoeuvre planned in the simulator's field, flown open loop\nplanned_attitude_error_deg: {:.6e}\nplanned_rate_error_degps: {:.6e}\nflown_attitude_error_deg: {:.6e}\nflown_rate_error_degps: {:.6e}\n",
+        "scenario: {name} — seed 001 manoeuvre {what}, planned in the simulator's field, flown open loop\nplanned_attitude_error_deg: {:.6e}\nplanned_rate_error_degps: {:.6e}\nflown_attitude_error_deg: {:.6e}\nflown_rate_error_degps: {:.6e}\n",
         f.planned.attitude_error_deg,
         f.planned.rate_error_degps,
         f.flown_attitude_error_deg,
         f.flown_rate_error_degps
     );
-    let dir = out.unwrap_or_else(|| PathBuf::from("acs-sim-plan-flight"));
+    let dir = out.unwrap_or_else(|| PathBuf::from(format!("acs-sim-{name}")));
     std::fs::create_dir_all(&dir).map_err(|e| CliError::Compute(e.to_string()))?;
     std::fs::write(dir.join("errors.txt"), &report)
         .map_err(|e| CliError::Compute(e.to_string()))?;
