@@ -281,31 +281,7 @@ pub fn run_flight<S: Sink>(s: &mut S) {
     }
     // ---- orbit (SGP4 alone in its image: see README, it does not fit with anything else)
     if cfg!(feature = "group-sgp4") {
-        // The test TLE of Vallado et al. (2006), satellite 00005, built field by field (parsing
-        // text pulls f64 decimal parsing, 20 KB, into the image):
-        // 1 00005U 58002B   00179.78495062  .00000023  00000-0  28098-4 0  4753
-        // 2 00005  34.2682 348.7242 1859667 331.7664  19.3264 10.82419157413667
-        let tle = Epoch::from_tle_epoch(0, 179, 78_495_062)
-            .ok()
-            .map(|epoch| acs::tle::Tle {
-                name: None,
-                catalog_number: 5,
-                classification: b'U',
-                international_designator: heapless::String::new(),
-                epoch,
-                mean_motion_dot: 0.000_000_23,
-                mean_motion_ddot: 0.0,
-                bstar: 0.280_98e-4,
-                ephemeris_type: 0,
-                element_set_number: 475,
-                inclination_deg: 34.268_2,
-                raan_deg: 348.724_2,
-                eccentricity: 0.185_966_7,
-                arg_perigee_deg: 331.766_4,
-                mean_anomaly_deg: 19.326_4,
-                mean_motion_rev_per_day: 10.824_191_574,
-                revolution_number: 41_366,
-            });
+        let tle = crate::elements::test_tle();
         s.begin("SGP4 init");
         let sgp4 = tle
             .as_ref()

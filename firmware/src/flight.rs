@@ -69,31 +69,6 @@ impl TileBus for MailboxBus {
     }
 }
 
-/// The test TLE 00005 (Vallado et al. 2006), built field by field (no text parsing on board).
-pub fn test_tle() -> Option<acs::tle::Tle> {
-    Epoch::from_tle_epoch(0, 179, 78_495_062)
-        .ok()
-        .map(|epoch| acs::tle::Tle {
-            name: None,
-            catalog_number: 5,
-            classification: b'U',
-            international_designator: heapless::String::new(),
-            epoch,
-            mean_motion_dot: 0.000_000_23,
-            mean_motion_ddot: 0.0,
-            bstar: 0.280_98e-4,
-            ephemeris_type: 0,
-            element_set_number: 475,
-            inclination_deg: 34.268_2,
-            raan_deg: 348.724_2,
-            eccentricity: 0.185_966_7,
-            arg_perigee_deg: 331.766_4,
-            mean_anomaly_deg: 19.326_4,
-            mean_motion_rev_per_day: 10.824_191_574,
-            revolution_number: 41_366,
-        })
-}
-
 /// The principal moments of inertia, kg·m²: the body axes are principal axes.
 pub const INERTIA_DIAGONAL: [f32; 3] = [0.010, 0.012, 0.014];
 
@@ -167,7 +142,7 @@ pub fn new_loop() -> Option<AcsLoop<TILES, FIELD_COEFFS>> {
         filter_gain: 0.1,
         max_propagation_s: 120.0,
     };
-    let orbit = Sgp4::new(&test_tle()?, Gravity::Wgs72).ok()?;
+    let orbit = Sgp4::new(&crate::elements::test_tle()?, Gravity::Wgs72).ok()?;
     AcsLoop::new(config, orbit).ok()
 }
 

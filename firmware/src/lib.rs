@@ -12,6 +12,7 @@
 #![no_std]
 #![feature(asm_experimental_arch)]
 
+pub mod elements;
 #[cfg(feature = "acs-loop")]
 pub mod flight;
 pub mod rt;

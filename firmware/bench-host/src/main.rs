@@ -1,5 +1,7 @@
 //! Prints the benchmark cases' names and host results as JSON (see `Cargo.toml`).
 
+#[path = "../../src/elements.rs"]
+mod elements;
 #[cfg(feature = "group-step")]
 #[path = "../../src/flight.rs"]
 mod flight;

@@ -8,6 +8,7 @@
 #![no_main]
 
 use acs_firmware as _;
+use acs_firmware::elements;
 #[cfg(feature = "group-step")]
 use acs_firmware::flight;
 
