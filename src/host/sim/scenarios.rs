@@ -312,6 +312,17 @@ fn cubesat_3u(
     Ok((sim, flight))
 }
 
+/// The 3U CubeSat's sensors in the detumble and sun-safe scenarios: 1 mrad Sun, 100 nT field
+/// with a 50 nT bias, 1e-4 rad/s rate with a 2e-5 rad/s bias, no dropouts.
+const CUBESAT_NOISE: SensorNoise = SensorNoise {
+    sun_rad: 1e-3,
+    mag_nt: 100.0,
+    mag_bias_nt: 50.0,
+    gyro_radps: 1e-4,
+    gyro_bias_radps: 2e-5,
+    dropout: 0.0,
+};
+
 /// The 3U-class detumble of issue #8: inertia diag(0.042, 0.042, 0.0067) kg·m², 0.2 A·m² per
 /// axis, 500 km, 97°, from 10°/s on each axis.
 pub fn detumble() -> Result<Scenario, SimError> {
@@ -325,19 +336,7 @@ pub fn detumble() -> Result<Scenario, SimError> {
         mean_motion_rev_per_day(500.0),
     );
     let w = 10f64.to_radians();
-    let (sim, flight) = cubesat_3u(
-        tle,
-        SensorNoise {
-            sun_rad: 1e-3,
-            mag_nt: 100.0,
-            mag_bias_nt: 50.0,
-            gyro_radps: 1e-4,
-            gyro_bias_radps: 2e-5,
-            dropout: 0.0,
-        },
-        vec![],
-        11,
-    )?;
+    let (sim, flight) = cubesat_3u(tle, CUBESAT_NOISE, vec![], 11)?;
     Ok(Scenario {
         name: "detumble",
         description: "3U, 500 km 97°, B-dot from 10°/s per axis",
@@ -418,19 +417,7 @@ pub fn sun_safe() -> Result<Scenario, SimError> {
         mean_motion_rev_per_day(500.0),
     );
     let w = 0.3f64.to_radians();
-    let (sim, flight) = cubesat_3u(
-        tle,
-        SensorNoise {
-            sun_rad: 1e-3,
-            mag_nt: 100.0,
-            mag_bias_nt: 50.0,
-            gyro_radps: 1e-4,
-            gyro_bias_radps: 2e-5,
-            dropout: 0.0,
-        },
-        vec![],
-        3,
-    )?;
+    let (sim, flight) = cubesat_3u(tle, CUBESAT_NOISE, vec![], 3)?;
     Ok(Scenario {
         name: "sun-safe",
         description: "sun-safe from a slow tumble, one orbit with a full eclipse",
