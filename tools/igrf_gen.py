@@ -19,13 +19,15 @@ last interval *is* the secular-variation extrapolation.
 
 Output (`src/env/igrf/tables.rs`), all f32, every table a separate `static` so that the linker
 keeps only the ones a firmware refers to:
-- `SCHMIDT`: the Schmidt semi-normalisation factor of every term, in the column order
-  described below: N_n^0 = 1, N_n^m = sqrt(2 (n - m)! / (n + m)!) for m >= 1, so that
-  P_n^m(cos t) = N_n^m sin^m t d^m P_n(u)/du^m (the evaluator works with the unnormalised
-  derivatives d^m P_n/du^m and folds N_n^m into the coefficients once per date);
 - `BONNET`: ((2n - 1)/n, (n - 1)/n) for n = 2..N, Bonnet's recursion of the Legendre
   polynomials n P_n = (2n - 1) u P_{n-1} - (n - 1) P_{n-2}.
-- one `[f32; 195]` snapshot per epoch, coefficients in column order:
+- one `[f32; 195]` snapshot per epoch, Schmidt-scaled coefficients N_n^m g_n^m, N_n^m h_n^m in
+  column order, where N_n^0 = 1 and N_n^m = sqrt(2 (n - m)! / (n + m)!) for m >= 1, so that
+  P_n^m(cos t) = N_n^m sin^m t d^m P_n(u)/du^m (the evaluator works with the unnormalised
+  derivatives d^m P_n/du^m). Each entry is the f32 nearest to the exact product of the file's
+  decimal value and N_n^m (50-digit decimal arithmetic, then correct rounding to f32), so the
+  evaluator needs no per-date multiplication by N_n^m; the unscaled (m = 0, and n = 1) entries
+  are the file's numbers rounded once to f32, as before. Column order:
       m = 0:       g_1^0, g_2^0, ..., g_N^0
       m = 1..N:    g_m^m, h_m^m, g_{m+1}^m, h_{m+1}^m, ..., g_N^m, h_N^m
   (column order lets the evaluator run the recursion in n for one order m at a time with a
@@ -35,9 +37,14 @@ keeps only the ones a firmware refers to:
 """
 
 import argparse
+import decimal
 import math
 import os
+import struct
 import sys
+from fractions import Fraction
+
+decimal.getcontext().prec = 50
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
@@ -79,17 +86,41 @@ def read_shc(path):
     return title or os.path.basename(path), n_max, epochs, tokens
 
 
-def rust_f32(token):
-    """A Rust f32 literal for a decimal token from the file (kept verbatim: exact decimal)."""
-    float(token)  # validate
-    t = token
-    if "." not in t and "e" not in t.lower():
+def f32_nearest(x):
+    """The f32 nearest to the exact rational `x` (ties to even), as a Python float."""
+    x = Fraction(x)
+    c = struct.unpack("<f", struct.pack("<f", float(x)))[0]  # within one f32 step of x
+    bits = struct.unpack("<I", struct.pack("<f", c))[0]
+    best = None
+    for b in (bits - 1, bits, bits + 1):
+        if not 0 <= b < 0x7F800000 and not 0x80000000 <= b < 0xFF800000:
+            continue
+        v = struct.unpack("<f", struct.pack("<I", b))[0]
+        key = (abs(Fraction(v) - x), b & 1)
+        if best is None or key < best[0]:
+            best = (key, v)
+    return best[1]
+
+
+def rust_f32(value):
+    """The shortest decimal literal that Rust parses to the f32 `value` (exact round trip)."""
+    if value == 0.0:
+        return "-0.0" if math.copysign(1.0, value) < 0 else "0.0"
+    for digits in range(1, 10):
+        t = f"{value:.{digits}g}"
+        if struct.unpack("<f", struct.pack("<f", float(t)))[0] == value and \
+                f32_nearest(Fraction(decimal.Decimal(t))) == value:
+            break
+    if "e" in t and abs(value) >= 1.0:
+        t = format(decimal.Decimal(t), "f")  # 7e+01 -> 70
+    if "e" not in t and "." not in t:
         t += ".0"
-    if t.startswith("."):
-        t = "0" + t
-    if t.startswith("-."):
-        t = "-0" + t[1:]
     return t
+
+
+def scaled(token, norm):
+    """The f32 nearest to norm x the file's decimal `token` (exact decimal product)."""
+    return rust_f32(f32_nearest(Fraction(decimal.Decimal(token) * norm)))
 
 
 def column_order(n_max):
@@ -101,14 +132,11 @@ def column_order(n_max):
     return order
 
 
-def schmidt_factors(n_max):
-    rows = []
-    for n, m in column_order(n_max):
-        if m == 0:
-            rows.append((n, m, 1.0))
-        else:
-            rows.append((n, m, math.sqrt(2.0 * math.factorial(n - m) / math.factorial(n + m))))
-    return rows
+def schmidt(n, m):
+    """N_n^m to 50 digits (exactly 1 for m = 0)."""
+    if m == 0:
+        return decimal.Decimal(1)
+    return (decimal.Decimal(2 * math.factorial(n - m)) / math.factorial(n + m)).sqrt()
 
 
 def year_label(y):
@@ -125,7 +153,6 @@ def generate(shc_path):
         raise SystemExit("epochs must be whole years with a whole-year step")
     n_coeffs = n_max * (n_max + 2)
     order = column_order(n_max)
-    norm = schmidt_factors(n_max)
     shc_rel = os.path.relpath(shc_path, ROOT)
 
     out = []
@@ -134,7 +161,7 @@ def generate(shc_path):
     w("//!")
     w("//! Regenerate with `python3 tools/igrf_gen.py` (check with `--check`). Layout and")
     w("//! formulas: see the script's docstring and [`super`].")
-    w("// The tables are data: keep every digit as written in the source file.")
+    w("// The tables are data: each value is the nearest f32, in its shortest exact decimal form.")
     w("#![allow(clippy::excessive_precision, clippy::unreadable_literal)]")
     w("")
     w("use super::Model;")
@@ -143,15 +170,6 @@ def generate(shc_path):
     w(f"pub(super) const N_MAX: usize = {n_max};")
     w(f"/// Number of Gauss coefficients per epoch, N(N+2).")
     w(f"pub(super) const N_COEFFS: usize = {n_coeffs};")
-    w(f"/// Number of (n, m) terms, one recursion entry each.")
-    w(f"pub(super) const N_TERMS: usize = {len(order)};")
-    w("")
-    w("/// Schmidt semi-normalisation factors N_n^m in column order: 1 for m = 0,")
-    w("/// sqrt(2 (n - m)! / (n + m)!) for m >= 1.")
-    w(f"pub(super) static SCHMIDT: [f32; N_TERMS] = [")
-    for n, m, f in norm:
-        w(f"    {f!r}, // n={n} m={m}")
-    w("];")
     w("")
     w("/// Bonnet's recursion constants ((2n - 1)/n, (n - 1)/n) for n = 2..=N_MAX.")
     w(f"pub(super) static BONNET: [[f32; 2]; N_MAX - 1] = [")
@@ -163,14 +181,15 @@ def generate(shc_path):
     for k, epoch in enumerate(epochs):
         name = f"EPOCH_{int(epoch)}"
         names.append(name)
-        w(f"/// Gauss coefficients (nT) at {year_label(epoch)}, column order.")
+        w(f"/// Schmidt-scaled Gauss coefficients N g, N h (nT) at {year_label(epoch)}, column order.")
         w(f"static {name}: [f32; N_COEFFS] = [")
         for n, m in order:
-            g = rust_f32(tokens[(n, m)][k])
+            norm = schmidt(n, m)
+            g = scaled(tokens[(n, m)][k], norm)
             if m == 0:
                 w(f"    {g}, // g{n},{m}")
             else:
-                h = rust_f32(tokens[(n, -m)][k])
+                h = scaled(tokens[(n, -m)][k], norm)
                 w(f"    {g}, {h}, // g{n},{m} h{n},{m}")
         w("];")
         w("")
@@ -182,7 +201,7 @@ def generate(shc_path):
         w("///")
         w(f"/// {title}: epochs {year_label(first)} to {year_label(last)} every {int(step)} years "
           f"({len(idx)} tables of {n_coeffs} f32, {size} bytes of flash, plus "
-          f"{len(order) * 4 + (n_max - 1) * 8} bytes of constants shared by all models).")
+          f"{(n_max - 1) * 8} bytes of constants shared by all models).")
         w(f"pub static {name}: Model = Model {{")
         w(f"    name: {title.split(' --')[0].replace(' ', '-')!r},".replace("'", '"'))
         w(f"    first_year: {int(first)},")
