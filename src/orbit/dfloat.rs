@@ -127,36 +127,38 @@ impl Df {
                 rest as f32 * pow2(-29) * pow2(e - 23),
             )
         };
-        Some(if negative { -d } else { d })
+        Some(if negative { -&d } else { d })
     }
 
     /// The value rounded to f32.
-    pub(crate) fn to_f32(self) -> f32 {
-        self.hi + self.lo
+    #[cfg_attr(target_arch = "msp430", inline(never))]
+    pub(crate) fn to_f32(&self) -> f32 {
+        let a = by_ref(self);
+        a.hi + a.lo
     }
 
     /// The leading f32 (for comparisons and f32 follow-up computations).
-    pub(crate) fn hi(self) -> f32 {
+    pub(crate) fn hi(&self) -> f32 {
         self.hi
     }
 
     /// The trailing f32.
-    pub(crate) fn lo(self) -> f32 {
+    pub(crate) fn lo(&self) -> f32 {
         self.lo
     }
 
     /// √x for x ≥ 0: the f32 root corrected by one Newton step in double length (x < 0 → NaN).
-    pub(crate) fn sqrt(self) -> Self {
+    pub(crate) fn sqrt(&self) -> Self {
         if self.hi == 0.0 {
             return Self::ZERO;
         }
         let y = crate::fmath::sqrt(self.hi);
-        let r = self - two_prod(y, y);
+        let r = self - &two_prod(y, y);
         fast_two_sum(y, r.hi / (2.0 * y))
     }
 
     /// ∛x for x > 0: f32 Newton from a bit-level guess, then one Newton step in double length.
-    pub(crate) fn cbrt(self) -> Self {
+    pub(crate) fn cbrt(&self) -> Self {
         let x = self.hi;
         // zero, negative, infinite or NaN (from the bits: NaN-safe on the MSP430)
         if x.to_bits().wrapping_sub(1) >= 0x7f7f_ffff {
@@ -167,12 +169,12 @@ impl Df {
         for _ in 0..4 {
             y -= (y * y * y - x) / (3.0 * y * y);
         }
-        let r = self - two_prod(y, y) * y;
+        let r = self - &(&two_prod(y, y) * y);
         fast_two_sum(y, r.hi / (3.0 * y * y))
     }
 
     /// sin x for |x| ≤ π/2: Taylor series to x²¹ in double length (truncation < 3·10⁻¹⁶).
-    pub(crate) fn sin_pi_2(self) -> Self {
+    pub(crate) fn sin_pi_2(&self) -> Self {
         /// (−1)ᵏ/(2k+1)!, k = 0..=10.
         const C: [Df; 11] = [
             Df::from_f64_const(1.0),
@@ -188,84 +190,113 @@ impl Df {
             Df::from_f64_const(1.0 / 51_090_942_171_709_440_000.0),
         ];
         let x2 = self * self;
-        let s = C.iter().rev().fold(Self::ZERO, |s, &c| s * x2 + c);
-        s * self
+        let s = C.iter().rev().fold(Self::ZERO, |s, c| &(&s * &x2) + c);
+        &s * self
     }
 }
 
-impl Neg for Df {
-    type Output = Self;
-    fn neg(self) -> Self {
-        Self {
+impl Neg for &Df {
+    type Output = Df;
+    fn neg(self) -> Df {
+        Df {
             hi: -self.hi,
             lo: -self.lo,
         }
     }
 }
 
-impl Add for Df {
-    type Output = Self;
-    /// Double-length sum (the accurate form: both parts summed exactly, then renormalised).
-    #[inline(never)]
-    fn add(self, b: Self) -> Self {
-        let s = two_sum(self.hi, b.hi);
-        let t = two_sum(self.lo, b.lo);
-        let s = fast_two_sum(s.hi, s.lo + t.hi);
-        fast_two_sum(s.hi, s.lo + t.lo)
-    }
+// The operations take their operands by reference (the operators are implemented for `&Df`
+// only) and are not inlined on the MSP430: a `Df` is four 16-bit words, and an inlined
+// double-length operation, or a by-value call (which copies both operands into registers or a
+// temporary), costs tens of bytes of moves at each of the ~150 operations of SGP4's
+// initialisation, against a few for two addresses. The results are bit for bit those of the
+// same operations inlined: only the calling convention changes.
+
+/// The operand itself. On the MSP430 an opaque use of the address, so that the optimiser keeps
+/// passing the operand by reference (its argument promotion would pass both f32 by value, back
+/// to the moves at every call site).
+#[inline(always)]
+fn by_ref(a: &Df) -> &Df {
+    #[cfg(target_arch = "msp430")]
+    let a = core::hint::black_box(a);
+    a
 }
 
-impl Sub for Df {
-    type Output = Self;
-    fn sub(self, b: Self) -> Self {
-        self + -b
-    }
+/// Double-length sum (the accurate form: both parts summed exactly, then renormalised).
+#[inline(never)]
+fn add2(a: &Df, b: &Df) -> Df {
+    let (a, b) = (by_ref(a), by_ref(b));
+    let s = two_sum(a.hi, b.hi);
+    let t = two_sum(a.lo, b.lo);
+    let s = fast_two_sum(s.hi, s.lo + t.hi);
+    fast_two_sum(s.hi, s.lo + t.lo)
 }
 
-impl Mul for Df {
-    type Output = Self;
-    /// Double-length product (Dekker's `mul2`).
-    #[inline(never)]
-    fn mul(self, b: Self) -> Self {
-        let p = two_prod(self.hi, b.hi);
-        fast_two_sum(p.hi, p.lo + (self.hi * b.lo + self.lo * b.hi))
-    }
+/// `a − b` as `a + (−b)`.
+#[cfg_attr(target_arch = "msp430", inline(never))]
+fn sub2(a: &Df, b: &Df) -> Df {
+    add2(a, &-by_ref(b))
 }
 
-impl Div for Df {
-    type Output = Self;
-    /// Double-length quotient: the f32 quotient and two corrections from the exact remainder.
-    #[inline(never)]
-    fn div(self, b: Self) -> Self {
-        let q1 = self.hi / b.hi;
-        let r = self - b * Self::from_f32(q1);
-        let q2 = r.hi / b.hi;
-        let r = r - b * Self::from_f32(q2);
-        let q3 = r.hi / b.hi;
-        fast_two_sum(q1, q2) + Self::from_f32(q3)
-    }
+/// Double-length product (Dekker's `mul2`).
+#[inline(never)]
+fn mul2(a: &Df, b: &Df) -> Df {
+    let (a, b) = (by_ref(a), by_ref(b));
+    let p = two_prod(a.hi, b.hi);
+    fast_two_sum(p.hi, p.lo + (a.hi * b.lo + a.lo * b.hi))
 }
 
-macro_rules! with_f32 {
-    ($tr:ident, $f:ident) => {
-        impl $tr<f32> for Df {
+/// Double-length quotient: the f32 quotient and two corrections from the exact remainder.
+#[inline(never)]
+fn div2(a: &Df, b: &Df) -> Df {
+    let (a, b) = (by_ref(a), by_ref(b));
+    let q1 = a.hi / b.hi;
+    let r = a - &(b * q1);
+    let q2 = r.hi / b.hi;
+    let r = &r - &(b * q2);
+    let q3 = r.hi / b.hi;
+    &fast_two_sum(q1, q2) + q3
+}
+
+macro_rules! operators {
+    ($tr:ident, $f:ident, $kernel:ident, $with_f32:ident, $f32_with:ident) => {
+        impl $tr<&Df> for &Df {
             type Output = Df;
-            fn $f(self, b: f32) -> Df {
-                $tr::$f(self, Df::from_f32(b))
+            #[inline(always)]
+            fn $f(self, b: &Df) -> Df {
+                $kernel(self, b)
             }
         }
-        impl $tr<Df> for f32 {
+        /// `Df op f32`, the f32 as a `Df` with a zero tail.
+        #[cfg_attr(target_arch = "msp430", inline(never))]
+        fn $with_f32(a: &Df, b: f32) -> Df {
+            $kernel(a, &Df::from_f32(b))
+        }
+        /// `f32 op Df`, the f32 as a `Df` with a zero tail.
+        #[cfg_attr(target_arch = "msp430", inline(never))]
+        fn $f32_with(a: f32, b: &Df) -> Df {
+            $kernel(&Df::from_f32(a), b)
+        }
+        impl $tr<f32> for &Df {
             type Output = Df;
-            fn $f(self, b: Df) -> Df {
-                $tr::$f(Df::from_f32(self), b)
+            #[inline(always)]
+            fn $f(self, b: f32) -> Df {
+                $with_f32(self, b)
+            }
+        }
+        impl $tr<&Df> for f32 {
+            type Output = Df;
+            #[inline(always)]
+            fn $f(self, b: &Df) -> Df {
+                $f32_with(self, b)
             }
         }
     };
 }
-with_f32!(Add, add);
-with_f32!(Sub, sub);
-with_f32!(Mul, mul);
-with_f32!(Div, div);
+operators!(Add, add, add2, add_f32, f32_add);
+operators!(Sub, sub, sub2, sub_f32, f32_sub);
+operators!(Mul, mul, mul2, mul_f32, f32_mul);
+operators!(Div, div, div2, div_f32, f32_div);
 
 #[cfg(test)]
 mod tests {
@@ -328,10 +359,10 @@ mod tests {
             for &b in &xs {
                 let db = Df::from_f64(b).unwrap();
                 let b = val(db);
-                worst = worst.max(rel(da + db, a + b));
-                worst = worst.max(rel(da - db, a - b).min(((val(da - db) - (a - b)) / a).abs()));
-                worst = worst.max(rel(da * db, a * b));
-                worst = worst.max(rel(da / db, a / b));
+                worst = worst.max(rel(&da + &db, a + b));
+                worst = worst.max(rel(&da - &db, a - b).min(((val(&da - &db) - (a - b)) / a).abs()));
+                worst = worst.max(rel(&da * &db, a * b));
+                worst = worst.max(rel(&da / &db, a / b));
             }
         }
         println!("double-f32 worst relative error {worst:e}");

@@ -85,7 +85,7 @@ impl Phase {
     /// A phase from its epoch value (turns) and rate (turns per time unit) in double-f32,
     /// with f32 and integer operations only (no f64 arithmetic): each part is reduced modulo
     /// one turn and scaled by 2⁴⁸ exactly, then rounded to an integer (a 2⁻⁴⁹-turn error).
-    pub(crate) fn from_turns(at_epoch_turns: Df, rate_turns_per_unit: Df) -> Self {
+    pub(crate) fn from_turns(at_epoch_turns: &Df, rate_turns_per_unit: &Df) -> Self {
         Self {
             at_epoch: fixed_turns(at_epoch_turns),
             rate_fx: fixed_turns(rate_turns_per_unit),
@@ -113,7 +113,7 @@ impl Phase {
 
 /// A double-f32 number of turns as a 48-bit fixed-point fraction, modulo one turn, in
 /// −2⁴⁷..2⁴⁷ (non-finite input gives 0).
-fn fixed_turns(x: Df) -> i64 {
+fn fixed_turns(x: &Df) -> i64 {
     let part = |v: f32| -> i64 {
         // not finite (from the bits: NaN-safe on the MSP430)
         if v.to_bits() & 0x7f80_0000 == 0x7f80_0000 {
@@ -175,7 +175,7 @@ mod tests {
             let rate = rev_day * tau / 1440.0;
             let a = Phase::new(deg / 360.0 * tau, rate);
             let turns = Df::from_f64(deg / 360.0).unwrap();
-            let b = Phase::from_turns(turns, Df::from_f64(rev_day / 1440.0).unwrap());
+            let b = Phase::from_turns(&turns, &Df::from_f64(rev_day / 1440.0).unwrap());
             assert!((a.at_epoch - b.at_epoch).abs() <= 2, "{deg}: {a:?} {b:?}");
             assert!((a.rate_fx - b.rate_fx).abs() <= 2, "{rev_day}: {a:?} {b:?}");
             assert_eq!(a.rate_turns, b.rate_turns);

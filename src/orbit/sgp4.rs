@@ -341,24 +341,24 @@ fn finite32(x: f32) -> bool {
 
 /// cos of an angle in degrees, 0 ≤ x ≤ 180, in double length: sin(90° − x) (the subtraction in
 /// degrees is exact), by its Taylor series.
-fn cos_degrees(x_deg: Df) -> Df {
+fn cos_degrees(x_deg: &Df) -> Df {
     const DEG: Df = Df::from_f64_const(core::f64::consts::PI / 180.0);
-    ((90.0 - x_deg) * DEG).sin_pi_2()
+    (&(90.0 - x_deg) * &DEG).sin_pi_2()
 }
 
 /// sin and cos (f32) of an angle given in degrees (double-f32, any finite value): reduced
 /// modulo 360° in double length, then `fmath::sincos`.
-fn sincos_degrees(x_deg: Df) -> (f32, f32) {
+fn sincos_degrees(x_deg: &Df) -> (f32, f32) {
     let turns = x_deg / 360.0;
-    let r = turns - crate::fmath::floor(turns.hi());
-    let r = r - crate::fmath::floor(r.hi());
+    let r = &turns - crate::fmath::floor(turns.hi());
+    let r = &r - crate::fmath::floor(r.hi());
     crate::fmath::sincos(r.to_f32() * core::f32::consts::TAU)
 }
 
 /// A TLE angle in degrees as turns, modulo one turn (double-f32).
-fn turns_of_degrees(x_deg: Df) -> Df {
+fn turns_of_degrees(x_deg: &Df) -> Df {
     let turns = x_deg / 360.0;
-    turns - crate::fmath::floor(turns.hi())
+    &turns - crate::fmath::floor(turns.hi())
 }
 
 impl Sgp4 {
@@ -401,7 +401,7 @@ impl Sgp4 {
                 field: "inclination",
             });
         }
-        let no_kozai = n_rev_day * REV_PER_DAY;
+        let no_kozai = &n_rev_day * &REV_PER_DAY;
         if no_kozai.hi() <= 0.0 {
             return Err(Sgp4Error::MeanMotion {
                 rad_per_min: no_kozai.to_f32(),
@@ -415,17 +415,22 @@ impl Sgp4 {
         }
 
         // initl: recover the un-Kozai'd mean motion
-        let eccsq = ecco * ecco;
-        let omeosq = 1.0 - eccsq;
+        // (double-f32 operators take references: see `dfloat`)
+        let eccsq = &ecco * &ecco;
+        let omeosq = 1.0 - &eccsq;
         let rteosq = omeosq.sqrt();
-        let cosio = cos_degrees(inclo_deg);
-        let cosio2 = cosio * cosio;
-        let ak = two_thirds_power(g.xke / no_kozai);
-        let d1 = 0.75 * g.j2 * (3.0 * cosio2 - 1.0) / (rteosq * omeosq);
-        let del = d1 / (ak * ak);
-        let adel = ak * (1.0 - del * del - del * (X1O3 + 134.0 * del * del / 81.0));
-        let del = d1 / (adel * adel);
-        let no = no_kozai / (1.0 + del);
+        let cosio = cos_degrees(&inclo_deg);
+        let cosio2 = &cosio * &cosio;
+        let ak = two_thirds_power(&(&g.xke / &no_kozai));
+        // d1 = 0.75·J₂·(3cos²i₀ − 1)/(√(1 − e₀²)·(1 − e₀²))
+        let d1 = &(&(0.75 * &g.j2) * &(&(3.0 * &cosio2) - 1.0)) / &(&rteosq * &omeosq);
+        let del = &d1 / &(&ak * &ak);
+        // adel = ak·(1 − δ² − δ·(1/3 + 134δ²/81))
+        let del2 = &del * &del;
+        let series = &X1O3 + &(&(&(134.0 * &del) * &del) / 81.0);
+        let adel = &ak * &(&(1.0 - &del2) - &(&del * &series));
+        let del = &d1 / &(&adel * &adel);
+        let no = &no_kozai / &(1.0 + &del);
         if !(finite32(no.hi()) && no.hi() > 0.0) {
             return Err(Sgp4Error::MeanMotion {
                 rad_per_min: no.to_f32(),
@@ -435,80 +440,82 @@ impl Sgp4 {
         if period_min >= DEEP_SPACE_PERIOD_MIN {
             return Err(Sgp4Error::DeepSpace { period_min });
         }
-        let ao = two_thirds_power(g.xke / no);
-        let alta = ao * (1.0 + ecco) - 1.0;
+        let ao = two_thirds_power(&(&g.xke / &no));
+        let alta = &(&ao * &(1.0 + &ecco)) - 1.0;
         if alta.hi() < 0.0 {
             return Err(Sgp4Error::SubOrbital {
-                apogee_km: (alta * radius_km).to_f32(),
+                apogee_km: (&alta * &radius_km).to_f32(),
             });
         }
 
         // sgp4init, secular rates (double-f32: they multiply the time, up to 10⁴ min a week)
-        let po = ao * omeosq;
-        let pinvsq = 1.0 / (po * po);
-        let con42 = 1.0 - 5.0 * cosio2;
-        let con41 = -con42 - cosio2 - cosio2;
-        let temp1 = 1.5 * g.j2 * pinvsq * no;
-        let xhdot1 = -temp1 * cosio;
+        let po = &ao * &omeosq;
+        let pinvsq = 1.0 / &(&po * &po);
+        let con42 = 1.0 - &(5.0 * &cosio2);
+        let con41 = &(&-&con42 - &cosio2) - &cosio2;
+        let temp1 = &(&(1.5 * &g.j2) * &pinvsq) * &no;
+        let xhdot1 = &-&temp1 * &cosio;
         // the O(J₂²) and J₄ terms, 10⁻⁶ of n₀″, in f32 (below 10⁻¹³ rad/min)
         let (c2, no32, pinvsq32) = (cosio2.to_f32(), no.to_f32(), pinvsq.to_f32());
         let c4 = c2 * c2;
         let temp2 = 0.5 * temp1.to_f32() * g.j2.to_f32() * pinvsq32;
         let temp3 = -0.46875 * g.j4.to_f32() * pinvsq32 * pinvsq32 * no32;
         let rteosq32 = rteosq.to_f32();
-        let mdot = no
-            + 0.5 * temp1 * rteosq * con41
+        let mdot = &(&no + &(&(&(0.5 * &temp1) * &rteosq) * &con41))
             + 0.0625 * temp2 * rteosq32 * (13.0 - 78.0 * c2 + 137.0 * c4);
-        let argpdot = -0.5 * temp1 * con42
+        let argpdot = &(&(-0.5 * &temp1) * &con42)
             + (0.0625 * temp2 * (7.0 - 114.0 * c2 + 395.0 * c4)
                 + temp3 * (3.0 - 36.0 * c2 + 49.0 * c4));
-        let nodedot = xhdot1
+        let nodedot = &xhdot1
             + (0.5 * temp2 * (4.0 - 19.0 * c2) + 2.0 * temp3 * (3.0 - 7.0 * c2)) * cosio.to_f32();
 
         // drag reference height and the perigee-relative quantities, double-f32: a − s and
         // 1 − η² cancel for low perigees (f32 there puts 22312 160 m off)
-        let rp = ao * (1.0 - ecco);
-        let isimp = (rp - (220.0 / radius_km + 1.0)).hi() < 0.0;
-        let perige = (rp - 1.0) * radius_km;
+        let rp = &ao * &(1.0 - &ecco);
+        let isimp = (&rp - &(&(220.0 / &radius_km) + 1.0)).hi() < 0.0;
+        let perige = &(&rp - 1.0) * &radius_km;
         let (sfour, qzms24) = if perige.hi() < 156.0 {
             let s = if perige.hi() < 98.0 {
                 Df::from_f32(20.0)
             } else {
-                perige - 78.0
+                &perige - 78.0
             };
-            (s / radius_km + 1.0, fourth_power((120.0 - s) / radius_km))
+            (
+                &(&s / &radius_km) + 1.0,
+                fourth_power(&(&(120.0 - &s) / &radius_km)),
+            )
         } else {
             (
-                78.0 / radius_km + 1.0,
-                fourth_power((120.0 - 78.0) / radius_km),
+                &(78.0 / &radius_km) + 1.0,
+                fourth_power(&((120.0 - 78.0) / &radius_km)),
             )
         };
-        let tsi = 1.0 / (ao - sfour);
-        let eta = ao * ecco * tsi;
-        let etasq = eta * eta;
-        let eeta = ecco * eta;
-        let psisq = (1.0 - etasq).to_f32();
+        let tsi = 1.0 / &(&ao - &sfour);
+        let eta = &(&ao * &ecco) * &tsi;
+        let etasq = &eta * &eta;
+        let eeta = &ecco * &eta;
+        let psisq = (1.0 - &etasq).to_f32();
         let psisq = Df::from_f32(fmath::abs(psisq)); // |1 − η²|
-        let coef = qzms24 * fourth_power(tsi);
+        let coef = &qzms24 * &fourth_power(&tsi);
         // C₁ = B*·C₂ scales the mean-longitude drag t²·(3/2)C₁ (radians after a day for a
         // decaying orbit): double-f32 too. psisq^3.5 as psisq³·√psisq.
-        let coef1 = coef / (psisq * psisq * psisq * psisq.sqrt());
-        let cc2 = coef1
-            * no
-            * (ao * (1.0 + 1.5 * etasq + eeta * (4.0 + etasq))
-                + (0.375 * g.j2 * tsi / psisq * con41 * (8.0 + 3.0 * etasq * (8.0 + etasq)))
-                    .to_f32());
-        let cc1 = (bstar * cc2).to_f32();
+        let coef1 = &coef / &(&(&(&psisq * &psisq) * &psisq) * &psisq.sqrt());
+        // C₂ = coef1·n₀″·(a₀″(1 + 1.5η² + eη(4 + η²)) + 0.375J₂·ξ/ψ²·con41·(8 + 3η²(8 + η²)))
+        let a_term = &ao * &(&(1.0 + &(1.5 * &etasq)) + &(&eeta * &(4.0 + &etasq)));
+        let j2_term = &(&(&(&(0.375 * &g.j2) * &tsi) / &psisq) * &con41)
+            * &(8.0 + &(&(3.0 * &etasq) * &(8.0 + &etasq)));
+        let cc2 = &(&coef1 * &no) * &(&a_term + j2_term.to_f32());
+        let cc1 = (&bstar * &cc2).to_f32();
 
         // sgp4init, drag and periodic coefficients: f32 (they multiply small terms)
         let re = radius_km.to_f32();
         let j2 = g.j2.to_f32();
-        let j3oj2 = (g.j3 / g.j2).to_f32();
-        let ao_km = (ao * radius_km).to_f32();
-        let one_plus_cosio = (cosio + 1.0).to_f32(); // no cancellation near i₀ = 180°
+        let j3oj2 = (&g.j3 / &g.j2).to_f32();
+        let ao_km = (&ao * &radius_km).to_f32();
+        let one_plus_cosio = (&cosio + 1.0).to_f32(); // no cancellation near i₀ = 180°
         let (ao, ecco, bstar) = (ao.to_f32(), ecco.to_f32(), bstar.to_f32());
         let (cosio, omeosq, con41) = (cosio.to_f32(), omeosq.to_f32(), con41.to_f32());
-        let sinio = fmath::sqrt(fmath::abs((1.0 - cosio2).to_f32())); // ≥ 0 for 0 ≤ i₀ ≤ 180°
+        let sinio = fmath::sqrt(fmath::abs((1.0 - &cosio2).to_f32())); // ≥ 0 for 0 ≤ i₀ ≤ 180°
         let (sfour, tsi, eta, etasq, eeta) = (
             sfour.to_f32(),
             tsi.to_f32(),
@@ -524,7 +531,7 @@ impl Sgp4 {
             0.0
         };
         let x1mth2 = 1.0 - c2;
-        let (sin_argpo, cos_argpo) = sincos_degrees(argpo_deg);
+        let (sin_argpo, cos_argpo) = sincos_degrees(&argpo_deg);
         let cos_2argpo = 1.0 - 2.0 * sin_argpo * sin_argpo;
         let cc4 = 2.0
             * no32
@@ -552,7 +559,7 @@ impl Sgp4 {
         };
         let xlcof = -0.25 * j3oj2 * sinio * (3.0 + 5.0 * cosio) / one_plus_cosio;
         let aycof = -0.5 * j3oj2 * sinio;
-        let (sinmao, cos_mo) = sincos_degrees(mo_deg);
+        let (sinmao, cos_mo) = sincos_degrees(&mo_deg);
         let delmo = cube(1.0 + eta * cos_mo);
         let x7thm1 = 7.0 * c2 - 1.0;
         let full_drag = if isimp {
@@ -584,19 +591,19 @@ impl Sgp4 {
         };
 
         // secular angles as exact phases, in turns
-        let mo = turns_of_degrees(mo_deg);
-        let argpo = turns_of_degrees(argpo_deg);
+        let mo = turns_of_degrees(&mo_deg);
+        let argpo = turns_of_degrees(&argpo_deg);
         let sgp4 = Self {
             epoch: tle.epoch,
             radius_km: re,
             xke: g.xke.to_f32(),
             j2,
             ao_km,
-            v_scale_kmps: (radius_km * g.xke / 60.0).to_f32(),
-            mean_anomaly: Phase::from_turns(mo, mdot * INV_TAU),
-            arg_perigee: Phase::from_turns(argpo, argpdot * INV_TAU),
-            node: Phase::from_turns(turns_of_degrees(nodeo_deg), nodedot * INV_TAU),
-            arg_latitude: Phase::from_turns(mo + argpo, (mdot + argpdot) * INV_TAU),
+            v_scale_kmps: (&(&radius_km * &g.xke) / 60.0).to_f32(),
+            mean_anomaly: Phase::from_turns(&mo, &(&mdot * &INV_TAU)),
+            arg_perigee: Phase::from_turns(&argpo, &(&argpdot * &INV_TAU)),
+            node: Phase::from_turns(&turns_of_degrees(&nodeo_deg), &(&nodedot * &INV_TAU)),
+            arg_latitude: Phase::from_turns(&(&mo + &argpo), &(&(&mdot + &argpdot) * &INV_TAU)),
             no: no32,
             ao,
             ecco,
@@ -839,14 +846,14 @@ fn small_sincos(x: f32) -> (f32, f32) {
 }
 
 /// `x^(2/3)` for x > 0, as `cbrt(x)²` (double-f32).
-fn two_thirds_power(x: Df) -> Df {
+fn two_thirds_power(x: &Df) -> Df {
     let c = x.cbrt();
-    c * c
+    &c * &c
 }
 
-fn fourth_power(x: Df) -> Df {
+fn fourth_power(x: &Df) -> Df {
     let s = x * x;
-    s * s
+    &s * &s
 }
 
 fn cube(x: f32) -> f32 {
