@@ -131,6 +131,8 @@ impl Df {
     }
 
     /// The value rounded to f32.
+    // by reference, as the operators (see below): a by-value call copies the four words
+    #[allow(clippy::wrong_self_convention)]
     #[cfg_attr(target_arch = "msp430", inline(never))]
     pub(crate) fn to_f32(&self) -> f32 {
         let a = by_ref(self);
@@ -360,7 +362,8 @@ mod tests {
                 let db = Df::from_f64(b).unwrap();
                 let b = val(db);
                 worst = worst.max(rel(&da + &db, a + b));
-                worst = worst.max(rel(&da - &db, a - b).min(((val(&da - &db) - (a - b)) / a).abs()));
+                worst =
+                    worst.max(rel(&da - &db, a - b).min(((val(&da - &db) - (a - b)) / a).abs()));
                 worst = worst.max(rel(&da * &db, a * b));
                 worst = worst.max(rel(&da / &db, a / b));
             }
