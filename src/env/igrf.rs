@@ -371,8 +371,10 @@ pub const fn coefficient_count(degree: u8) -> usize {
 pub const FULL_COEFFS: usize = N_COEFFS;
 
 /// The geomagnetic model at one date and degree, its coefficients evaluated at that date and
-/// held in RAM: construct once per date (a few tens of thousands of cycles on the MSP430),
-/// evaluate at any number of points.
+/// held in RAM: construct once per date, evaluate at any number of points. On the MSP430
+/// without hardware multiplier (`firmware/msp430-bench --groups env`, MCLK cycles) the
+/// coefficients at a date ([`Igrf::refresh`]) cost 57 619 / 70 519 / 94 931 cycles at degree
+/// 8 / 10 / 13, one field evaluation ([`Igrf::teme`]) 178 456 / 249 310 / 373 885.
 ///
 /// `COEFFS` is the capacity, `4 × COEFFS` bytes of RAM: [`coefficient_count`] of the largest
 /// degree it will hold. The default is the full model (195, 780 bytes), which [`Igrf::new`] and
@@ -600,16 +602,16 @@ impl<const COEFFS: usize> Igrf<COEFFS> {
         let mut out = self.coeffs.iter_mut();
         let mut pairs = start.iter().zip(end.iter());
         for m in 0..=degree {
-            let per_term = if m == 0 { 1 } else { 2 }; // g only for m = 0, (g, h) otherwise
-            let used = per_term * (degree + 1 - m.max(1));
+            // g only for m = 0, (g, h) otherwise: twice the terms (a shift, not a multiply).
+            let pairs_per_term = usize::from(m > 0);
+            let used = (degree + 1 - m.max(1)) << pairs_per_term;
             // The table pairs first: `zip` stops on them without taking a slot.
             for ((g0, g1), slot) in pairs.by_ref().take(used).zip(out.by_ref()) {
                 *slot = g0 + f * (g1 - g0);
             }
-            pairs
-                .by_ref()
-                .take(per_term * (N_MAX - degree))
-                .for_each(drop);
+            // Skip the degrees above `degree`.
+            let skipped = (N_MAX - degree) << pairs_per_term;
+            pairs.by_ref().take(skipped).for_each(drop);
         }
     }
 
@@ -711,7 +713,8 @@ impl<const COEFFS: usize> Igrf<COEFFS> {
     /// Field at the TEME position `r_teme_km` (km) when the Greenwich mean sidereal angle is
     /// `gmst_rad` (IAU-82, [`crate::time`]), as a TEME vector (nT): the pipeline of note 000
     /// §3.5 (Earth-fixed = TEME rotated by GMST about z, field, rotated back; eqs. 7.26–7.27),
-    /// with one `sincos` for both rotations.
+    /// with one `sincos` for both rotations. MSP430 cost: 178 456 / 249 310 / 373 885 cycles
+    /// at degree 8 / 10 / 13 (no hardware multiplier; README, #9).
     ///
     /// Errors: [`IgrfError::NotFinite`], [`IgrfError::BelowSurface`].
     pub fn teme(&self, r_teme_km: &Vec3, gmst_rad: f32) -> Result<Vec3, IgrfError> {
