@@ -102,7 +102,7 @@ impl Phase {
         let reduced = p
             .wrapping_shl(64 - PHASE_BITS)
             .wrapping_shr(64 - PHASE_BITS);
-        reduced as f32 * PHASE_ULP_F32 + self.rate_turns * frac
+        i48_to_f32(reduced) * PHASE_ULP_F32 + self.rate_turns * frac
     }
 
     /// `θ(w + f)` in radians, about −π..π.
@@ -111,27 +111,40 @@ impl Phase {
     }
 }
 
+/// `x as f32` for |x| ≤ 2⁴⁷, without the `i64` → f32 helper (`__floatdisf`, 990 B on the
+/// MSP430): `x = a·2²⁴ + b` with `a` and `0 ≤ b < 2²⁴` exact in f32, and their f32 sum is the
+/// exact value rounded once to nearest-even, the same f32 as the conversion.
+fn i48_to_f32(x: i64) -> f32 {
+    let a = (x >> 24) as i32;
+    let b = (x & 0xff_ffff) as i32;
+    a as f32 * 16_777_216.0 + b as f32
+}
+
 /// A double-f32 number of turns as a 48-bit fixed-point fraction, modulo one turn, in
 /// −2⁴⁷..2⁴⁷ (non-finite input gives 0).
 fn fixed_turns(x: &Df) -> i64 {
-    let part = |v: f32| -> i64 {
-        // not finite (from the bits: NaN-safe on the MSP430)
-        if v.to_bits() & 0x7f80_0000 == 0x7f80_0000 {
-            return 0;
-        }
-        // v − round(v) is exact (Sterbenz); the 2⁴⁸ scaling too; beyond 2²³ it is an integer
-        let r = v - crate::fmath::floor(v + 0.5);
-        let s = r * PHASE_ONE_F32;
-        if crate::fmath::abs(s) >= 8_388_608.0 {
-            s as i64
-        } else {
-            crate::fmath::floor(s + 0.5) as i64
-        }
-    };
-    part(x.hi())
-        .wrapping_add(part(x.lo()))
+    fixed_turns_f32(x.hi())
+        .wrapping_add(fixed_turns_f32(x.lo()))
         .wrapping_shl(64 - PHASE_BITS)
         .wrapping_shr(64 - PHASE_BITS)
+}
+
+/// An f32 number of turns, modulo one turn, times 2⁴⁸, rounded (non-finite input gives 0).
+/// Not inlined on the MSP430 (called for both parts of a double-f32: half the code).
+#[cfg_attr(target_arch = "msp430", inline(never))]
+fn fixed_turns_f32(v: f32) -> i64 {
+    // not finite (from the bits: NaN-safe on the MSP430)
+    if v.to_bits() & 0x7f80_0000 == 0x7f80_0000 {
+        return 0;
+    }
+    // v − round(v) is exact (Sterbenz); the 2⁴⁸ scaling too; beyond 2²³ it is an integer
+    let r = v - crate::fmath::floor(v + 0.5);
+    let s = r * PHASE_ONE_F32;
+    if crate::fmath::abs(s) >= 8_388_608.0 {
+        s as i64
+    } else {
+        crate::fmath::floor(s + 0.5) as i64
+    }
 }
 
 /// A time span as `(whole, frac)`: whole units (floor) and the remainder `0 ≤ frac < 1` in f32,
@@ -179,6 +192,30 @@ mod tests {
             assert!((a.at_epoch - b.at_epoch).abs() <= 2, "{deg}: {a:?} {b:?}");
             assert!((a.rate_fx - b.rate_fx).abs() <= 2, "{rev_day}: {a:?} {b:?}");
             assert_eq!(a.rate_turns, b.rate_turns);
+        }
+    }
+
+    #[test]
+    fn i48_to_f32_is_the_conversion() {
+        // ties (odd and even), carries into the exponent, both signs, the ends of the range
+        let mut cases = vec![0i64, 1, -1, (1 << 47) - 1, -(1 << 47), 1 << 24, (1 << 25) + 1];
+        for k in 24..47 {
+            for d in [-3i64, -2, -1, 0, 1, 2, 3] {
+                let base = 1i64 << k;
+                let half = 1i64 << (k - 24);
+                cases.extend([base + d, base + half + d, base + 3 * half + d, -(base + half + d)]);
+            }
+        }
+        let mut x = 0x1234_5678_9abc_i64;
+        for _ in 0..100_000 {
+            // xorshift, folded into −2⁴⁷..2⁴⁷
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            cases.push(x.wrapping_shl(16).wrapping_shr(16));
+        }
+        for &c in &cases {
+            assert_eq!(i48_to_f32(c).to_bits(), (c as f32).to_bits(), "{c}");
         }
     }
 

@@ -339,6 +339,11 @@ fn finite32(x: f32) -> bool {
     x.to_bits() & 0x7f80_0000 != 0x7f80_0000
 }
 
+/// Whether all are finite (from the bits, see [`finite32`]).
+fn all_finite(xs: &[f32]) -> bool {
+    xs.iter().all(|&x| finite32(x))
+}
+
 /// cos of an angle in degrees, 0 ≤ x ≤ 180, in double length: sin(90° − x) (the subtraction in
 /// degrees is exact), by its Taylor series.
 fn cos_degrees(x_deg: &Df) -> Df {
@@ -627,7 +632,7 @@ impl Sgp4 {
                 field: "eccentricity and perigee (singular drag coefficients)",
             });
         }
-        sgp4.propagate_split(0.0, 0.0)?;
+        sgp4.propagate_whole_frac(0, 0.0)?;
         Ok(sgp4)
     }
 
@@ -642,13 +647,13 @@ impl Sgp4 {
             self.xlcof,
             self.aycof,
         ];
-        let drag = self.full_drag.map_or([0.0; 12], |d| {
-            [
-                d.d2, d.d3, d.d4, d.t3cof, d.t4cof, d.t5cof, d.cc5, d.omgcof, d.xmcof, d.eta,
-                d.delmo, d.sinmao,
-            ]
-        });
-        common.iter().chain(drag.iter()).all(|&x| finite32(x))
+        all_finite(&common)
+            && self.full_drag.as_ref().is_none_or(|d| {
+                all_finite(&[
+                    d.d2, d.d3, d.d4, d.t3cof, d.t4cof, d.t5cof, d.cc5, d.omgcof, d.xmcof, d.eta,
+                    d.delmo, d.sinmao,
+                ])
+            })
     }
 
     /// The epoch of the element set (UTC).
