@@ -198,12 +198,25 @@ mod tests {
     #[test]
     fn i48_to_f32_is_the_conversion() {
         // ties (odd and even), carries into the exponent, both signs, the ends of the range
-        let mut cases = vec![0i64, 1, -1, (1 << 47) - 1, -(1 << 47), 1 << 24, (1 << 25) + 1];
+        let mut cases = vec![
+            0i64,
+            1,
+            -1,
+            (1 << 47) - 1,
+            -(1 << 47),
+            1 << 24,
+            (1 << 25) + 1,
+        ];
         for k in 24..47 {
             for d in [-3i64, -2, -1, 0, 1, 2, 3] {
                 let base = 1i64 << k;
                 let half = 1i64 << (k - 24);
-                cases.extend([base + d, base + half + d, base + 3 * half + d, -(base + half + d)]);
+                cases.extend([
+                    base + d,
+                    base + half + d,
+                    base + 3 * half + d,
+                    -(base + half + d),
+                ]);
             }
         }
         let mut x = 0x1234_5678_9abc_i64;
