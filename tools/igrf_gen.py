@@ -19,8 +19,9 @@ last interval *is* the secular-variation extrapolation.
 
 Output (`src/env/igrf/tables.rs`), all f32, every table a separate `static` so that the linker
 keeps only the ones a firmware refers to:
-- `BONNET`: ((2n - 1)/n, (n - 1)/n) for n = 2..N, Bonnet's recursion of the Legendre
-  polynomials n P_n = (2n - 1) u P_{n-1} - (n - 1) P_{n-2}.
+- `BONNET`: (n - 1)/n for n = 2..N, Bonnet's recursion of the Legendre polynomials
+  n P_n = (2n - 1) u P_{n-1} - (n - 1) P_{n-2}, written P_n = t + ((n - 1)/n) (t - P_{n-2})
+  with t = u P_{n-1}.
 - one `[f32; 195]` snapshot per epoch, Schmidt-scaled coefficients N_n^m g_n^m, N_n^m h_n^m in
   column order, where N_n^0 = 1 and N_n^m = sqrt(2 (n - m)! / (n + m)!) for m >= 1, so that
   P_n^m(cos t) = N_n^m sin^m t d^m P_n(u)/du^m (the evaluator works with the unnormalised
@@ -171,10 +172,10 @@ def generate(shc_path):
     w(f"/// Number of Gauss coefficients per epoch, N(N+2).")
     w(f"pub(super) const N_COEFFS: usize = {n_coeffs};")
     w("")
-    w("/// Bonnet's recursion constants ((2n - 1)/n, (n - 1)/n) for n = 2..=N_MAX.")
-    w(f"pub(super) static BONNET: [[f32; 2]; N_MAX - 1] = [")
+    w("/// Bonnet's recursion constants (n - 1)/n for n = 2..=N_MAX.")
+    w(f"pub(super) static BONNET: [f32; N_MAX - 1] = [")
     for n in range(2, n_max + 1):
-        w(f"    [{(2 * n - 1) / n!r}, {(n - 1) / n!r}], // n={n}")
+        w(f"    {rust_f32(f32_nearest(Fraction(n - 1, n)))}, // n={n}")
     w("];")
     w("")
     names = []
@@ -201,7 +202,7 @@ def generate(shc_path):
         w("///")
         w(f"/// {title}: epochs {year_label(first)} to {year_label(last)} every {int(step)} years "
           f"({len(idx)} tables of {n_coeffs} f32, {size} bytes of flash, plus "
-          f"{(n_max - 1) * 8} bytes of constants shared by all models).")
+          f"{(n_max - 1) * 4} bytes of constants shared by all models).")
         w(f"pub static {name}: Model = Model {{")
         w(f"    name: {title.split(' --')[0].replace(' ', '-')!r},".replace("'", '"'))
         w(f"    first_year: {int(first)},")

@@ -34,7 +34,7 @@
 //! root and no per-term constant from flash:
 //!
 //! ```text
-//! m = 0 (Bonnet):  Ã_n^0 = ((2n−1)/n) τ Ã_{n−1}^0 − ((n−1)/n) (R/r)² Ã_{n−2}^0,  Ã_0^0 = (R/r)²
+//! m = 0 (Bonnet):  Ã_n^0 = t + ((n−1)/n) (t − (R/r)² Ã_{n−2}^0),  t = τ Ã_{n−1}^0,  Ã_0^0 = (R/r)²
 //! m ≥ 1:           Ã_n^m = τ Ã_{n−1}^m + (n+m−1) (R/r) Ã_{n−1}^{m−1},            Ã_{m−1}^m = 0
 //! ```
 //!
@@ -85,7 +85,7 @@
 //! the others, with no cargo feature to get wrong):
 //! - [`RECENT`]: 2020.0–2030.0 (DGRF-2020, IGRF-2025 and its SV): 2 340 bytes;
 //! - [`FULL`]: 1900.0–2030.0, 27 epochs: 21 060 bytes;
-//! - both use 96 bytes of constants (Bonnet's recursion).
+//! - both use 48 bytes of constants (Bonnet's recursion).
 //!
 //! An [`Igrf`] holds the coefficients at its date in RAM: `4 × COEFFS` bytes (320 at degree 8,
 //! 480 at 10, 780 at 13), [`coefficient_count`].
@@ -231,7 +231,7 @@ impl Model {
 }
 
 /// Bytes of the constant table shared by all models (Bonnet's recursion).
-pub const RECURSION_TABLE_BYTES: usize = core::mem::size_of::<[[f32; 2]; N_MAX - 1]>();
+pub const RECURSION_TABLE_BYTES: usize = core::mem::size_of::<[f32; N_MAX - 1]>();
 
 /// Maximum degree N of the expansion, 1..=13. Lower degrees are cheaper (about N²/2 terms)
 /// and, in low Earth orbit, accurate to a few tens of nT (README).
@@ -599,19 +599,24 @@ impl<const COEFFS: usize> Igrf<COEFFS> {
         // Column by column: the truncated column order is the full one without the degrees
         // above `degree`.
         let degree = usize::from(self.degree.get());
-        let mut out = self.coeffs.iter_mut();
-        let mut pairs = start.iter().zip(end.iter());
+        let mut out = self.coeffs.as_mut_slice();
+        let (mut start, mut end) = (start.as_slice(), end.as_slice());
         for m in 0..=degree {
             // g only for m = 0, (g, h) otherwise: twice the terms (a shift, not a multiply).
             let pairs_per_term = usize::from(m > 0);
             let used = (degree + 1 - m.max(1)) << pairs_per_term;
-            // The table pairs first: `zip` stops on them without taking a slot.
-            for ((g0, g1), slot) in pairs.by_ref().take(used).zip(out.by_ref()) {
+            let full = (N_MAX + 1 - m.max(1)) << pairs_per_term;
+            let (Some((s0, rest0)), Some((s1, rest1)), Some((slots, rest))) = (
+                start.split_at_checked(full),
+                end.split_at_checked(full),
+                core::mem::take(&mut out).split_at_mut_checked(used),
+            ) else {
+                break;
+            };
+            for ((slot, g0), g1) in slots.iter_mut().zip(s0).zip(s1) {
                 *slot = g0 + f * (g1 - g0);
             }
-            // Skip the degrees above `degree`.
-            let skipped = (N_MAX - degree) << pairs_per_term;
-            pairs.by_ref().take(skipped).for_each(drop);
+            (start, end, out) = (rest0, rest1, rest);
         }
     }
 
@@ -750,7 +755,7 @@ impl<const COEFFS: usize> Igrf<COEFFS> {
         let sums = self.synthesize(REFERENCE_RADIUS_KM * inv_r, s, t, u);
         // B = (H + r̂·G) r̂ − G.
         let [g1, g2, g3] = sums.g;
-        let radial = sums.h + s * g1 + t * g2 + u * g3;
+        let radial = sums.h + sums.sg + u * g3;
         Ok(Vec3::new(radial * s - g1, radial * t - g2, radial * u - g3))
     }
 
@@ -804,13 +809,16 @@ impl<const COEFFS: usize> Igrf<COEFFS> {
         let (mut p2, mut p1) = (kappa, tau * kappa); // Ã_0^0, Ã_1^0
         col[0] = p2;
         col[1] = p1;
-        for (slot, &[a, b]) in col
+        for (slot, &b) in col
             .iter_mut()
             .skip(2)
             .take(degree.saturating_sub(1))
             .zip(&BONNET)
         {
-            let p = a * (tau * p1) - b * (kappa * p2);
+            // n Ã_n = (2n − 1) τ Ã_{n−1} − (n − 1) κ Ã_{n−2}, as Ã_n = t + ((n − 1)/n)(t − κ Ã_{n−2})
+            // with t = τ Ã_{n−1}: three multiplications.
+            let t = tau * p1;
+            let p = t + b * (t - kappa * p2);
             *slot = p;
             (p2, p1) = (p1, p);
         }
@@ -885,8 +893,10 @@ impl<const COEFFS: usize> Igrf<COEFFS> {
         }
         // H = Σ (n + 1) … = column 0's X + Y, and per order k Re(ζ_k (Y_k + k P_k)), whose
         // second part sums to s G1 + t G2.
+        let sg = s * g1 + t * g2;
         Sums {
-            h: x0 + y0 + hy + (s * g1 + t * g2),
+            h: x0 + y0 + hy + sg,
+            sg,
             g: [g1, g2, g3],
         }
     }
@@ -896,6 +906,8 @@ impl<const COEFFS: usize> Igrf<COEFFS> {
 struct Sums {
     /// H = Σ (n + 1) (R/r)^{n+2} F_n = B_r.
     h: f32,
+    /// s G1 + t G2 (part of H and of r̂·G).
+    sg: f32,
     /// G = Σ (R/r)^{n+2} ∇F_n (s, t, u derivatives).
     g: [f32; 3],
 }

@@ -12,20 +12,20 @@ pub(super) const N_MAX: usize = 13;
 /// Number of Gauss coefficients per epoch, N(N+2).
 pub(super) const N_COEFFS: usize = 195;
 
-/// Bonnet's recursion constants ((2n - 1)/n, (n - 1)/n) for n = 2..=N_MAX.
-pub(super) static BONNET: [[f32; 2]; N_MAX - 1] = [
-    [1.5, 0.5], // n=2
-    [1.6666666666666667, 0.6666666666666666], // n=3
-    [1.75, 0.75], // n=4
-    [1.8, 0.8], // n=5
-    [1.8333333333333333, 0.8333333333333334], // n=6
-    [1.8571428571428572, 0.8571428571428571], // n=7
-    [1.875, 0.875], // n=8
-    [1.8888888888888888, 0.8888888888888888], // n=9
-    [1.9, 0.9], // n=10
-    [1.9090909090909092, 0.9090909090909091], // n=11
-    [1.9166666666666667, 0.9166666666666666], // n=12
-    [1.9230769230769231, 0.9230769230769231], // n=13
+/// Bonnet's recursion constants (n - 1)/n for n = 2..=N_MAX.
+pub(super) static BONNET: [f32; N_MAX - 1] = [
+    0.5, // n=2
+    0.6666667, // n=3
+    0.75, // n=4
+    0.8, // n=5
+    0.8333333, // n=6
+    0.85714287, // n=7
+    0.875, // n=8
+    0.8888889, // n=9
+    0.9, // n=10
+    0.90909094, // n=11
+    0.9166667, // n=12
+    0.9230769, // n=13
 ];
 
 /// Schmidt-scaled Gauss coefficients N g, N h (nT) at 1900.0, column order.
@@ -2946,7 +2946,7 @@ static EPOCH_2030: [f32; N_COEFFS] = [
 
 /// The whole model: every epoch of the file (for the host, the tests and mission analysis).
 ///
-/// IGRF 14: epochs 1900.0 to 2030.0 every 5 years (27 tables of 195 f32, 21060 bytes of flash, plus 96 bytes of constants shared by all models).
+/// IGRF 14: epochs 1900.0 to 2030.0 every 5 years (27 tables of 195 f32, 21060 bytes of flash, plus 48 bytes of constants shared by all models).
 pub static FULL: Model = Model {
     name: "IGRF-14",
     first_year: 1900,
@@ -2956,7 +2956,7 @@ pub static FULL: Model = Model {
 
 /// The flight default: the last definitive model, the current model and its secular-variation prediction.
 ///
-/// IGRF 14: epochs 2020.0 to 2030.0 every 5 years (3 tables of 195 f32, 2340 bytes of flash, plus 96 bytes of constants shared by all models).
+/// IGRF 14: epochs 2020.0 to 2030.0 every 5 years (3 tables of 195 f32, 2340 bytes of flash, plus 48 bytes of constants shared by all models).
 pub static RECENT: Model = Model {
     name: "IGRF-14",
     first_year: 2020,
