@@ -373,8 +373,8 @@ pub const FULL_COEFFS: usize = N_COEFFS;
 /// The geomagnetic model at one date and degree, its coefficients evaluated at that date and
 /// held in RAM: construct once per date, evaluate at any number of points. On the MSP430
 /// without hardware multiplier (`firmware/msp430-bench --groups env`, MCLK cycles) the
-/// coefficients at a date ([`Igrf::refresh`]) cost 57 619 / 70 519 / 94 931 cycles at degree
-/// 8 / 10 / 13, one field evaluation ([`Igrf::teme`]) 178 456 / 249 310 / 373 885.
+/// coefficients at a date ([`Igrf::refresh`]) cost 55 270 / 67 614 / 90 536 cycles at degree
+/// 8 / 10 / 13, one field evaluation ([`Igrf::teme`]) 177 549 / 248 186 / 372 667.
 ///
 /// `COEFFS` is the capacity, `4 × COEFFS` bytes of RAM: [`coefficient_count`] of the largest
 /// degree it will hold. The default is the full model (195, 780 bytes), which [`Igrf::new`] and
@@ -718,7 +718,7 @@ impl<const COEFFS: usize> Igrf<COEFFS> {
     /// Field at the TEME position `r_teme_km` (km) when the Greenwich mean sidereal angle is
     /// `gmst_rad` (IAU-82, [`crate::time`]), as a TEME vector (nT): the pipeline of note 000
     /// §3.5 (Earth-fixed = TEME rotated by GMST about z, field, rotated back; eqs. 7.26–7.27),
-    /// with one `sincos` for both rotations. MSP430 cost: 178 456 / 249 310 / 373 885 cycles
+    /// with one `sincos` for both rotations. MSP430 cost: 177 549 / 248 186 / 372 667 cycles
     /// at degree 8 / 10 / 13 (no hardware multiplier; README, #9).
     ///
     /// Errors: [`IgrfError::NotFinite`], [`IgrfError::BelowSurface`].
