@@ -16,7 +16,7 @@
 //! 3. Body field and rate by least squares over the tiles (operators cached per set of working
 //!    tiles); Sun direction averaged over the lit tiles (only outside the umbra); attitude by
 //!    Wahba's SVD (two-vector closed form) from the Sun and field pairs, filtered with the gyros
-//!    (a complementary filter that also bridges short gaps, e.g. eclipse entry, for at most
+//!    ([`crate::determination::complementary`], which also bridges short gaps, e.g. eclipse entry, for at most
 //!    `max_propagation_s`).
 //! 4. Mode logic (below), the mode's law, wheel momentum and coil dipole commands.
 //!
@@ -51,14 +51,15 @@ use crate::control::slew::{decompose, manoeuvre_matrix, plan, Branch, SlewLimits
 use crate::control::sun_safe::{sun_safe_torque, SunSafeGains};
 use crate::control::tracking::{tracking_torque, TrackingGains};
 use crate::control::wheels::{Allocator, Wheel, WheelAllocation, WheelError};
+use crate::determination::complementary::{self, Estimate, FilterConfig};
 use crate::determination::least_squares::{
     angular_rate_body_cached, magnetic_field_body_cached, TileSolver,
 };
 use crate::determination::sun_sensor::sun_direction_body;
 use crate::determination::{wahba_svd, Observation};
-use crate::env::eclipse::{conical, Shadow};
+use crate::env::eclipse::{conical, Illumination, Shadow};
 use crate::env::igrf::{coefficient_count, Degree, Igrf, Model, FULL_COEFFS};
-use crate::env::sun::precise;
+use crate::env::sun::{precise, Sun};
 use crate::hal::TileBus;
 use crate::linalg::{Vec2, Vec3};
 use crate::orbit::sgp4::Sgp4;
@@ -233,7 +234,7 @@ pub struct AcsLoop<const N: usize = MAX_TILES, const F: usize = FULL_COEFFS> {
     invalid_steps: u16,
     last_time: Option<Epoch<Utc>>,
     /// Filtered attitude and the seconds since it last saw a measurement.
-    estimate: Option<(Quaternion, f32)>,
+    estimate: Option<Estimate>,
     /// Commanded momentum of each tile's wheel, kg·m²/s along the tile normal.
     wheel_h: [f32; N],
     failures: [u8; N],
@@ -297,6 +298,24 @@ struct Readings<const N: usize> {
     sun: [Option<crate::tiles::SunAngles>; N],
     mag: [Option<Vec2>; N],
     gyro: [Option<f32>; N],
+}
+
+/// The models' outputs of one step (phase 2).
+struct Models {
+    sun: Option<Sun>,
+    illumination: Option<Illumination>,
+    b_teme_nt: Option<Vec3>,
+}
+
+/// The determination's outputs of one step (phase 3).
+struct Determined {
+    b_body_nt: Option<Vec3>,
+    omega: Option<Vec3>,
+    sun_body: Option<Vec3>,
+    measured: Option<Quaternion>,
+    attitude: Option<Quaternion>,
+    /// Seconds since the previous step (the measured span, else the caller's `dt_s`).
+    dt: f32,
 }
 
 impl<const N: usize, const F: usize> AcsLoop<N, F> {
@@ -445,6 +464,8 @@ impl<const N: usize, const F: usize> AcsLoop<N, F> {
         faults
     }
 
+    /// Step phase 1: reads every working tile (see the module docs), counting read failures.
+    #[inline(never)]
     fn read_tiles<B: TileBus>(&mut self, bus: &mut B, faults: &mut Faults) -> Readings<N> {
         let mut r = Readings {
             sun: [None; N],
@@ -504,20 +525,42 @@ impl<const N: usize, const F: usize> AcsLoop<N, F> {
     }
 
     /// One control step at UTC epoch `now`, `dt_s` seconds after the previous one.
+    ///
+    /// The phases are separate functions kept out of line, so that their temporaries do not
+    /// share one stack frame (on the MSP430 the step's peak stack is the deepest phase, not the
+    /// sum of them).
     pub fn step<B: TileBus>(&mut self, bus: &mut B, now: Epoch<Utc>, dt_s: f32) -> StepReport {
         let mut faults = self.safe(bus);
         let readings = self.read_tiles(bus, &mut faults);
         self.refresh_field(&now);
-        let n = self.config.tiles.len();
-        let tiles = self.config.tiles.as_slice();
+        let models = self.models(&now, &mut faults);
+        let det = self.determine(&readings, &models, &now, dt_s, &mut faults);
+        self.change_mode(&det);
+        let (dipole, h_target) = self.laws(&det, &now);
+        let dipole = self.actuate(bus, &det, dipole, h_target, &mut faults);
+        StepReport {
+            mode: self.mode,
+            measured_attitude: det.measured,
+            attitude: det.attitude,
+            omega_body_radps: det.omega,
+            b_body_nt: det.b_body_nt,
+            sun_body: det.sun_body,
+            sun_fraction: models.illumination.map(|i| i.fraction),
+            dipole_body_am2: dipole,
+            h_wheels_body: self.wheels_body(),
+            faults,
+        }
+    }
 
-        // models
+    /// Step phase 2: orbit, Sun, eclipse and field models at `now`.
+    #[inline(never)]
+    fn models(&self, now: &Epoch<Utc>, faults: &mut Faults) -> Models {
         let orbit = self
             .orbit
             .propagate(now.span_since(&self.orbit.epoch()))
             .ok();
         faults.orbit = orbit.is_none();
-        let sun = precise::sun(&now).ok();
+        let sun = precise::sun(now).ok();
         let field_model = self.field.as_ref();
         let gmst = now.to_ut1(None).ok().map(|ut1| gmst_rad(&ut1));
         faults.model = sun.is_none() || field_model.is_none() || gmst.is_none();
@@ -529,8 +572,26 @@ impl<const N: usize, const F: usize> AcsLoop<N, F> {
             (Some(o), Some(f), Some(g)) => f.teme(&o.r_teme_km, g).ok(),
             _ => None,
         };
+        Models {
+            sun,
+            illumination,
+            b_teme_nt,
+        }
+    }
 
-        // determination
+    /// Step phase 3: body field, rate and Sun direction from the tiles, attitude by Wahba's SVD,
+    /// filtered.
+    #[inline(never)]
+    fn determine(
+        &mut self,
+        readings: &Readings<N>,
+        models: &Models,
+        now: &Epoch<Utc>,
+        dt_s: f32,
+        faults: &mut Faults,
+    ) -> Determined {
+        let n = self.config.tiles.len();
+        let tiles = self.config.tiles.as_slice();
         let b_body_nt = readings
             .mag
             .get(..n)
@@ -541,7 +602,9 @@ impl<const N: usize, const F: usize> AcsLoop<N, F> {
             .and_then(|g| angular_rate_body_cached(&mut self.gyro_solver, tiles, g).ok());
         faults.field = b_body_nt.is_none();
         faults.rate = omega.is_none();
-        let in_umbra = illumination.is_some_and(|i| i.shadow == Shadow::Umbra);
+        let in_umbra = models
+            .illumination
+            .is_some_and(|i| i.shadow == Shadow::Umbra);
         let sun_body = if in_umbra {
             None
         } else {
@@ -550,7 +613,7 @@ impl<const N: usize, const F: usize> AcsLoop<N, F> {
                 .get(..n)
                 .and_then(|s| sun_direction_body(tiles, s).ok())
         };
-        let measured = match (sun_body, b_body_nt, &sun, b_teme_nt) {
+        let measured = match (sun_body, b_body_nt, &models.sun, models.b_teme_nt) {
             (Some(s_b), Some(b_b), Some(s_r), Some(b_r)) => {
                 let (w_sun, w_mag) = self.config.weights;
                 let obs = [
@@ -569,14 +632,29 @@ impl<const N: usize, const F: usize> AcsLoop<N, F> {
             }
             _ => None,
         };
-        let elapsed = self.last_time.map(|t| span_s(&now, &t));
-        self.last_time = Some(now);
+        let elapsed = self.last_time.map(|t| span_s(now, &t));
+        self.last_time = Some(*now);
         let dt = elapsed.unwrap_or(dt_s);
-        let attitude = self.filter(measured, omega, dt);
+        let filter = FilterConfig {
+            gain: self.config.filter_gain,
+            max_propagation_s: self.config.max_propagation_s,
+        };
+        self.estimate = complementary::update(&filter, self.estimate, measured, omega, dt);
+        let attitude = self.estimate.map(|e| e.attitude);
         faults.attitude = attitude.is_none();
+        Determined {
+            b_body_nt,
+            omega,
+            sun_body,
+            measured,
+            attitude,
+            dt,
+        }
+    }
 
-        // mode transitions on rate
-        let rate = omega.map(|w| w.norm());
+    /// Step phase 4a: mode transitions on the rate and on the validity of the attitude.
+    fn change_mode(&mut self, det: &Determined) {
+        let rate = det.omega.map(|w| w.norm());
         if let Some(r) = rate {
             if r > self.config.detumble_enter_radps && self.mode != Mode::Detumble {
                 self.mode = Mode::Detumble;
@@ -587,7 +665,7 @@ impl<const N: usize, const F: usize> AcsLoop<N, F> {
             }
         }
         if matches!(self.mode, Mode::Slew | Mode::Tracking) {
-            if attitude.is_some() {
+            if det.attitude.is_some() {
                 self.invalid_steps = 0;
             } else {
                 self.invalid_steps = self.invalid_steps.saturating_add(1);
@@ -597,7 +675,13 @@ impl<const N: usize, const F: usize> AcsLoop<N, F> {
                 }
             }
         }
-        // laws
+    }
+
+    /// Step phase 4b: the mode's law. Returns the coil dipole (body, A·m²) and the wheel
+    /// momentum to hold (body, kg·m²/s; `None`: hold the momentum in force).
+    #[inline(never)]
+    fn laws(&mut self, det: &Determined, now: &Epoch<Utc>) -> (Vec3, Option<Vec3>) {
+        let (omega, b_body_nt, dt) = (det.omega, det.b_body_nt, det.dt);
         let mut dipole = Vec3::zeros();
         let mut torque: Option<Vec3> = None;
         let mut h_target: Option<Vec3> = None;
@@ -623,7 +707,7 @@ impl<const N: usize, const F: usize> AcsLoop<N, F> {
                 if let Some(w) = omega {
                     torque = sun_safe_torque(
                         &self.config.sun_safe,
-                        sun_body.as_ref(),
+                        det.sun_body.as_ref(),
                         &self.config.sun_axis_body,
                         &w,
                     )
@@ -633,7 +717,7 @@ impl<const N: usize, const F: usize> AcsLoop<N, F> {
             Mode::Slew => {
                 if let Some(p) = self.slew {
                     // half a period of margin: boundaries fall on ticks
-                    let t = span_s(&now, &p.started) + 0.5 * self.config.control_period_s;
+                    let t = span_s(now, &p.started) + 0.5 * self.config.control_period_s;
                     let mut t0 = 0.0f32;
                     let mut h = p.h_base;
                     let mut done = true;
@@ -663,7 +747,7 @@ impl<const N: usize, const F: usize> AcsLoop<N, F> {
             Mode::Tracking => {}
         }
         if self.mode == Mode::Tracking {
-            if let (Some(q), Some(w), Some(target)) = (attitude, omega, self.target) {
+            if let (Some(q), Some(w), Some(target)) = (det.attitude, omega, self.target) {
                 let h_w = self.wheels_body();
                 torque = tracking_torque(
                     &self.config.tracking,
@@ -677,26 +761,35 @@ impl<const N: usize, const F: usize> AcsLoop<N, F> {
                 .ok();
             }
         }
-
         // wheels: a torque law integrates into momentum (ḣ = −τ); a slew sets momentum
-        let have_wheels = self.config.tiles.iter().any(|t| t.has_working_wheel());
         if let Some(tau) = torque {
-            if have_wheels {
+            if self.have_wheels() {
                 h_target = Some(self.wheels_body() - tau * dt);
             } else if let Some(b) = b_body_nt {
                 dipole = dipole_for_torque(&tau, &b).unwrap_or_else(|_| Vec3::zeros());
             }
         }
-        if let Some(h) = h_target {
-            faults.saturated |= self.command_wheels(bus, &h, &mut faults);
-        } else {
-            // hold: re-send the momentum in force (stops failed tiles' wheels)
-            let h = self.wheels_body();
-            faults.saturated |= self.command_wheels(bus, &h, &mut faults);
-        }
-        // momentum dumping through the coils outside detumble
-        if self.mode != Mode::Detumble && self.config.dumping_gain_per_s > 0.0 && have_wheels {
-            if let Some(b) = b_body_nt {
+        (dipole, h_target)
+    }
+
+    /// Step phase 5: wheel momentum (the target, or the momentum in force re-sent: it stops
+    /// failed tiles' wheels), momentum dumping through the coils outside detumble, coil dipole.
+    /// Returns the dipole commanded.
+    #[inline(never)]
+    fn actuate<B: TileBus>(
+        &mut self,
+        bus: &mut B,
+        det: &Determined,
+        dipole: Vec3,
+        h_target: Option<Vec3>,
+        faults: &mut Faults,
+    ) -> Vec3 {
+        let h = h_target.unwrap_or_else(|| self.wheels_body());
+        faults.saturated |= self.command_wheels(bus, &h, faults);
+        let mut dipole = dipole;
+        if self.mode != Mode::Detumble && self.config.dumping_gain_per_s > 0.0 && self.have_wheels()
+        {
+            if let Some(b) = det.b_body_nt {
                 let dump = dumping_dipole(
                     &self.wheels_body(),
                     &Vec3::zeros(),
@@ -707,64 +800,12 @@ impl<const N: usize, const F: usize> AcsLoop<N, F> {
                 dipole += dump;
             }
         }
-        let dipole = self.command_coils(bus, &dipole, &mut faults);
-        StepReport {
-            mode: self.mode,
-            measured_attitude: measured,
-            attitude,
-            omega_body_radps: omega,
-            b_body_nt,
-            sun_body,
-            sun_fraction: illumination.map(|i| i.fraction),
-            dipole_body_am2: dipole,
-            h_wheels_body: self.wheels_body(),
-            faults,
-        }
+        self.command_coils(bus, &dipole, faults)
     }
 
-    /// The gyro-aided complementary filter: predict `q ⊗ δq(ω dt)` (kinematics
-    /// `q̇ = ½ q ⊗ (0, ω)`), then move a fraction `filter_gain` of the way to the measurement.
-    /// Without a measurement the prediction is kept for at most `max_propagation_s`.
-    fn filter(
-        &mut self,
-        measured: Option<Quaternion>,
-        omega: Option<Vec3>,
-        dt: f32,
-    ) -> Option<Quaternion> {
-        let predicted = match (self.estimate, omega) {
-            (Some((q, age)), Some(w)) => {
-                let half = w * (0.5 * dt);
-                let dq = Quaternion {
-                    q0: 1.0,
-                    q1: half.x,
-                    q2: half.y,
-                    q3: half.z,
-                };
-                let p = q.mul(&dq);
-                Quaternion::new_normalize(p.q0, p.q1, p.q2, p.q3).map(|p| (p, age + dt))
-            }
-            _ => None,
-        };
-        self.estimate = match (predicted, measured) {
-            (Some((p, _)), Some(m)) => {
-                // δ = p* ⊗ m, the small correction in body axes; take a fraction of it
-                let d = p.conjugate().mul(&m);
-                let sign = if d.q0 < 0.0 { -1.0 } else { 1.0 };
-                let k = self.config.filter_gain * sign;
-                let c = Quaternion {
-                    q0: 1.0,
-                    q1: k * d.q1,
-                    q2: k * d.q2,
-                    q3: k * d.q3,
-                };
-                let q = p.mul(&c);
-                Quaternion::new_normalize(q.q0, q.q1, q.q2, q.q3).map(|q| (q, 0.0))
-            }
-            (None, Some(m)) => Some((m, 0.0)),
-            (Some((p, age)), None) if age <= self.config.max_propagation_s => Some((p, age)),
-            _ => None,
-        };
-        self.estimate.map(|(q, _)| q)
+    /// True if any tile has a working wheel.
+    fn have_wheels(&self) -> bool {
+        self.config.tiles.iter().any(|t| t.has_working_wheel())
     }
 
     /// Recomputes the cached IGRF coefficients in place if they are older than

@@ -4,6 +4,7 @@
 //!
 //! | module | what | source |
 //! |---|---|---|
+//! | [`complementary`] | gyro-aided complementary filter of the loop's attitude | note 000 §5 kinematics |
 //! | [`least_squares`] | body magnetic field from two-axis magnetometers, body rate from one-axis gyros | seed 000 §8.2–8.3, eqs. 8.14–8.25 |
 //! | [`sun_sensor`] | Sun direction in the body frame from the lit tiles' sensor angles | note 000 §7 item 1 |
 //! | [`thesis`] | the thesis's generalised solver `Aᵀ = G⁺F` (with its Sun-sensor equation) | seed 000 §8.4, eqs. 8.1–8.2, 8.27–8.31 |
@@ -17,6 +18,7 @@
 //! the attitude. The [`thesis`] solver is kept to reproduce the thesis's tests: its Sun-sensor
 //! equation is not geometry (note 000 §0 item 6).
 
+pub mod complementary;
 pub mod least_squares;
 pub mod quest;
 pub mod sun_sensor;
