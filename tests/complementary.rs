@@ -138,7 +138,9 @@ fn correction_turns_by_the_gain_fraction_of_the_vector_part() {
             "correction, gain {k}: moved {moved:.6} rad of {apart:.6} (model {expected:.6}), \
              {left:.3e} rad left"
         );
-        worst = worst.max((moved - expected).abs()).max((moved + left - apart).abs());
+        worst = worst
+            .max((moved - expected).abs())
+            .max((moved + left - apart).abs());
     }
     println!("correction: worst difference from the model {worst:.3e} rad");
     assert!(worst < 1e-6, "{worst:e}");

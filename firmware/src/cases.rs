@@ -166,6 +166,107 @@ fn run_step_parts<S: Sink>(s: &mut S) {
     for x in a.map_or([f32::NAN; 6], |a| a.wheel) {
         s.out(x);
     }
+
+    run_step_laws(s);
+}
+
+/// The rest of a step's parts (the laws, the filter, the coils), as `AcsLoop::step` calls them
+/// with the flight configuration's values (`crate::flight`-like gains, three 0.2 A·m² coils).
+#[inline(never)]
+fn run_step_laws<S: Sink>(s: &mut S) {
+    use acs::attitude::Quaternion;
+    use acs::control::magnetorquer::dumping_dipole;
+    use acs::control::sun_safe::{sun_safe_torque, SunSafeGains};
+    use acs::control::tracking::{tracking_torque, TrackingGains};
+    use acs::control::wheels::{Allocator, Wheel};
+    use acs::determination::complementary::{update, Estimate, FilterConfig};
+    use acs::linalg::{Mat3, Vec3};
+
+    let out3 = |s: &mut S, v: &Vec3| {
+        s.out(v.x);
+        s.out(v.y);
+        s.out(v.z);
+    };
+    let w = Vec3::new(s.input(0.002_5), s.input(-0.001_8), s.input(0.003_1));
+    let b = Vec3::new(s.input(21_000.0), s.input(-18_000.0), s.input(9_000.0));
+
+    let q = Quaternion {
+        q0: s.input(0.8),
+        q1: s.input(0.2),
+        q2: s.input(-0.4),
+        q3: s.input(0.4),
+    };
+    let m = Quaternion {
+        q0: s.input(0.79),
+        q1: s.input(0.21),
+        q2: s.input(-0.41),
+        q3: s.input(0.4),
+    };
+    let filter = FilterConfig {
+        gain: 0.1,
+        max_propagation_s: 120.0,
+    };
+    let estimate = Some(Estimate {
+        attitude: q,
+        age_s: 0.0,
+    });
+    s.begin("step: attitude filter (predict + correct)");
+    let e = update(&filter, estimate, Some(m), Some(w), 1.0);
+    let e = core::hint::black_box(e);
+    s.end();
+    let nan = Quaternion {
+        q0: f32::NAN,
+        q1: f32::NAN,
+        q2: f32::NAN,
+        q3: f32::NAN,
+    };
+    let e = e.map_or(nan, |e| e.attitude);
+    for x in [e.q0, e.q1, e.q2, e.q3] {
+        s.out(x);
+    }
+
+    let gains = SunSafeGains {
+        kp_nm: 2.0 * 0.05 * 0.05 * 0.014,
+        kd_nms: 2.0 * 0.05 * 0.014,
+    };
+    let sun = Vec3::new(s.input(0.3), s.input(-0.5), s.input(0.81));
+    s.begin("step: sun-safe law");
+    let t = sun_safe_torque(&gains, Some(&sun), &Vec3::z(), &w);
+    let t = core::hint::black_box(t).unwrap_or_default();
+    s.end();
+    out3(s, &t);
+
+    let inertia = Mat3::from_diagonal(&Vec3::new(0.010, 0.012, 0.014));
+    let tracking = TrackingGains::from_bandwidth(&inertia, 0.25, 0.9);
+    let h_w = Vec3::new(s.input(2.0e-4), s.input(-1.5e-4), s.input(3.0e-4));
+    s.begin("step: tracking law");
+    let t = tracking_torque(&tracking, &inertia, &q, &w, &m, &Vec3::zeros(), &h_w);
+    let t = core::hint::black_box(t).unwrap_or_default();
+    s.end();
+    out3(s, &t);
+
+    // the loop allocates over `MAX_COILS` = 6 slots, three of them configured
+    let mut coils = [Wheel {
+        axis_body: Vec3::z(),
+        limit: 1.0,
+        working: false,
+    }; 6];
+    for (c, axis) in coils.iter_mut().zip([Vec3::x(), Vec3::y(), Vec3::z()]) {
+        *c = Wheel {
+            axis_body: axis,
+            limit: 0.2,
+            working: true,
+        };
+    }
+    let alloc = Allocator::new(&coils).ok();
+    s.begin("step: dumping + coil allocation (cached, 3 coils)");
+    let dump = dumping_dipole(&h_w, &Vec3::zeros(), 1e-3, &b).unwrap_or_default();
+    let a = alloc.as_ref().and_then(|a| a.allocate(&coils, &(-dump)).ok());
+    let a = core::hint::black_box(a);
+    s.end();
+    for x in a.map_or([f32::NAN; 6], |a| a.wheel) {
+        s.out(x);
+    }
 }
 
 /// One full ACS step (`crate::flight`: the loop over the mailbox tile bus).
