@@ -198,37 +198,58 @@ pub struct Calendar {
 ///
 /// The algorithm is the "days from civil" of H. Hinnant (public domain), shifted to 2000-01-01.
 ///
-/// Computed in `i64`; the result saturates at the ends of `i32` (years beyond ±5.8 million).
+/// Computed in `i32` (no 64-bit division or multiply: on the MSP430 those are library calls of
+/// about 3.4 KB and 1 000 cycles each); the result saturates at the ends of `i32` (years beyond
+/// ±5.8 million). Range argument: the 400-year era is at most 5.4e6 in magnitude, the day of the
+/// era at most 1.6e5 (any `month` and `day` byte), and the era's days, `era·146 097`, are only
+/// formed for the 14 700 eras that fit `i32` (beyond them the result is saturated anyway).
 pub const fn days_from_civil(year: i32, month: u8, day: u8) -> i32 {
-    let year = year as i64;
-    let y = if month <= 2 { year - 1 } else { year };
-    let era = if y >= 0 { y } else { y - 399 } / 400;
-    let yoe = y - era * 400;
-    let m = month as i64;
+    // The year y = year − 1 for January and February (without forming it: no overflow at
+    // i32::MIN), split into its era (floor division by 400) and its year of the era.
+    let mut era = year.div_euclid(400);
+    let mut yoe = year.rem_euclid(400);
+    if month <= 2 {
+        if yoe == 0 {
+            yoe = 399;
+            era -= 1;
+        } else {
+            yoe -= 1;
+        }
+    }
+    let m = month as i32;
     let mp = if m > 2 { m - 3 } else { m + 9 };
-    let doy = (153 * mp + 2) / 5 + day as i64 - 1;
+    let doy = (153 * mp + 2) / 5 + day as i32 - 1;
     let doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
-    let days = era * 146_097 + doe - 719_468 - 10_957;
-    if days > i32::MAX as i64 {
-        i32::MAX
-    } else if days < i32::MIN as i64 {
+    // days = era·146 097 + doe − 730 425, saturated: −1 ≤ doe ≤ 153 696; a non-negative era is
+    // written (era − 5)·146 097 + (doe + 60) so that the second term is positive, a negative one
+    // keeps its negative second term, so an era whose product leaves i32 saturates the sum too.
+    if era >= 0 {
+        if era > 14_704 {
+            i32::MAX
+        } else {
+            ((era - 5) * 146_097).saturating_add(doe + 60)
+        }
+    } else if era < -14_699 {
         i32::MIN
     } else {
-        days as i32
+        (era * 146_097).saturating_add(doe - 730_425)
     }
 }
 
 /// The Gregorian (year, month, day) of a day count from 2000-01-01 (inverse of [`days_from_civil`]).
 ///
-/// Exact for every `i32` day count: the 400-year era is found in `i64` (so the extreme day
-/// counts a saturated [`Epoch::add`] can produce do not overflow), the rest in `i32` (one 64-bit
-/// division instead of nine: on the MSP430 these are library calls).
+/// Exact for every `i32` day count, in `i32` arithmetic: the 400-year era (|era| ≤ 14 705) and the
+/// day of the era (0..=146 096) come from one division of the day count itself (the usual shift
+/// to 0000-03-01, 730 425 days, would overflow near `i32::MAX`), the rest is small.
 pub const fn civil_from_days(days: i32) -> (i32, u8, u8) {
-    let z = days as i64 + 10_957 + 719_468;
-    let era = if z >= 0 { z } else { z - 146_096 } / 146_097;
-    // 0 ≤ doe ≤ 146 096 and |era| ≤ 14 700: everything below fits i32
-    let doe = (z - era * 146_097) as i32;
-    let era = era as i32;
+    // days + 730 425 = (q + 5)·146 097 + (r − 60), with 0 ≤ r < 146 097
+    let q = days.div_euclid(146_097);
+    let r = days.rem_euclid(146_097);
+    let (era, doe) = if r >= 60 {
+        (q + 5, r - 60)
+    } else {
+        (q + 4, r + 146_037)
+    };
     let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
     let y = yoe + era * 400;
     let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
@@ -371,29 +392,67 @@ impl<S: TimeScale> Epoch<S> {
     }
 
     /// The span from `earlier` to `self` (negative if `earlier` is later). UTC days count 86 400 s.
+    /// Saturates at the ends of [`TimeSpan`] (±68 years).
     pub fn span_since(&self, earlier: &Self) -> TimeSpan {
-        let days = i64::from(self.day) - i64::from(earlier.day);
-        let secs =
-            days * i64::from(SECONDS_PER_DAY) + i64::from(self.second) - i64::from(earlier.second);
-        let nanos = i64::from(self.nano) - i64::from(earlier.nano);
-        TimeSpan::from_seconds_nanos_i64(secs, nanos)
+        // i32 arithmetic only (64-bit products and divisions are library calls on the MSP430).
+        let (nano, borrow) = match self.nano.checked_sub(earlier.nano) {
+            Some(n) => (n, 0),
+            None => ((self.nano + NANOS_PER_SECOND) - earlier.nano, 1),
+        };
+        // −86 401 ≤ ds ≤ 86 400
+        let ds = self.second as i32 - earlier.second as i32 - borrow;
+        let later = self.day >= earlier.day;
+        let d = self.day.wrapping_sub(earlier.day);
+        // Beyond ±24 856 days the span is beyond ±(24 857·86 400 − 86 401) s > i32::MAX: saturated.
+        // Within, d·86 400 + ds = (d − sgn d)·86 400 + (ds + 86 400·sgn d), both terms in i32.
+        let seconds = if later && !(0..=24_856).contains(&d) {
+            i32::MAX
+        } else if !later && !(-24_856..0).contains(&d) {
+            i32::MIN
+        } else {
+            let sgn = if d > 0 {
+                1
+            } else if d < 0 {
+                -1
+            } else {
+                0
+            };
+            ((d - sgn) * SECONDS_PER_DAY as i32).saturating_add(ds + sgn * SECONDS_PER_DAY as i32)
+        };
+        TimeSpan { seconds, nano }
     }
 
     /// This epoch moved by `span` (days count 86 400 s). Saturates at the ends of the day range.
     pub fn add(&self, span: TimeSpan) -> Self {
-        let mut nano = i64::from(self.nano) + i64::from(span.nano);
-        let mut secs = i64::from(self.second) + i64::from(span.seconds);
-        if nano >= i64::from(NANOS_PER_SECOND) {
-            nano -= i64::from(NANOS_PER_SECOND);
-            secs += 1;
-        }
-        let spd = i64::from(SECONDS_PER_DAY);
-        let day = i64::from(self.day) + secs.div_euclid(spd);
-        let second = secs.rem_euclid(spd);
+        // nano < 2e9 and second < 2·86 400 + 1 fit u32; no 64-bit arithmetic.
+        let (nano, carry) = match (self.nano + span.nano).checked_sub(NANOS_PER_SECOND) {
+            Some(n) => (n, 1),
+            None => (self.nano + span.nano, 0),
+        };
+        // Whole days and seconds of the span; spans under a day (leap-second and time-scale
+        // offsets, control periods) skip the division.
+        let spd = SECONDS_PER_DAY as i32;
+        let (days, rem) = if (0..spd).contains(&span.seconds) {
+            (0, span.seconds)
+        } else if (-spd..0).contains(&span.seconds) {
+            (-1, span.seconds + spd)
+        } else {
+            (span.seconds.div_euclid(spd), span.seconds.rem_euclid(spd))
+        };
+        // 0 ≤ secs ≤ 86 399 + 86 400 + 1
+        let secs = rem as u32 + self.second + carry;
+        let (extra, second) = if secs >= 2 * SECONDS_PER_DAY {
+            (2, secs - 2 * SECONDS_PER_DAY)
+        } else if secs >= SECONDS_PER_DAY {
+            (1, secs - SECONDS_PER_DAY)
+        } else {
+            (0, secs)
+        };
+        // |days + extra| ≤ 24 857: the sum cannot overflow, the epoch's day saturates.
         Self {
-            day: day.clamp(i64::from(i32::MIN), i64::from(i32::MAX)) as i32,
-            second: second as u32,
-            nano: nano as u32,
+            day: self.day.saturating_add(days + extra),
+            second,
+            nano,
             scale: PhantomData,
         }
     }
@@ -427,10 +486,11 @@ impl Epoch<Utc> {
         if frac_1e8 >= 100_000_000 {
             return Err(TimeError::OutOfRange);
         }
-        // 1e-8 day = 864 µs = 864 000 ns exactly.
-        let total_ns = u64::from(frac_1e8) * 864_000;
-        let second = (total_ns / u64::from(NANOS_PER_SECOND)) as u32;
-        let nano = (total_ns % u64::from(NANOS_PER_SECOND)) as u32;
+        // 1e-8 day = 864 µs = 27/31 250 s exactly: frac·27 < 2.7e9 fits u32, and the remainder
+        // (< 31 250) times 32 000 ns is the nanosecond.
+        let x = frac_1e8 * 27;
+        let second = x / 31_250;
+        let nano = (x % 31_250) * 32_000;
         let day = days_from_civil(year, 1, 1) + i32::from(day_of_year) - 1;
         Self::from_parts(day, second, nano)
     }
@@ -453,8 +513,31 @@ impl TimeSpan {
     }
 
     /// A span of whole seconds and nanoseconds (nanoseconds may be any value; they are carried).
+    /// Saturates at the ends of the range (±68 years).
     pub fn new(seconds: i32, nanos: i64) -> Self {
-        Self::from_seconds_nanos_i64(i64::from(seconds), nanos)
+        match i32::try_from(nanos) {
+            // |nanos| < 2.2 s, the common case: i32 arithmetic (no 64-bit division).
+            Ok(n) => Self {
+                seconds: seconds.saturating_add(n.div_euclid(NANOS_PER_SECOND as i32)),
+                nano: n.rem_euclid(NANOS_PER_SECOND as i32) as u32,
+            },
+            Err(_) => Self::from_seconds_nanos_i64(i64::from(seconds), nanos),
+        }
+    }
+
+    /// `self` with the sign reversed (saturating at the end of the range).
+    const fn negated(self) -> Self {
+        if self.nano == 0 {
+            Self {
+                seconds: self.seconds.saturating_neg(),
+                nano: 0,
+            }
+        } else {
+            Self {
+                seconds: (-1_i32).saturating_sub(self.seconds),
+                nano: NANOS_PER_SECOND - self.nano,
+            }
+        }
     }
 
     /// A span from f64 seconds (host use). Non-finite or out-of-range values give an error.
@@ -480,6 +563,26 @@ impl TimeSpan {
     /// Nanoseconds above [`TimeSpan::whole_seconds`], 0..1e9.
     pub const fn nanos(&self) -> u32 {
         self.nano
+    }
+
+    /// Whole milliseconds, rounded toward zero, saturated to `i32` (i32 arithmetic only).
+    fn milliseconds_toward_zero(&self) -> i32 {
+        // 2 147 484 s and more is beyond i32 milliseconds.
+        const LIMIT: i32 = 2_147_484;
+        let ns_per_ms = 1_000_000;
+        if self.seconds >= 0 {
+            if self.seconds >= LIMIT {
+                return i32::MAX;
+            }
+            (self.seconds * 1000).saturating_add((self.nano / ns_per_ms) as i32)
+        } else {
+            // −(a·1000 + ⌊(1e9 − nano)/1e6⌋) with a = −(seconds + 1) ≥ 0
+            let a = -(self.seconds + 1);
+            if a >= LIMIT {
+                return i32::MIN;
+            }
+            (-(a * 1000)).saturating_sub(((NANOS_PER_SECOND - self.nano) / ns_per_ms) as i32)
+        }
     }
 
     /// The span in f64 seconds (host use; exact to about 1e-7 s over decades).
@@ -509,6 +612,11 @@ impl TimeSpan {
 
 /// TT − TAI in nanoseconds (32.184 s, exact by definition).
 pub const TT_MINUS_TAI_NS: i64 = 32_184_000_000;
+/// [`TT_MINUS_TAI_NS`] as a span (built at compile time: no 64-bit division at run time).
+const TT_MINUS_TAI: TimeSpan = TimeSpan {
+    seconds: TT_MINUS_TAI_NS.div_euclid(NANOS_PER_SECOND as i64) as i32,
+    nano: TT_MINUS_TAI_NS.rem_euclid(NANOS_PER_SECOND as i64) as u32,
+};
 
 /// The last UTC day (year, month, day) for which [`LEAP_SECONDS`] is known complete: every UTC
 /// instant up to the end of this day (inclusive) has its TAI − UTC in the table.
@@ -670,10 +778,14 @@ impl Epoch<Utc> {
         match dut1 {
             None => Ok(self.relabel()),
             Some(d) => {
-                let ns = i64::from(d.seconds) * i64::from(NANOS_PER_SECOND) + i64::from(d.nano);
-                if ns.abs() > 900_000_000 {
-                    let ms = (ns / 1_000_000).clamp(i64::from(i32::MIN), i64::from(i32::MAX));
-                    return Err(TimeError::Dut1(ms as i32));
+                // |d| ≤ 0.9 s: 0 s + ≤ 0.9e9 ns, or −1 s + ≥ 0.1e9 ns.
+                let within = match d.seconds {
+                    0 => d.nano <= 900_000_000,
+                    -1 => d.nano >= 100_000_000,
+                    _ => false,
+                };
+                if !within {
+                    return Err(TimeError::Dut1(d.milliseconds_toward_zero()));
                 }
                 Ok(self.add(d).relabel())
             }
@@ -742,14 +854,14 @@ impl Epoch<Tai> {
 
     /// TAI → TT (`TT = TAI + 32.184 s`, exact).
     pub fn to_tt(&self) -> Epoch<Tt> {
-        self.add(TimeSpan::new(0, TT_MINUS_TAI_NS)).relabel()
+        self.add(TT_MINUS_TAI).relabel()
     }
 }
 
 impl Epoch<Tt> {
     /// TT → TAI (`TAI = TT − 32.184 s`, exact).
     pub fn to_tai(&self) -> Epoch<Tai> {
-        self.add(TimeSpan::new(0, -TT_MINUS_TAI_NS)).relabel()
+        self.add(TT_MINUS_TAI.negated()).relabel()
     }
 }
 
@@ -882,17 +994,191 @@ const GMST_PER_MICRO_BAM: u64 =
 const GMST_PER_NANO_BAM: u64 =
     ((1.0 + SIDEREAL_EXCESS_REV_PER_DAY) / 86_400.0e9 * REV_BAM + 0.5) as u64;
 /// 2π · 2^29, rounded (relative error 1.5e-10): a 32-bit binary angle times this is radians·2^61.
-const TWO_PI_Q29: u64 = 3_373_259_426;
+const TWO_PI_Q29: u32 = 3_373_259_426;
 
-/// The linear part of GMST (everything but the T² and T³ terms) as a binary angle:
-/// `u64` where 2^64 is one revolution, so the reduction modulo 2π is exact wrapping.
-fn gmst_linear_bam(ut1: &Epoch<Ut1>) -> u64 {
-    let day = i64::from(ut1.day) as u64;
-    GMST_DAY0_BAM
-        .wrapping_add(GMST_PER_DAY_BAM.wrapping_mul(day))
-        .wrapping_add(GMST_PER_SECOND_BAM.wrapping_mul(u64::from(ut1.second)))
-        .wrapping_add(GMST_PER_MICRO_BAM.wrapping_mul(u64::from(ut1.nano / 1000)))
-        .wrapping_add(GMST_PER_NANO_BAM.wrapping_mul(u64::from(ut1.nano % 1000)))
+// The nanosecond term is formed in one 32-bit product: (nano mod 1000) · GMST_PER_NANO_BAM < 2^32.
+const _: () = assert!(GMST_PER_NANO_BAM * 1000 < 1 << 32 && GMST_PER_MICRO_BAM < 1 << 32);
+
+/// A 64-bit integer as two 32-bit words, for exact wrapping fixed point on a 16-bit core: the
+/// MSP430 has no 64-bit arithmetic (a `u64` product is a library call of about 900 cycles, a
+/// division 3.4 KB of code), so products are formed from 16 × 16 → 32-bit pieces here.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub(crate) struct Wide {
+    hi: u32,
+    lo: u32,
+}
+
+impl Wide {
+    /// Zero.
+    pub(crate) const ZERO: Self = Self { hi: 0, lo: 0 };
+
+    /// From a `u64` (compile-time constants).
+    pub(crate) const fn from_u64(x: u64) -> Self {
+        Self {
+            hi: (x >> 32) as u32,
+            lo: x as u32,
+        }
+    }
+
+    /// As a `u64` (host code and tests).
+    pub(crate) const fn to_u64(self) -> u64 {
+        ((self.hi as u64) << 32) | self.lo as u64
+    }
+
+    /// The high word (bits 32..=63).
+    pub(crate) const fn hi(self) -> u32 {
+        self.hi
+    }
+
+    /// The low word (bits 0..=31).
+    pub(crate) const fn lo(self) -> u32 {
+        self.lo
+    }
+
+    /// `self + other` modulo 2^64.
+    pub(crate) fn wrapping_add(self, other: Self) -> Self {
+        let lo = self.lo.wrapping_add(other.lo);
+        let carry = u32::from(lo < other.lo);
+        Self {
+            hi: self.hi.wrapping_add(other.hi).wrapping_add(carry),
+            lo,
+        }
+    }
+
+    /// `−self` modulo 2^64.
+    fn wrapping_neg(self) -> Self {
+        let lo = (!self.lo).wrapping_add(1);
+        Self {
+            hi: (!self.hi).wrapping_add(u32::from(lo == 0)),
+            lo,
+        }
+    }
+
+    /// The full 64-bit product `a·b`, from four 16 × 16 → 32-bit products.
+    pub(crate) fn mul_u32(a: u32, b: u32) -> Self {
+        let (a1, a0) = (a >> 16, a & 0xFFFF);
+        let (b1, b0) = (b >> 16, b & 0xFFFF);
+        let low = a0 * b0;
+        let (mid, mid_carry) = (a1 * b0).overflowing_add(a0 * b1);
+        let lo = low.wrapping_add(mid << 16);
+        let hi = (a1 * b1)
+            .wrapping_add(mid >> 16)
+            .wrapping_add(u32::from(mid_carry) << 16)
+            .wrapping_add(u32::from(lo < low));
+        Self { hi, lo }
+    }
+
+    /// `self·v` modulo 2^64, `v` unsigned.
+    pub(crate) fn wrapping_mul_u32(self, v: u32) -> Self {
+        let p = Self::mul_u32(self.lo, v);
+        Self {
+            hi: p.hi.wrapping_add(self.hi.wrapping_mul(v)),
+            lo: p.lo,
+        }
+    }
+
+    /// `self·v` modulo 2^64, `v` sign-extended (as `(self as i64).wrapping_mul(v as i64)`).
+    pub(crate) fn wrapping_mul_i32(self, v: i32) -> Self {
+        let p = self.wrapping_mul_u32(v as u32);
+        // v < 0 is v + 2^32 − 2^32 as an unsigned word: subtract self·2^32.
+        if v < 0 {
+            Self {
+                hi: p.hi.wrapping_sub(self.lo),
+                lo: p.lo,
+            }
+        } else {
+            p
+        }
+    }
+
+    /// `x as i64` (truncation toward zero, saturating, NaN → 0), from the bits of `x`: no
+    /// float-to-64-bit library call.
+    fn from_f32_as_i64(x: f32) -> Self {
+        let bits = x.to_bits();
+        let exp = (bits >> 23) & 0xFF;
+        if x.is_nan() || exp < 127 {
+            // NaN, or |x| < 1
+            return Self::ZERO;
+        }
+        let negative = bits >> 31 != 0;
+        if exp >= 127 + 63 {
+            // |x| ≥ 2^63 (infinities included): saturated
+            return if negative {
+                Self::from_u64(1 << 63)
+            } else {
+                Self::from_u64(u64::MAX >> 1)
+            };
+        }
+        // |x| = m·2^k with −23 ≤ k ≤ 39
+        let m = (bits & 0x007F_FFFF) | 0x0080_0000;
+        let k = exp as i32 - 150;
+        let magnitude = if k < 0 {
+            Self { hi: 0, lo: m >> -k }
+        } else if k == 0 {
+            Self { hi: 0, lo: m }
+        } else if k < 32 {
+            Self {
+                hi: m >> (32 - k),
+                lo: m << k,
+            }
+        } else {
+            Self {
+                hi: m << (k - 32),
+                lo: 0,
+            }
+        };
+        if negative {
+            magnitude.wrapping_neg()
+        } else {
+            magnitude
+        }
+    }
+
+    /// `self·2^-61` rounded to f32 (nearest, ties to even), as `self as f32 * 2^-61` rounds it,
+    /// for `self` zero or at least 2^31 (so that the result is a normal number).
+    fn times_2_pow_minus_61_to_f32(self) -> f32 {
+        let (mut hi, mut lo) = (self.hi, self.lo);
+        // e: the exponent of the leading bit minus 63
+        let mut e: u32 = 128;
+        if hi == 0 {
+            if lo == 0 {
+                return 0.0;
+            }
+            hi = lo;
+            lo = 0;
+            e -= 32;
+        }
+        // Normalise (at most 31 steps: hi ≠ 0).
+        while hi & 0x8000_0000 == 0 {
+            hi = (hi << 1) | (lo >> 31);
+            lo <<= 1;
+            e -= 1;
+        }
+        // 24 significant bits, then the rounding bit and the sticky bits below it. The leading
+        // bit of the significand adds one to the exponent field: (e − 63 + 63 − 61 + 127) − 1.
+        let significand = hi >> 8;
+        let mut bits = (e << 23) + significand;
+        if hi & 0x80 != 0 && ((hi & 0x7F) | lo != 0 || significand & 1 != 0) {
+            bits += 1;
+        }
+        f32::from_bits(bits)
+    }
+}
+
+/// The linear part of GMST (everything but the T² and T³ terms) as a binary angle, 2^64 = one
+/// revolution, so the reduction modulo 2π is exact wrapping; in 32-bit words (see [`Wide`]).
+fn gmst_linear(ut1: &Epoch<Ut1>) -> Wide {
+    // nano < 1e9: the microseconds and nanoseconds below them, each times its rounded rate
+    let micro = ut1.nano / 1000;
+    let nano = ut1.nano - micro * 1000;
+    Wide::from_u64(GMST_DAY0_BAM)
+        .wrapping_add(Wide::from_u64(GMST_PER_DAY_BAM).wrapping_mul_i32(ut1.day))
+        .wrapping_add(Wide::from_u64(GMST_PER_SECOND_BAM).wrapping_mul_u32(ut1.second))
+        .wrapping_add(Wide::mul_u32(GMST_PER_MICRO_BAM as u32, micro))
+        .wrapping_add(Wide {
+            hi: 0,
+            lo: GMST_PER_NANO_BAM as u32 * nano,
+        })
 }
 
 /// Greenwich mean sidereal time θ_GMST (IAU-82) in radians, 0..=2π, f32, for flight code.
@@ -905,8 +1191,9 @@ fn gmst_linear_bam(ut1: &Epoch<Ut1>) -> u64 {
 /// ```
 /// The linear part is evaluated exactly from the epoch's integer day, second and nanosecond in
 /// a 64-bit binary angle (2^64 = 2π, so reducing modulo 2π is integer wrap-around; the
-/// 876 600 h·T term is a whole number of revolutions per day and vanishes); the small T² and
-/// T³ terms are added in f32. The result is rounded to f32 once.
+/// 876 600 h·T term is a whole number of revolutions per day and vanishes), held in two 32-bit
+/// words and formed from 16 × 16-bit products (no 64-bit library call on the MSP430); the small
+/// T² and T³ terms are added in f32. The result is rounded to f32 once.
 ///
 /// Accuracy: measured against an f64 `gstime` over 1990–2050 (200 000 instants), max
 /// 2.40e-7 rad (half an f32 ulp near 2π), RMS 9.2e-8 rad
@@ -918,11 +1205,10 @@ pub fn gmst_rad(ut1: &Epoch<Ut1>) -> f32 {
     let t = (whole + fraction) / 36_525.0;
     // 0.093 104 s·T² − 6.2e-6 s·T³, as revolutions, as a binary angle (|·| < 2e14 for |T| < 1).
     let quadratic_rev = (0.093_104 * t * t - 6.2e-6 * t * t * t) / 86_400.0;
-    let quadratic_bam = (quadratic_rev * REV_BAM as f32) as i64;
-    let bam = gmst_linear_bam(ut1).wrapping_add_signed(quadratic_bam);
-    // Top 32 bits × 2π·2^29 = radians · 2^61, then one rounding to f32.
-    let q61 = (bam >> 32) * TWO_PI_Q29;
-    q61 as f32 * (1.0 / 2_305_843_009_213_693_952.0)
+    let quadratic = Wide::from_f32_as_i64(quadratic_rev * REV_BAM as f32);
+    let bam = gmst_linear(ut1).wrapping_add(quadratic);
+    // Top 32 bits × 2π·2^29 = radians · 2^61 (≥ 2^31 unless zero), then one rounding to f32.
+    Wide::mul_u32(bam.hi, TWO_PI_Q29).times_2_pow_minus_61_to_f32()
 }
 
 /// Greenwich mean sidereal time (IAU-82) in radians, 0..2π, f64, for host code and one-time
@@ -935,6 +1221,261 @@ pub fn gmst_rad_f64(ut1: &Epoch<Ut1>) -> f64 {
     let t = ((jd_whole - 2_451_545.0) + jd_frac) / 36_525.0;
     let quadratic_rev = (0.093_104 * t * t - 6.2e-6 * t * t * t) / 86_400.0;
     let quadratic_bam = (quadratic_rev * REV_BAM) as i64;
-    let bam = gmst_linear_bam(ut1).wrapping_add_signed(quadratic_bam);
+    let bam = gmst_linear(ut1).to_u64().wrapping_add_signed(quadratic_bam);
     bam as f64 * (core::f64::consts::TAU / REV_BAM)
+}
+
+#[cfg(test)]
+mod tests {
+    //! The 32-bit arithmetic against the 64-bit formulas it replaced (kept here as references).
+    use super::*;
+
+    /// xorshift64*: deterministic test inputs.
+    struct Rng(u64);
+    impl Rng {
+        fn next(&mut self) -> u64 {
+            self.0 ^= self.0 >> 12;
+            self.0 ^= self.0 << 25;
+            self.0 ^= self.0 >> 27;
+            self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
+        }
+        fn i32(&mut self) -> i32 {
+            // every magnitude: a random word shifted right by 0..31 bits
+            let r = self.next();
+            ((r >> 32) as i32) >> (r % 32)
+        }
+    }
+
+    fn days_from_civil_i64(year: i32, month: u8, day: u8) -> i32 {
+        let year = i64::from(year);
+        let y = if month <= 2 { year - 1 } else { year };
+        let era = if y >= 0 { y } else { y - 399 } / 400;
+        let yoe = y - era * 400;
+        let m = i64::from(month);
+        let mp = if m > 2 { m - 3 } else { m + 9 };
+        let doy = (153 * mp + 2) / 5 + i64::from(day) - 1;
+        let doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
+        let days = era * 146_097 + doe - 719_468 - 10_957;
+        days.clamp(i64::from(i32::MIN), i64::from(i32::MAX)) as i32
+    }
+
+    fn civil_from_days_i64(days: i32) -> (i32, u8, u8) {
+        let z = i64::from(days) + 10_957 + 719_468;
+        let era = if z >= 0 { z } else { z - 146_096 } / 146_097;
+        let doe = z - era * 146_097;
+        let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+        let y = yoe + era * 400;
+        let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+        let mp = (5 * doy + 2) / 153;
+        let d = doy - (153 * mp + 2) / 5 + 1;
+        let m = if mp < 10 { mp + 3 } else { mp - 9 };
+        let year = if m <= 2 { y + 1 } else { y };
+        (year as i32, m as u8, d as u8)
+    }
+
+    #[test]
+    fn calendar_in_i32_equals_i64() {
+        let mut rng = Rng(0x1234_5678_9abc_def1);
+        let years = [
+            i32::MIN,
+            i32::MIN + 1,
+            -5_879_611,
+            -5_879_610,
+            5_879_609,
+            5_879_610,
+        ];
+        for i in 0..200_000 {
+            let year = match i {
+                0..=5 => years[i],
+                6..=15 => i32::MAX - (i as i32 - 6),
+                _ if i % 2 == 0 => 1600 + (rng.next() % 800) as i32,
+                _ => rng.i32(),
+            };
+            let month = (rng.next() % 14) as u8;
+            let day = (rng.next() % 33) as u8;
+            assert_eq!(
+                days_from_civil(year, month, day),
+                days_from_civil_i64(year, month, day),
+                "{year}-{month}-{day}"
+            );
+            let extreme = [i32::MIN, i32::MAX, 0, -1];
+            let days = match i {
+                0..=3 => extreme[i],
+                _ if i % 2 == 0 => (rng.next() % 200_000) as i32 - 100_000,
+                _ => rng.i32(),
+            };
+            assert_eq!(civil_from_days(days), civil_from_days_i64(days), "{days}");
+        }
+        // every month boundary 1899..2101 round trips
+        for year in 1899..=2101 {
+            for month in 1..=12u8 {
+                let d = days_from_civil(year, month, 1);
+                assert_eq!(civil_from_days(d), (year, month, 1));
+            }
+        }
+    }
+
+    fn add_i64<S: TimeScale>(e: &Epoch<S>, span: TimeSpan) -> Epoch<S> {
+        let mut nano = i64::from(e.nano) + i64::from(span.nano);
+        let mut secs = i64::from(e.second) + i64::from(span.seconds);
+        if nano >= i64::from(NANOS_PER_SECOND) {
+            nano -= i64::from(NANOS_PER_SECOND);
+            secs += 1;
+        }
+        let spd = i64::from(SECONDS_PER_DAY);
+        let day = i64::from(e.day) + secs.div_euclid(spd);
+        Epoch {
+            day: day.clamp(i64::from(i32::MIN), i64::from(i32::MAX)) as i32,
+            second: secs.rem_euclid(spd) as u32,
+            nano: nano as u32,
+            scale: PhantomData,
+        }
+    }
+
+    fn span_i64<S: TimeScale>(later: &Epoch<S>, earlier: &Epoch<S>) -> TimeSpan {
+        let days = i64::from(later.day) - i64::from(earlier.day);
+        let secs =
+            days * i64::from(SECONDS_PER_DAY) + i64::from(later.second) - i64::from(earlier.second);
+        let nanos = i64::from(later.nano) - i64::from(earlier.nano);
+        TimeSpan::from_seconds_nanos_i64(secs, nanos)
+    }
+
+    #[test]
+    fn epoch_arithmetic_in_i32_equals_i64() {
+        let mut rng = Rng(0xfeed_beef_0bad_cafe);
+        let epoch = |rng: &mut Rng, i: u32| {
+            let day = match i % 5 {
+                0 => rng.i32(),
+                1 => i32::MAX - (rng.next() % 3) as i32,
+                2 => i32::MIN + (rng.next() % 3) as i32,
+                _ => (rng.next() % 100_000) as i32 - 50_000,
+            };
+            let second = match rng.next() % 4 {
+                0 => 86_400,
+                1 => 0,
+                _ => (rng.next() % 86_400) as u32,
+            };
+            let nano = match rng.next() % 4 {
+                0 => 0,
+                1 => 999_999_999,
+                _ => (rng.next() % 1_000_000_000) as u32,
+            };
+            Epoch::<Tai>::from_parts(day, second, nano).unwrap()
+        };
+        for i in 0..300_000 {
+            let a = epoch(&mut rng, i);
+            let b = epoch(&mut rng, i / 7);
+            assert_eq!(a.span_since(&b), span_i64(&a, &b), "{a:?} − {b:?}");
+            let seconds = match i % 4 {
+                0 => rng.i32(),
+                1 => i32::MAX - (rng.next() % 3) as i32,
+                2 => i32::MIN + (rng.next() % 3) as i32,
+                _ => (rng.next() % 400_000) as i32 - 200_000,
+            };
+            let span = TimeSpan {
+                seconds,
+                nano: (rng.next() % 1_000_000_000) as u32,
+            };
+            assert_eq!(a.add(span), add_i64(&a, span), "{a:?} + {span:?}");
+            let nanos = (rng.next() as i64) >> (rng.next() % 64);
+            assert_eq!(
+                TimeSpan::new(seconds, nanos),
+                TimeSpan::from_seconds_nanos_i64(i64::from(seconds), nanos),
+                "{seconds} s + {nanos} ns"
+            );
+            let ns = i64::from(span.seconds) * 1_000_000_000 + i64::from(span.nano);
+            let ms = (ns / 1_000_000).clamp(i64::from(i32::MIN), i64::from(i32::MAX));
+            assert_eq!(span.milliseconds_toward_zero(), ms as i32, "{span:?}");
+        }
+        assert_eq!(
+            TT_MINUS_TAI.negated(),
+            TimeSpan::from_seconds_nanos_i64(0, -TT_MINUS_TAI_NS)
+        );
+    }
+
+    #[test]
+    fn tle_epoch_fraction_in_u32_equals_u64() {
+        for frac in (0..100_000_000u32)
+            .step_by(9_973)
+            .chain([99_999_999, 1, 2, 3])
+        {
+            let e = Epoch::from_tle_epoch(24, 1, frac).unwrap();
+            let total_ns = u64::from(frac) * 864_000;
+            assert_eq!(u64::from(e.second_of_day()), total_ns / 1_000_000_000);
+            assert_eq!(u64::from(e.nano()), total_ns % 1_000_000_000);
+        }
+    }
+
+    #[test]
+    fn wide_words_equal_u64() {
+        let mut rng = Rng(0x0dd_ba11_5eed_1234);
+        for _ in 0..200_000 {
+            let (x, y) = (rng.next(), rng.next());
+            let (a, b) = (x as u32 >> (y % 32), (x >> 32) as u32 >> (y / 32 % 32));
+            assert_eq!(Wide::mul_u32(a, b).to_u64(), u64::from(a) * u64::from(b));
+            let w = Wide::from_u64(y);
+            assert_eq!(w.wrapping_mul_u32(a).to_u64(), y.wrapping_mul(u64::from(a)));
+            let v = a as i32;
+            assert_eq!(
+                w.wrapping_mul_i32(v).to_u64(),
+                (y as i64).wrapping_mul(i64::from(v)) as u64
+            );
+            assert_eq!(
+                w.wrapping_add(Wide::from_u64(x)).to_u64(),
+                y.wrapping_add(x)
+            );
+            assert_eq!(w.wrapping_neg().to_u64(), y.wrapping_neg());
+            let f = f32::from_bits(x as u32);
+            assert_eq!(Wide::from_f32_as_i64(f).to_u64(), f as i64 as u64, "{f:e}");
+            let p = Wide::from_u64(x | 1 << 31);
+            assert_eq!(
+                p.times_2_pow_minus_61_to_f32().to_bits(),
+                ((x | 1 << 31) as f32 * (1.0 / 2_305_843_009_213_693_952.0)).to_bits()
+            );
+        }
+        assert_eq!(Wide::ZERO.times_2_pow_minus_61_to_f32().to_bits(), 0);
+        for f in [
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+            9.3e18,
+            -9.3e18,
+            -0.99,
+            0.99,
+        ] {
+            assert_eq!(Wide::from_f32_as_i64(f).to_u64(), f as i64 as u64, "{f:e}");
+        }
+    }
+
+    /// `gmst_rad` as it was computed with `u64` arithmetic.
+    fn gmst_rad_u64(ut1: &Epoch<Ut1>) -> f32 {
+        let day = i64::from(ut1.day) as u64;
+        let linear = GMST_DAY0_BAM
+            .wrapping_add(GMST_PER_DAY_BAM.wrapping_mul(day))
+            .wrapping_add(GMST_PER_SECOND_BAM.wrapping_mul(u64::from(ut1.second)))
+            .wrapping_add(GMST_PER_MICRO_BAM.wrapping_mul(u64::from(ut1.nano / 1000)))
+            .wrapping_add(GMST_PER_NANO_BAM.wrapping_mul(u64::from(ut1.nano % 1000)));
+        let (whole, fraction) = ut1.days_since_j2000_split();
+        let t = (whole + fraction) / 36_525.0;
+        let quadratic_rev = (0.093_104 * t * t - 6.2e-6 * t * t * t) / 86_400.0;
+        let quadratic_bam = (quadratic_rev * REV_BAM as f32) as i64;
+        let bam = linear.wrapping_add_signed(quadratic_bam);
+        let q61 = (bam >> 32) * u64::from(TWO_PI_Q29);
+        q61 as f32 * (1.0 / 2_305_843_009_213_693_952.0)
+    }
+
+    #[test]
+    fn gmst_in_32_bit_words_is_bit_identical() {
+        let mut rng = Rng(0x5eed_0000_1111_2222);
+        for i in 0..300_000 {
+            let day = match i % 3 {
+                0 => rng.i32(),
+                _ => (rng.next() % 80_000) as i32 - 40_000,
+            };
+            let second = (rng.next() % 86_401) as u32;
+            let nano = (rng.next() % 1_000_000_000) as u32;
+            let e = Epoch::<Ut1>::from_parts(day, second, nano).unwrap();
+            assert_eq!(gmst_rad(&e).to_bits(), gmst_rad_u64(&e).to_bits(), "{e:?}");
+        }
+    }
 }

@@ -105,11 +105,18 @@ pub struct Illumination {
     pub shadow: Shadow,
 }
 
+/// `|v|`: the bits of nalgebra's `norm` (`(x² + y²) + z²`, correctly rounded square root) with
+/// [`fmath::sqrt`] instead of `libm::sqrtf`, which is ≈ 700 B of MSP430 code with 64-bit
+/// multiplies and several times slower there.
+fn norm(v: &Vec3) -> f32 {
+    fmath::sqrt(v.x * v.x + v.y * v.y + v.z * v.z)
+}
+
 fn check_position(r_teme_km: &Vec3) -> Result<f32, EclipseError> {
     if !r_teme_km.iter().all(|c| c.is_finite()) {
         return Err(EclipseError::NonFinitePosition);
     }
-    let r = r_teme_km.norm();
+    let r = norm(r_teme_km);
     if r < EARTH_RADIUS_KM {
         return Err(EclipseError::InsideEarth(r));
     }
@@ -129,7 +136,7 @@ fn check_direction(v: &Vec3) -> Result<Vec3, EclipseError> {
         return Err(EclipseError::ZeroSun(largest));
     }
     let scaled = v / largest;
-    Ok(scaled / scaled.norm())
+    Ok(scaled / norm(&scaled))
 }
 
 /// The cylindrical shadow test of seed 003 (note 003 §2.5): `true` if the spacecraft is in
@@ -156,7 +163,7 @@ pub fn cylindrical_margin_km(r_teme_km: &Vec3, sun_direction: &Vec3) -> Result<f
     // Seed 003: Sw = acos(−r̂·ŝ) < 90° and SD = |r| sin Sw < R.
     let along = r_teme_km.dot(&s_hat);
     let off_axis_km = if along < 0.0 {
-        r_teme_km.cross(&s_hat).norm()
+        norm(&r_teme_km.cross(&s_hat))
     } else {
         r
     };
@@ -212,12 +219,12 @@ pub fn cone_geometry(r_teme_km: &Vec3, sun: &Sun) -> Result<ConeGeometry, Eclips
     // Spacecraft → Sun and spacecraft → Earth centre.
     let to_sun = s_km - r_teme_km;
     let to_earth = -r_teme_km;
-    let d_sun = to_sun.norm();
+    let d_sun = norm(&to_sun);
     // a = asin(R☉/|s − r|), b = asin(R⊕/|r|)   (M&G eq. 3.85)
     let a = fmath::asin((SUN_RADIUS_KM / d_sun).min(1.0));
     let b = fmath::asin((EARTH_RADIUS_KM / r).min(1.0));
     // c = ∠(−r, s − r), from atan2 for accuracy near 0 and π.
-    let c = fmath::atan2(to_earth.cross(&to_sun).norm(), to_earth.dot(&to_sun));
+    let c = fmath::atan2(norm(&to_earth.cross(&to_sun)), to_earth.dot(&to_sun));
     Ok(ConeGeometry {
         sun_radius_rad: a,
         earth_radius_rad: b,

@@ -19,7 +19,7 @@ use core::fmt;
 
 use crate::fmath;
 use crate::linalg::Vec3;
-use crate::time::{civil_from_days, TimeError};
+use crate::time::{civil_from_days, TimeError, Wide};
 
 pub mod precise;
 pub mod thesis;
@@ -92,14 +92,10 @@ impl From<TimeError> for SunError {
     }
 }
 
-/// The Gregorian year of a day count from 2000-01-01, for range checks: exact within ±1e6 days
-/// (years −738..4737), saturating estimate beyond (where [`civil_from_days`] would overflow).
+/// The Gregorian year of a day count from 2000-01-01, for the range errors (exact for every day
+/// count: [`civil_from_days`]).
 pub(crate) fn year_of_day(day: i32) -> i32 {
-    if (-1_000_000..=1_000_000).contains(&day) {
-        civil_from_days(day).0
-    } else {
-        2000_i32.saturating_add(day / 366)
-    }
+    civil_from_days(day).0
 }
 
 /// 2^48 as f64: the fixed-point scale of [`LinearAngle`] (one turn = 2^48 units).
@@ -112,13 +108,14 @@ const TURN_Q48: f64 = 281_474_976_710_656.0;
 /// keeps the fraction of a turn exact whatever `n`; only the fraction (|x| ≤ ½ turn) reaches
 /// f32, so the result carries the f32 rounding of a number below π (≤ 2.4e-7 rad = 0.05″) and the
 /// 2^-48 turn/day quantisation of `ω` (1.6e-10″ per day), not the 1e-3 rad that an f32 product
-/// `ω·n` would lose after 50 years.
+/// `ω·n` would lose after 50 years. The 64-bit words are [`Wide`] (16-bit products: no 64-bit
+/// library call on the MSP430).
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub(crate) struct LinearAngle {
     /// θ₀ in 2^-48 turn.
-    at_zero_q48: i64,
-    /// ω in 2^-48 turn per day.
-    rate_q48: i64,
+    at_zero_q48: Wide,
+    /// ω in 2^-48 turn per day (two's complement).
+    rate_q48: Wide,
     /// ω in turns per day, for the fraction of the day.
     rate_turns_per_day: f32,
 }
@@ -139,8 +136,8 @@ impl LinearAngle {
         // Reduce θ₀ to one turn first so that the conversion to i64 cannot saturate.
         let whole = at_zero as i64;
         Self {
-            at_zero_q48: ((at_zero - whole as f64) * TURN_Q48) as i64,
-            rate_q48: (rate_per_day * TURN_Q48) as i64,
+            at_zero_q48: Wide::from_u64(((at_zero - whole as f64) * TURN_Q48) as i64 as u64),
+            rate_q48: Wide::from_u64((rate_per_day * TURN_Q48) as i64 as u64),
             rate_turns_per_day: rate_per_day as f32,
         }
     }
@@ -155,11 +152,12 @@ impl LinearAngle {
     pub(crate) fn turns(&self, n: i32, f: f32) -> f32 {
         let q = self
             .at_zero_q48
-            .wrapping_add(self.rate_q48.wrapping_mul(i64::from(n)));
-        // Keep the low 48 bits as a signed fraction of a turn in [−½, ½), then its top 24 bits
-        // (rounded), which an f32 holds exactly.
-        let frac_q48 = q.wrapping_shl(16).wrapping_shr(16);
-        let frac_q24 = ((frac_q48 + (1 << 23)) >> 24) as i32;
+            .wrapping_add(self.rate_q48.wrapping_mul_i32(n));
+        // The low 48 bits are a signed fraction of a turn in [−½, ½): its bits 16..=47 as an i32
+        // (the sign bit 47 on top), then its top 24 bits rounded (half up), which an f32 holds
+        // exactly: ⌊(x + 2^7)/2^8⌋ without the overflow of x + 2^7.
+        let x = ((q.hi() << 16) | (q.lo() >> 16)) as i32;
+        let frac_q24 = (x >> 8) + ((x >> 7) & 1);
         frac_q24 as f32 * (1.0 / 16_777_216.0) + self.rate_turns_per_day * f
     }
 }
@@ -167,6 +165,33 @@ impl LinearAngle {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The 32-bit words give the bits of the former `i64` formula.
+    #[test]
+    fn linear_angle_in_words_equals_i64() {
+        let a = LinearAngle::from_radians_per_millennium(
+            1.753_470_46 + core::f64::consts::PI,
+            6_283.319_667_47,
+        );
+        let b = LinearAngle::from_degrees(356.0470, -0.9856002585);
+        for angle in [a, b] {
+            let (at_zero, rate) = (
+                angle.at_zero_q48.to_u64() as i64,
+                angle.rate_q48.to_u64() as i64,
+            );
+            for n in (-2_000_000..2_000_000)
+                .step_by(37)
+                .chain([i32::MIN, i32::MAX])
+            {
+                let q = at_zero.wrapping_add(rate.wrapping_mul(i64::from(n)));
+                let frac_q48 = q.wrapping_shl(16).wrapping_shr(16);
+                let frac_q24 = ((frac_q48 + (1 << 23)) >> 24) as i32;
+                let expected =
+                    frac_q24 as f32 * (1.0 / 16_777_216.0) + angle.rate_turns_per_day * 0.3;
+                assert_eq!(angle.turns(n, 0.3).to_bits(), expected.to_bits(), "{n}");
+            }
+        }
+    }
 
     #[test]
     fn linear_angle_matches_f64_over_a_century() {
