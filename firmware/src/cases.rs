@@ -455,6 +455,12 @@ pub fn run_flight<S: Sink>(s: &mut S) {
         // Opaque, so the Sun models cannot be constant-folded into the case (they were: the
         // precise Sun measured 41 728 folded, 56 519 not).
         let utc: Option<Epoch<Utc>> = core::hint::black_box(Epoch::from_parts(9_300, 43_210, 0).ok());
+        s.begin("UTC -> TT");
+        let tt = utc.as_ref().and_then(|e| e.to_tt_extrapolated().ok());
+        let tt = core::hint::black_box(tt);
+        s.end();
+        s.out(tt.map_or(f32::NAN, |t| t.second_of_day() as f32));
+        s.out(tt.map_or(f32::NAN, |t| t.nano() as f32));
         s.begin("sun (thesis)");
         let sun = utc
             .as_ref()
