@@ -35,6 +35,13 @@
 //!   takes DUT1 from IERS Bulletin A if the caller has it, else relabels (UT1 ≈ UTC: GMST then off
 //!   by up to 0.9 s × 7.29e-5 rad/s = 6.6e-5 rad, 0.46 km along the equator at LEO radius).
 //!
+//! # Arithmetic
+//! Everything a flight computer calls is i32/u32 arithmetic (each function states why its values
+//! fit): on the MSP430 a 64-bit division is a library call of about 3.4 KB of code and thousands of
+//! cycles, a 64-bit product about 900 cycles. GMST's 64-bit binary angle is two 32-bit words
+//! formed from 16 × 16-bit products. UTC → TT costs 898 MSP430 cycles, GMST 7 925 (README
+//! "MSP430 firmware and cycle budget"). The f64 functions are for host code.
+//!
 //! # Accuracy (measured, `cargo test --test time -- --nocapture`)
 //! - [`gmst_rad`] (f32) against Vallado's `gstime` in f64 over 1990–2050: max error
 //!   2.40e-7 rad, RMS 9.2e-8 rad (one f32 rounding of the result; 1.7 m at 7000 km);

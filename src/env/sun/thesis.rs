@@ -51,8 +51,8 @@ const MEAN_ANOMALY: LinearAngle = LinearAngle::from_degrees(356.0470, 0.985_600_
 /// Returns the unit vector in the thesis's IJK (equator and mean equinox of date, no nutation)
 /// and the distance in AU. Years outside 1900..=2100 give [`SunError::Year`].
 pub fn sun(epoch: &Epoch<Utc>) -> Result<Sun, SunError> {
-    // The range by day number (the calendar year only for the error: it costs 13 000 MSP430
-    // cycles of 64-bit divisions).
+    // The range by day number (the calendar year only for the error: its divisions cost
+    // thousands of MSP430 cycles).
     if !(FIRST_DAY..=LAST_DAY).contains(&epoch.day()) {
         return Err(SunError::Year(year_of_day(epoch.day())));
     }
