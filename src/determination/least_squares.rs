@@ -39,112 +39,134 @@ use nalgebra::SVector;
 
 use super::DeterminationError;
 use crate::linalg::lsq::QrLeastSquares;
-use crate::linalg::{SymMat3, Vec2, Vec3};
+use crate::linalg::svd::SvdError;
+use crate::linalg::{lin2, scale, SymMat3, Vec2, Vec3};
 use crate::tiles::Tile;
 
 /// Relative threshold on the singular values (see the module docs).
 pub const RANK_REL_TOL: f32 = 1.0e-5;
 
-fn check_lengths(tiles: usize, readings: usize) -> Result<(), DeterminationError> {
-    if tiles == readings {
-        Ok(())
-    } else {
-        Err(DeterminationError::LengthMismatch { tiles, readings })
-    }
+/// The readings of one kind of tile sensor, one entry per tile: the magnetometers' two
+/// components (rows `x̂_m·B = φ_xm`, `ŷ_m·B = φ_ym`) or the gyros' one (`ẑ_m·ω = ω_zm`). One
+/// (non-generic) copy of the solvers serves both.
+#[derive(Copy, Clone)]
+enum Readings<'a> {
+    Field(&'a [Option<Vec2>]),
+    Rate(&'a [Option<f32>]),
 }
 
-/// A tile sensor's reading and the rows it adds to the stacked system: the magnetometer's two
-/// components (`x̂_m·B = φ_xm`, `ŷ_m·B = φ_ym`) or the gyro's one (`ẑ_m·ω = ω_zm`).
-trait Reading: Copy {
-    /// The tile has this sensor and it works.
-    fn works(tile: &Tile) -> bool;
+/// One tile's reading: the magnetometer's `(φ_x, φ_y)` or the gyro's `ω_z`.
+#[derive(Copy, Clone)]
+enum Reading {
+    Field(Vec2),
+    Rate(f32),
+}
+
+impl Reading {
     /// Every component is finite.
-    fn is_finite(&self) -> bool;
-    /// Folds this reading's rows (body-frame row, measured value) into `ls`.
-    fn push_rows<const K: usize>(
-        &self,
-        tile: &Tile,
-        ls: &mut QrLeastSquares<K>,
-        rhs: impl Fn(f32) -> SVector<f32, K>,
-    ) -> Result<(), DeterminationError>;
+    fn is_finite(&self) -> bool {
+        match self {
+            Self::Field(b) => b.x.is_finite() && b.y.is_finite(),
+            Self::Rate(w) => w.is_finite(),
+        }
+    }
+
     /// `Hᵀy` of this reading's rows.
-    fn transposed_rows(&self, tile: &Tile) -> Vec3;
-}
+    fn transposed(&self, tile: &Tile) -> Vec3 {
+        match self {
+            Self::Field(b) => lin2(&tile.x_body(), b.x, &tile.y_body(), b.y),
+            Self::Rate(w) => scale(&tile.normal_body(), *w),
+        }
+    }
 
-impl Reading for Vec2 {
-    fn works(tile: &Tile) -> bool {
-        tile.has_working_magnetometer()
-    }
-    fn is_finite(&self) -> bool {
-        self.x.is_finite() && self.y.is_finite()
-    }
-    fn push_rows<const K: usize>(
+    /// Folds this reading's rows (body-frame row, measured value or 0) into `ls`.
+    fn push_rows(
         &self,
         tile: &Tile,
-        ls: &mut QrLeastSquares<K>,
-        rhs: impl Fn(f32) -> SVector<f32, K>,
-    ) -> Result<(), DeterminationError> {
-        ls.push(&tile.x_body(), &rhs(self.x))?;
-        ls.push(&tile.y_body(), &rhs(self.y))?;
-        Ok(())
-    }
-    fn transposed_rows(&self, tile: &Tile) -> Vec3 {
-        tile.x_body() * self.x + tile.y_body() * self.y
+        ls: &mut QrLeastSquares<1>,
+        with_values: bool,
+    ) -> Result<(), SvdError> {
+        let value = |v: f32| SVector::<f32, 1>::new(if with_values { v } else { 0.0 });
+        match self {
+            Self::Field(b) => {
+                ls.push(&tile.x_body(), &value(b.x))?;
+                ls.push(&tile.y_body(), &value(b.y))
+            }
+            Self::Rate(w) => ls.push(&tile.normal_body(), &value(*w)),
+        }
     }
 }
 
-impl Reading for f32 {
-    fn works(tile: &Tile) -> bool {
-        tile.has_working_gyro()
+impl Readings<'_> {
+    fn len(&self) -> usize {
+        match self {
+            Self::Field(r) => r.len(),
+            Self::Rate(r) => r.len(),
+        }
     }
-    fn is_finite(&self) -> bool {
-        f32::is_finite(*self)
-    }
-    fn push_rows<const K: usize>(
-        &self,
-        tile: &Tile,
-        ls: &mut QrLeastSquares<K>,
-        rhs: impl Fn(f32) -> SVector<f32, K>,
-    ) -> Result<(), DeterminationError> {
-        ls.push(&tile.normal_body(), &rhs(*self))?;
-        Ok(())
-    }
-    fn transposed_rows(&self, tile: &Tile) -> Vec3 {
-        tile.normal_body() * *self
+
+    /// Tile `index`'s reading, `None` if it has none or its sensor does not work.
+    #[inline(always)]
+    fn get(&self, index: usize, tile: &Tile) -> Option<Reading> {
+        match self {
+            Self::Field(r) => match r.get(index) {
+                Some(Some(b)) if tile.has_working_magnetometer() => Some(Reading::Field(*b)),
+                _ => None,
+            },
+            Self::Rate(r) => match r.get(index) {
+                Some(Some(w)) if tile.has_working_gyro() => Some(Reading::Rate(*w)),
+                _ => None,
+            },
+        }
     }
 }
 
 /// Calls `f` for each working tile with a reading, in order; a non-finite reading stops the
 /// walk with [`DeterminationError::NonFinite`] and its index.
-fn for_each_reading<R: Reading>(
+fn for_each_reading(
     tiles: &[Tile],
-    readings: &[Option<R>],
-    mut f: impl FnMut(&Tile, &R) -> Result<(), DeterminationError>,
+    readings: Readings,
+    mut f: impl FnMut(&Tile, &Reading) -> Result<(), DeterminationError>,
 ) -> Result<(), DeterminationError> {
-    check_lengths(tiles.len(), readings.len())?;
-    for (index, (tile, reading)) in tiles.iter().zip(readings.iter()).enumerate() {
-        let Some(value) = reading else { continue };
-        if !R::works(tile) {
+    if tiles.len() != readings.len() {
+        return Err(DeterminationError::LengthMismatch {
+            tiles: tiles.len(),
+            readings: readings.len(),
+        });
+    }
+    for (index, tile) in tiles.iter().enumerate() {
+        let Some(reading) = readings.get(index, tile) else {
             continue;
-        }
-        if !value.is_finite() {
+        };
+        if !reading.is_finite() {
             return Err(DeterminationError::NonFinite { index });
         }
-        f(tile, value)?;
+        f(tile, &reading)?;
     }
     Ok(())
 }
 
-/// The one-shot least-squares solution by Givens QR with the readings as the right-hand side.
-fn solve<R: Reading>(tiles: &[Tile], readings: &[Option<R>]) -> Result<Vec3, DeterminationError> {
+/// The rows of the working tiles with a reading folded into a Givens QR, with the readings as
+/// the right-hand side (`with_values`) or zeros.
+fn factor(
+    tiles: &[Tile],
+    readings: Readings,
+    with_values: bool,
+) -> Result<QrLeastSquares<1>, DeterminationError> {
     let mut ls = QrLeastSquares::<1>::new();
-    for_each_reading(tiles, readings, |tile, value| {
-        value.push_rows(tile, &mut ls, SVector::<f32, 1>::new)
+    for_each_reading(tiles, readings, |tile, reading| {
+        Ok(reading.push_rows(tile, &mut ls, with_values)?)
     })?;
     if ls.rows() == 0 {
         return Err(DeterminationError::NotObservable { rank: 0 });
     }
-    let x = ls.solve_full_rank(RANK_REL_TOL)?;
+    Ok(ls)
+}
+
+/// The one-shot least-squares solution by Givens QR with the readings as the right-hand side.
+#[cfg_attr(target_arch = "msp430", inline(never))]
+fn solve(tiles: &[Tile], readings: Readings) -> Result<Vec3, DeterminationError> {
+    let x = factor(tiles, readings, true)?.solve_full_rank(RANK_REL_TOL)?;
     Ok(x.column(0).into_owned())
 }
 
@@ -155,7 +177,7 @@ pub fn magnetic_field_body(
     tiles: &[Tile],
     readings: &[Option<Vec2>],
 ) -> Result<Vec3, DeterminationError> {
-    solve(tiles, readings)
+    solve(tiles, Readings::Field(readings))
 }
 
 /// The body-frame angular rate `ω_uvw = Z⁺·Ω` (eq. 8.25) from the tiles whose reading is
@@ -165,7 +187,7 @@ pub fn angular_rate_body(
     tiles: &[Tile],
     readings: &[Option<f32>],
 ) -> Result<Vec3, DeterminationError> {
-    solve(tiles, readings)
+    solve(tiles, Readings::Rate(readings))
 }
 
 /// `(HᵀH)⁻¹` of the rows of one set of tiles (bit `i` of `tiles` set: tile `i` contributes),
@@ -179,20 +201,10 @@ pub struct TileSolver {
 }
 
 impl TileSolver {
-    /// The solver of the `R` sensors of the tiles in `mask` (bit i: tile i): the rows of
+    /// The solver of the sensors of the tiles in `mask` (bit i: tile i): the rows of
     /// `readings` (values ignored) by the same QR and SVD as the one-shot solution.
-    fn new<R: Reading>(
-        tiles: &[Tile],
-        readings: &[Option<R>],
-        mask: u32,
-    ) -> Result<Self, DeterminationError> {
-        let mut ls = QrLeastSquares::<1>::new();
-        for_each_reading(tiles, readings, |tile, value| {
-            value.push_rows(tile, &mut ls, |_| SVector::<f32, 1>::zeros())
-        })?;
-        if ls.rows() == 0 {
-            return Err(DeterminationError::NotObservable { rank: 0 });
-        }
+    fn new(tiles: &[Tile], readings: Readings, mask: u32) -> Result<Self, DeterminationError> {
+        let ls = factor(tiles, readings, false)?;
         Ok(Self {
             inverse_gram: SymMat3::from_upper(&ls.inverse_gram(RANK_REL_TOL)?),
             tiles: mask,
@@ -202,10 +214,13 @@ impl TileSolver {
 
 /// Bit `i` set for each tile `i` (< 32) that contributes, or `None` if a contributing tile has
 /// an index ≥ 32 (no cache: the one-shot function is used).
-fn contributing<R: Reading>(tiles: &[Tile], readings: &[Option<R>]) -> Option<u32> {
+#[inline(always)]
+fn contributing(tiles: &[Tile], readings: Readings) -> Option<u32> {
     let mut mask = 0u32;
-    for (i, (tile, reading)) in tiles.iter().zip(readings.iter()).enumerate() {
-        if reading.is_some() && R::works(tile) {
+    // Bounded by both lengths (as a zip): where the caller's readings are a short array, the
+    // compiler sees that every index is < 32 and drops the one-shot fallback.
+    for (i, tile) in tiles.iter().enumerate().take(readings.len()) {
+        if readings.get(i, tile).is_some() {
             mask |= 1u32.checked_shl(u32::try_from(i).ok()?)?;
         }
     }
@@ -213,18 +228,31 @@ fn contributing<R: Reading>(tiles: &[Tile], readings: &[Option<R>]) -> Option<u3
 }
 
 /// The solution with the operator kept in `cache`, rebuilt when the set of contributing tiles
-/// changes (left `None` when that set is not observable).
-fn solve_cached<R: Reading>(
+/// changes (left `None` when that set is not observable). Inlined into the public functions
+/// (the mask test is small), the rest is one shared copy.
+#[inline(always)]
+fn solve_cached(
     cache: &mut Option<TileSolver>,
     tiles: &[Tile],
-    readings: &[Option<R>],
+    readings: Readings,
 ) -> Result<Vec3, DeterminationError> {
-    let Some(mask) = contributing(tiles, readings) else {
-        return solve(tiles, readings);
-    };
+    match contributing(tiles, readings) {
+        Some(mask) => solve_masked(cache, tiles, readings, mask),
+        None => solve(tiles, readings),
+    }
+}
+
+/// [`solve_cached`] for the set of tiles `mask`.
+#[cfg_attr(target_arch = "msp430", inline(never))]
+fn solve_masked(
+    cache: &mut Option<TileSolver>,
+    tiles: &[Tile],
+    readings: Readings,
+    mask: u32,
+) -> Result<Vec3, DeterminationError> {
     let mut rhs = Vec3::zeros(); // Hᵀy
-    for_each_reading(tiles, readings, |tile, value| {
-        rhs += value.transposed_rows(tile);
+    for_each_reading(tiles, readings, |tile, reading| {
+        rhs += reading.transposed(tile);
         Ok(())
     })?;
     let solver = match cache {
@@ -246,7 +274,7 @@ pub fn magnetic_field_body_cached(
     tiles: &[Tile],
     readings: &[Option<Vec2>],
 ) -> Result<Vec3, DeterminationError> {
-    solve_cached(cache, tiles, readings)
+    solve_cached(cache, tiles, Readings::Field(readings))
 }
 
 /// [`angular_rate_body`] with the operator kept in `cache` (rebuilt when the set of
@@ -256,5 +284,5 @@ pub fn angular_rate_body_cached(
     tiles: &[Tile],
     readings: &[Option<f32>],
 ) -> Result<Vec3, DeterminationError> {
-    solve_cached(cache, tiles, readings)
+    solve_cached(cache, tiles, Readings::Rate(readings))
 }

@@ -29,7 +29,7 @@ pub mod wahba_svd;
 use crate::attitude::{Dcm, Quaternion};
 use crate::fmath;
 use crate::linalg::svd::SvdError;
-use crate::linalg::{Mat3, Vec3};
+use crate::linalg::{div, dot, finite3, mat_vec, Mat3, Vec3};
 
 /// Why an attitude (or a body vector) could not be determined.
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -190,20 +190,14 @@ impl Unit {
 /// divisions rather than a reciprocal and three products: one rounding per component, for
 /// about the same cycles on the MSP430 (417 per division, 266 per product).
 pub(crate) fn scaled_unit(v: &Vec3, norm_squared: f32) -> Vec3 {
-    v / fmath::sqrt(norm_squared)
+    div(v, fmath::sqrt(norm_squared))
 }
 
 /// Checks and normalises observation `index`. A vector whose squared length overflows f32
 /// (`|v|` > 1.8e19) is refused as [`DeterminationError::NonFinite`], one whose squared length
 /// underflows to 0 (`|v|` < 1e-19 or so) as [`DeterminationError::ZeroVector`].
 pub(crate) fn unit(index: usize, o: &Observation) -> Result<Unit, DeterminationError> {
-    if !(o
-        .body
-        .iter()
-        .chain(o.reference.iter())
-        .all(|x| x.is_finite())
-        && o.weight.is_finite())
-    {
+    if !(finite3(&o.body) && finite3(&o.reference) && o.weight.is_finite()) {
         return Err(DeterminationError::NonFinite { index });
     }
     if o.weight <= 0.0 {
@@ -212,7 +206,7 @@ pub(crate) fn unit(index: usize, o: &Observation) -> Result<Unit, DeterminationE
             weight: o.weight,
         });
     }
-    let (nb2, nr2) = (o.body.norm_squared(), o.reference.norm_squared());
+    let (nb2, nr2) = (dot(&o.body, &o.body), dot(&o.reference, &o.reference));
     if nb2 <= 0.0 || nr2 <= 0.0 {
         return Err(DeterminationError::ZeroVector { index });
     }
@@ -307,7 +301,10 @@ pub(crate) fn attitude_profile(units: &Units) -> Mat3 {
 pub(crate) fn loss(a: &Dcm, units: &Units) -> f32 {
     0.5 * units
         .iter()
-        .map(|u| u.weight * (u.body - a.to_body(&u.reference)).norm_squared())
+        .map(|u| {
+            let d = u.body - mat_vec(a.matrix(), &u.reference);
+            u.weight * dot(&d, &d)
+        })
         .sum::<f32>()
 }
 
@@ -348,9 +345,7 @@ pub fn covariance_rad2(observations: &[Observation]) -> Result<Mat3, Determinati
         });
     }
     // F is symmetric positive definite: F⁻¹ = V Σ⁻¹ Vᵀ.
-    let v = svd.v();
-    let inv = Mat3::from_diagonal(&Vec3::new(1.0 / s.x, 1.0 / s.y, 1.0 / s.z));
-    Ok(v * inv * v.transpose())
+    Ok(svd.v_diag_vt(&Vec3::new(1.0 / s.x, 1.0 / s.y, 1.0 / s.z)))
 }
 
 /// Largest correction (rad) [`refine`] applies.
@@ -392,7 +387,7 @@ pub(crate) fn refine_units(start: &Solution, units: &Units) -> Solution {
     // S = Σ aᵢ b̂ᵢ b̂ᵢᵀ (symmetric: six entries); H = (Σ aᵢ)·I − S.
     let (mut s11, mut s12, mut s13, mut s22, mut s23, mut s33) = (0.0f32, 0.0, 0.0, 0.0, 0.0, 0.0);
     for u in units.iter() {
-        let ar = a.to_body(&u.reference);
+        let ar = mat_vec(a.matrix(), &u.reference);
         let d = u.body - ar;
         l2 += u.weight * d.norm_squared();
         // (A r̂) × b̂ = (A r̂) × (b̂ − A r̂)

@@ -14,7 +14,8 @@
 //! sensor noise the average reduces it by about √n.
 
 use super::DeterminationError;
-use crate::linalg::Vec3;
+use crate::fmath;
+use crate::linalg::{div, dot, lin3, Vec3};
 use crate::tiles::{sun_direction_tile, SunAngles, Tile};
 
 /// The unit Sun direction in the body frame, averaged over the tiles whose reading is
@@ -40,12 +41,21 @@ pub fn sun_direction_body(
         if !(angles.a_rad.is_finite() && angles.b_rad.is_finite()) {
             return Err(DeterminationError::NonFinite { index });
         }
-        sum += tile.tile_to_body(&sun_direction_tile(angles));
+        // A_mᵀ·ŝ_xyz (`Tile::tile_to_body`), its columns being the tile axes in the body frame.
+        let s = sun_direction_tile(angles);
+        sum += lin3(
+            &tile.x_body(),
+            &tile.y_body(),
+            &tile.normal_body(),
+            s.x,
+            s.y,
+            s.z,
+        );
         lit += 1;
     }
-    let n = sum.norm();
+    let n = fmath::sqrt(dot(&sum, &sum));
     if lit == 0 || n <= 0.0 {
         return Err(DeterminationError::NoSunSensorLit);
     }
-    Ok(sum / n)
+    Ok(div(&sum, n))
 }

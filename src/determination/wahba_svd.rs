@@ -70,6 +70,7 @@ use super::{Unit, Units};
 use crate::attitude::Dcm;
 use crate::fmath;
 use crate::linalg::svd::{nearest_rotation, SvdError};
+use crate::linalg::{cross, div, dot, lin2, lin3, Mat3, Vec3};
 
 /// Smallest `s₂/s₁` of the attitude profile matrix accepted (see the module docs).
 pub const MIN_SINGULAR_RATIO: f32 = 1.0e-4;
@@ -129,13 +130,10 @@ fn ratio_from_invariants(x: f32) -> f32 {
 fn two_observations(u1: &Unit, u2: &Unit, sum_w: f32) -> Result<Solution, DeterminationError> {
     let k = 1.0 / sum_w;
     let (w1, w2) = (u1.weight * k, u2.weight * k);
-    let nb = u1.body.cross(&u2.body);
-    let nr = u1.reference.cross(&u2.reference);
-    let (sb, sr) = (
-        fmath::sqrt(nb.norm_squared()),
-        fmath::sqrt(nr.norm_squared()),
-    );
-    let (cb, cr) = (u1.body.dot(&u2.body), u1.reference.dot(&u2.reference));
+    let nb = cross(&u1.body, &u2.body);
+    let nr = cross(&u1.reference, &u2.reference);
+    let (sb, sr) = (fmath::sqrt(dot(&nb, &nb)), fmath::sqrt(dot(&nr, &nr)));
+    let (cb, cr) = (dot(&u1.body, &u2.body), dot(&u1.reference, &u2.reference));
     // M = Eᵀ B F (upper 2×2 block; the third row and column are zero).
     let m11 = w1 + w2 * cb * cr;
     let m12 = w2 * cb * sr;
@@ -157,15 +155,22 @@ fn two_observations(u1: &Unit, u2: &Unit, sum_w: f32) -> Result<Solution, Determ
     let rho = fmath::sqrt(x * x + y * y);
     let kr = 1.0 / rho;
     let (c, s) = (x * kr, y * kr);
-    let e1 = u1.body;
-    let e3 = nb / sb;
-    let e2 = e3.cross(&e1);
-    let f1 = u1.reference;
-    let f3 = nr / sr;
-    let f2 = f3.cross(&f1);
-    let g1 = e1 * c + e2 * s;
-    let g2 = e2 * c - e1 * s;
-    let a = g1 * f1.transpose() + g2 * f2.transpose() + e3 * f3.transpose();
+    let e1 = &u1.body;
+    let e3 = div(&nb, sb);
+    let e2 = cross(&e3, e1);
+    let f1 = &u1.reference;
+    let f3 = div(&nr, sr);
+    let f2 = cross(&f3, f1);
+    // G = [g₁ g₂ e₃] = [e₁cos φ + e₂sin φ, e₂cos φ − e₁sin φ, e₃], A = G·Fᵀ: column j of A is
+    // G·(f₁ⱼ, f₂ⱼ, f₃ⱼ).
+    let g1 = lin2(e1, c, &e2, s);
+    let g2 = lin2(&e2, c, e1, -s);
+    let col = |j: &Vec3| lin3(&g1, &g2, &e3, j.x, j.y, j.z);
+    let a = Mat3::from_columns(&[
+        col(&Vec3::new(f1.x, f2.x, f3.x)),
+        col(&Vec3::new(f1.y, f2.y, f3.y)),
+        col(&Vec3::new(f1.z, f2.z, f3.z)),
+    ]);
     // L = Σaᵢ·(1 − σ₁ − σ₂) = Σaᵢ·2w₁w₂(1 − cos Δ)/(1 + σ₁ + σ₂) (Δ = θ_b − θ_r), with
     // 1 − cos Δ = sin²Δ/(1 + cos Δ) when cos Δ > 0 (no cancellation).
     let cos_d = cb * cr + sb * sr;

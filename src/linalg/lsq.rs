@@ -33,7 +33,7 @@ use nalgebra::SVector;
 
 use crate::fmath;
 use crate::linalg::svd::{SvdError, ThinSvd};
-use crate::linalg::{Mat3, Vec3};
+use crate::linalg::{finite3, lin2, scale, sub_scaled, Mat3, Vec3};
 
 /// A least-squares problem `M·X ≈ Y` with 3 unknowns per column and `K` right-hand sides,
 /// accumulated row by row.
@@ -92,7 +92,7 @@ impl<const K: usize> QrLeastSquares<K> {
     /// squares leave f32's range (`|a_k|` beyond about 1e19, or a weight `δ·a_k²` underflowing
     /// to 0 on an empty row of `R`).
     pub fn push(&mut self, a: &Vec3, y: &SVector<f32, K>) -> Result<(), SvdError> {
-        if !a.iter().chain(y.iter()).all(|v| v.is_finite()) {
+        if !(finite3(a) && y.iter().all(|v| v.is_finite())) {
             return Err(SvdError::NonFinite);
         }
         let mut a = *a;
@@ -121,9 +121,9 @@ impl<const K: usize> QrLeastSquares<K> {
             delta *= c;
             *dk = d_new;
             let (r_old, z_old) = (*rk, *zk);
-            *rk = r_old * c + a * s;
+            *rk = lin2(&r_old, c, &a, s);
             set_comp(rk, k, 1.0);
-            a -= r_old * ak;
+            a = sub_scaled(&a, &r_old, ak);
             *zk = z_old * c + y * s;
             y -= z_old * ak;
         }
@@ -137,7 +137,7 @@ impl<const K: usize> QrLeastSquares<K> {
         let mut z = self.z;
         for ((rk, zk), dk) in r.iter_mut().zip(z.iter_mut()).zip(self.d.iter()) {
             let sk = fmath::sqrt(*dk);
-            *rk *= sk;
+            *rk = scale(rk, sk);
             *zk *= sk;
         }
         (r, z)
@@ -173,10 +173,9 @@ impl<const K: usize> QrLeastSquares<K> {
     pub fn inverse_gram(&self, rel_tol: f32) -> Result<Mat3, SvdError> {
         let (svd, _) = self.svd()?;
         svd.require_rank(3, rel_tol)?;
-        let v = svd.v();
         let s = svd.singular_values();
         let d = Vec3::new(1.0 / (s.x * s.x), 1.0 / (s.y * s.y), 1.0 / (s.z * s.z));
-        Ok(v * Mat3::from_diagonal(&d) * v.transpose())
+        Ok(svd.v_diag_vt(&d))
     }
 
     /// The minimum-norm least-squares solution `X = M⁺·Y` (3×K), singular values below

@@ -17,6 +17,85 @@ pub type Mat3d = nalgebra::Matrix3<f64>;
 pub mod lsq;
 pub mod svd;
 
+// Small 3-vector kernels, out of line on the MSP430. nalgebra's operators are generic and
+// inlined at every use; on a 16-bit core without FPU each inlined f32 operation is a helper
+// call plus 8–12 register moves, so a cross product inlined costs ~90 B of flash where a call
+// to `cross` costs ~12. Each kernel evaluates exactly the expression (operands and order of the
+// operations) nalgebra's operator does, so results are bit-identical to it.
+
+/// Every component of `v` is finite.
+#[cfg_attr(target_arch = "msp430", inline(never))]
+pub(crate) fn finite3(v: &Vec3) -> bool {
+    v.x.is_finite() && v.y.is_finite() && v.z.is_finite()
+}
+
+/// `a·b = (a₁b₁ + a₂b₂) + a₃b₃` (nalgebra's `dot` and `norm_squared`).
+#[cfg_attr(target_arch = "msp430", inline(never))]
+pub(crate) fn dot(a: &Vec3, b: &Vec3) -> f32 {
+    a.x * b.x + a.y * b.y + a.z * b.z
+}
+
+/// `a × b` (nalgebra's `cross`).
+#[cfg_attr(target_arch = "msp430", inline(never))]
+pub(crate) fn cross(a: &Vec3, b: &Vec3) -> Vec3 {
+    Vec3::new(
+        a.y * b.z - a.z * b.y,
+        a.z * b.x - a.x * b.z,
+        a.x * b.y - a.y * b.x,
+    )
+}
+
+/// `v/k`, one division per component (nalgebra's `v / k`).
+#[cfg_attr(target_arch = "msp430", inline(never))]
+pub(crate) fn div(v: &Vec3, k: f32) -> Vec3 {
+    Vec3::new(v.x / k, v.y / k, v.z / k)
+}
+
+/// `v·k` (nalgebra's `v * k`).
+#[cfg_attr(target_arch = "msp430", inline(never))]
+pub(crate) fn scale(v: &Vec3, k: f32) -> Vec3 {
+    Vec3::new(v.x * k, v.y * k, v.z * k)
+}
+
+/// `a·x + b·y` (nalgebra's `a * x + b * y`; `a * x − b * y` is `lin2(a, x, b, −y)` exactly).
+#[cfg_attr(target_arch = "msp430", inline(never))]
+pub(crate) fn lin2(a: &Vec3, x: f32, b: &Vec3, y: f32) -> Vec3 {
+    Vec3::new(a.x * x + b.x * y, a.y * x + b.y * y, a.z * x + b.z * y)
+}
+
+/// `a − b·k` (nalgebra's `a - b * k`).
+#[cfg_attr(target_arch = "msp430", inline(never))]
+pub(crate) fn sub_scaled(a: &Vec3, b: &Vec3, k: f32) -> Vec3 {
+    Vec3::new(a.x - b.x * k, a.y - b.y * k, a.z - b.z * k)
+}
+
+/// `(a·x + b·y) + c·z`: the product `[a b c]·(x, y, z)` of the matrix with columns `a`, `b`,
+/// `c` (nalgebra's matrix-vector product, and each column of its matrix-matrix product, sums
+/// in this order).
+#[cfg_attr(target_arch = "msp430", inline(never))]
+pub(crate) fn lin3(a: &Vec3, b: &Vec3, c: &Vec3, x: f32, y: f32, z: f32) -> Vec3 {
+    Vec3::new(
+        a.x * x + b.x * y + c.x * z,
+        a.y * x + b.y * y + c.y * z,
+        a.z * x + b.z * y + c.z * z,
+    )
+}
+
+/// `m·v` (nalgebra's `m * v`).
+pub(crate) fn mat_vec(m: &Mat3, v: &Vec3) -> Vec3 {
+    let [a, b, c] = columns(m);
+    lin3(&a, &b, &c, v.x, v.y, v.z)
+}
+
+/// The columns of `m`.
+fn columns(m: &Mat3) -> [Vec3; 3] {
+    [
+        Vec3::new(m.m11, m.m21, m.m31),
+        Vec3::new(m.m12, m.m22, m.m32),
+        Vec3::new(m.m13, m.m23, m.m33),
+    ]
+}
+
 /// A symmetric 3×3 matrix stored as its upper triangle `(m11, m12, m13, m22, m23, m33)`: the
 /// cached operators of the flight loop (`(W Wᵀ)⁺`, `(HᵀH)⁻¹`) in 24 B of RAM instead of 36.
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -29,13 +108,16 @@ impl SymMat3 {
         Self([m.m11, m.m12, m.m13, m.m22, m.m23, m.m33])
     }
 
-    /// `M·v`.
+    /// `M·v` (row i: `(m_i1·v₁ + m_i2·v₂) + m_i3·v₃`).
     pub fn mul_vec(&self, v: &Vec3) -> Vec3 {
         let [a, b, c, d, e, f] = self.0;
-        Vec3::new(
-            a * v.x + b * v.y + c * v.z,
-            b * v.x + d * v.y + e * v.z,
-            c * v.x + e * v.y + f * v.z,
+        lin3(
+            &Vec3::new(a, b, c),
+            &Vec3::new(b, d, e),
+            &Vec3::new(c, e, f),
+            v.x,
+            v.y,
+            v.z,
         )
     }
 }

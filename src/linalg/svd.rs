@@ -30,7 +30,7 @@
 //! No recursion; every loop is bounded by `M` and [`MAX_SWEEPS`].
 
 use crate::fmath;
-use crate::linalg::{Mat3, Vec3};
+use crate::linalg::{cross, div, dot, finite3, lin3, sub_scaled, Mat3, Vec3};
 
 /// The default row capacity of [`ThinSvd`] (12 tiles or 12 two-axis rows). The crate's own
 /// solvers use `ThinSvd<3>` (the 3×3 triangular factor of [`crate::linalg::lsq`], or the
@@ -99,21 +99,29 @@ pub struct ThinSvd<const M: usize = MAX_ROWS> {
     rows: usize,
 }
 
-fn dot<const M: usize>(a: &[f32; M], b: &[f32; M]) -> f32 {
+/// `a·b` over the columns' rows (one copy for every row capacity `M`).
+#[cfg_attr(target_arch = "msp430", inline(never))]
+fn dot_rows(a: &[f32], b: &[f32]) -> f32 {
     a.iter().zip(b.iter()).map(|(x, y)| x * y).sum()
 }
 
+/// `(p, q) ← (c·p − s·q, s·p + c·q)` elementwise.
+#[cfg_attr(target_arch = "msp430", inline(never))]
+fn rotate_pair(p: &mut [f32], q: &mut [f32], c: f32, s: f32) {
+    for (p, q) in p.iter_mut().zip(q.iter_mut()) {
+        let (a, b) = (*p, *q);
+        *p = c * a - s * b;
+        *q = s * a + c * b;
+    }
+}
+
 /// One Jacobi rotation of the column pair `(wp, wq)` and of `(vp, vq)`. Returns whether it
-/// rotated.
-fn rotate<const M: usize>(
-    wp: &mut [f32; M],
-    wq: &mut [f32; M],
-    vp: &mut Vec3,
-    vq: &mut Vec3,
-) -> bool {
-    let alpha = dot(wp, wp);
-    let beta = dot(wq, wq);
-    let gamma = dot(wp, wq);
+/// rotated. (Over slices: one copy for every row capacity.)
+#[cfg_attr(target_arch = "msp430", inline(never))]
+fn rotate(wp: &mut [f32], wq: &mut [f32], vp: &mut Vec3, vq: &mut Vec3) -> bool {
+    let alpha = dot_rows(wp, wp);
+    let beta = dot_rows(wq, wq);
+    let gamma = dot_rows(wp, wq);
     // Rotate only if |γ| > 4ε·√(αβ), compared squared (no square root).
     let g2 = gamma * gamma;
     if g2.is_nan() || g2 <= (ORTHO_TOL * alpha) * (ORTHO_TOL * beta) {
@@ -130,14 +138,8 @@ fn rotate<const M: usize>(
     let t = if zeta < 0.0 { -t_abs } else { t_abs };
     let c = 1.0 / fmath::sqrt(1.0 + t * t);
     let s = c * t;
-    for (p, q) in wp.iter_mut().zip(wq.iter_mut()) {
-        let (a, b) = (*p, *q);
-        *p = c * a - s * b;
-        *q = s * a + c * b;
-    }
-    let (a, b) = (*vp, *vq);
-    *vp = a * c - b * s;
-    *vq = a * s + b * c;
+    rotate_pair(wp, wq, c, s);
+    rotate_pair(vp.as_mut_slice(), vq.as_mut_slice(), c, s);
     true
 }
 
@@ -147,7 +149,7 @@ impl<const M: usize> ThinSvd<M> {
         if rows.len() > M {
             return Err(SvdError::TooManyRows { rows: rows.len() });
         }
-        if rows.iter().any(|r| !r.iter().all(|x| x.is_finite())) {
+        if !rows.iter().all(finite3) {
             return Err(SvdError::NonFinite);
         }
         // Worked on in place (no copies of the columns: stack).
@@ -173,7 +175,7 @@ impl<const M: usize> ThinSvd<M> {
                 }
             }
         }
-        let mut s = w.each_ref().map(|wj| fmath::sqrt(dot(wj, wj)));
+        let mut s = w.each_ref().map(|wj| fmath::sqrt(dot_rows(wj, wj)));
         // Sort descending (three compare-and-swaps).
         for (i, j) in [(0usize, 1usize), (1, 2), (0, 1)] {
             let (si, sj) = match (s.get(i), s.get(j)) {
@@ -207,6 +209,22 @@ impl<const M: usize> ThinSvd<M> {
     pub fn v(&self) -> Mat3 {
         let [a, b, c] = self.v;
         Mat3::from_columns(&[a, b, c])
+    }
+
+    /// `V·diag(d)·Vᵀ` (as nalgebra's `v * Mat3::from_diagonal(d) * v.transpose()`, bit for
+    /// bit): with `d = σ⁻²`, `(MᵀM)⁻¹` of a full-rank `M`.
+    pub fn v_diag_vt(&self, d: &Vec3) -> Mat3 {
+        let [v1, v2, v3] = &self.v;
+        // The columns of V·diag(d), then those of (V·diag(d))·Vᵀ.
+        let p1 = lin3(v1, v2, v3, d.x, 0.0, 0.0);
+        let p2 = lin3(v1, v2, v3, 0.0, d.y, 0.0);
+        let p3 = lin3(v1, v2, v3, 0.0, 0.0, d.z);
+        let col = |x: f32, y: f32, z: f32| lin3(&p1, &p2, &p3, x, y, z);
+        Mat3::from_columns(&[
+            col(v1.x, v2.x, v3.x),
+            col(v1.y, v2.y, v3.y),
+            col(v1.z, v2.z, v3.z),
+        ])
     }
 
     /// Number of singular values above `rel_tol · σ₁` (0 for the zero matrix).
@@ -300,7 +318,7 @@ impl<const M: usize> ThinSvd<M> {
             return None;
         }
         match wj.get(..3)? {
-            [a, b, c] => Some(Vec3::new(*a, *b, *c) / sj),
+            [a, b, c] => Some(div(&Vec3::new(*a, *b, *c), sj)),
             _ => None,
         }
     }
@@ -333,14 +351,20 @@ pub fn nearest_rotation(b: &Mat3, min_ratio: f32) -> Result<(Mat3, Vec3), SvdErr
     };
     // Re-orthogonalise u₂ against u₁ (Gram–Schmidt, one step) and complete right-handed.
     // (Divided, not multiplied by the reciprocal: one rounding per component.)
-    let u1 = u1 / fmath::sqrt(u1.norm_squared());
-    let u2 = u2 - u1 * u1.dot(&u2);
-    let u2 = u2 / fmath::sqrt(u2.norm_squared());
-    let u3 = u1.cross(&u2);
+    let u1 = div(&u1, fmath::sqrt(dot(&u1, &u1)));
+    let u2 = sub_scaled(&u2, &u1, dot(&u1, &u2));
+    let u2 = div(&u2, fmath::sqrt(dot(&u2, &u2)));
+    let u3 = cross(&u1, &u2);
     let [v1, v2, v3] = svd.v;
-    let det_v = v1.cross(&v2).dot(&v3);
+    let det_v = dot(&cross(&v1, &v2), &v3);
     let d = if det_v < 0.0 { -1.0 } else { 1.0 };
-    let r = u1 * v1.transpose() + u2 * v2.transpose() + u3 * v3.transpose() * d;
+    // R = u₁v₁ᵀ + u₂v₂ᵀ + d·u₃v₃ᵀ: column j is [u₁ u₂ u₃]·(v₁ⱼ, v₂ⱼ, d·v₃ⱼ) (d = ±1: exact).
+    let col = |x: f32, y: f32, z: f32| lin3(&u1, &u2, &u3, x, y, z * d);
+    let r = Mat3::from_columns(&[
+        col(v1.x, v2.x, v3.x),
+        col(v1.y, v2.y, v3.y),
+        col(v1.z, v2.z, v3.z),
+    ]);
     Ok((r, svd.singular_values()))
 }
 
