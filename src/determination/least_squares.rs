@@ -214,11 +214,8 @@ impl TileSolver {
 
 /// Bit `i` set for each tile `i` (< 32) that contributes, or `None` if a contributing tile has
 /// an index ≥ 32 (no cache: the one-shot function is used).
-#[inline(always)]
 fn contributing(tiles: &[Tile], readings: Readings) -> Option<u32> {
     let mut mask = 0u32;
-    // Bounded by both lengths (as a zip): where the caller's readings are a short array, the
-    // compiler sees that every index is < 32 and drops the one-shot fallback.
     for (i, tile) in tiles.iter().enumerate().take(readings.len()) {
         if readings.get(i, tile).is_some() {
             mask |= 1u32.checked_shl(u32::try_from(i).ok()?)?;
@@ -227,16 +224,33 @@ fn contributing(tiles: &[Tile], readings: Readings) -> Option<u32> {
     Some(mask)
 }
 
+/// [`contributing`] for at most 32 readings (every index fits the mask).
+fn contributing_32(tiles: &[Tile], readings: Readings) -> u32 {
+    let mut mask = 0u32;
+    for (i, tile) in tiles.iter().enumerate().take(readings.len()) {
+        if readings.get(i, tile).is_some() {
+            mask |= 1u32.wrapping_shl(i as u32);
+        }
+    }
+    mask
+}
+
 /// The solution with the operator kept in `cache`, rebuilt when the set of contributing tiles
-/// changes (left `None` when that set is not observable). Inlined into the public functions
-/// (the mask test is small), the rest is one shared copy.
+/// changes (left `None` when that set is not observable). Inlined into the public functions:
+/// where the caller's readings are a short array (the flight loop), the compiler sees that
+/// there are at most 32 and drops the one-shot fallback; the rest is one shared copy.
 #[inline(always)]
 fn solve_cached(
     cache: &mut Option<TileSolver>,
     tiles: &[Tile],
     readings: Readings,
 ) -> Result<Vec3, DeterminationError> {
-    match contributing(tiles, readings) {
+    let mask = if readings.len() <= 32 {
+        Some(contributing_32(tiles, readings))
+    } else {
+        contributing(tiles, readings)
+    };
+    match mask {
         Some(mask) => solve_masked(cache, tiles, readings, mask),
         None => solve(tiles, readings),
     }

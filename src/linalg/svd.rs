@@ -30,7 +30,7 @@
 //! No recursion; every loop is bounded by `M` and [`MAX_SWEEPS`].
 
 use crate::fmath;
-use crate::linalg::{cross, div, dot, finite3, lin3, sub_scaled, Mat3, Vec3};
+use crate::linalg::{cross, div, dot, finite3, lin3, scale, sub_scaled, Mat3, Vec3};
 
 /// The default row capacity of [`ThinSvd`] (12 tiles or 12 two-axis rows). The crate's own
 /// solvers use `ThinSvd<3>` (the 3×3 triangular factor of [`crate::linalg::lsq`], or the
@@ -303,7 +303,12 @@ impl<const M: usize> ThinSvd<M> {
                     .fold(nalgebra::SVector::<f32, K>::zeros(), |acc, (a, zi)| {
                         acc + zi * *a
                     });
-                x += vj * wz.transpose() / (sj * sj);
+                // x += vⱼ·(wⱼᵀZ)/σⱼ², column by column ((vᵢ·wzₖ)/σⱼ², as nalgebra's
+                // `vj * wz.transpose() / (sj * sj)`).
+                let s2 = sj * sj;
+                for (mut xk, wzk) in x.column_iter_mut().zip(wz.iter()) {
+                    xk += div(&scale(vj, *wzk), s2);
+                }
             }
         }
         Ok(x)
