@@ -200,18 +200,6 @@ pub struct TileSolver {
     tiles: u32,
 }
 
-impl TileSolver {
-    /// The solver of the sensors of the tiles in `mask` (bit i: tile i): the rows of
-    /// `readings` (values ignored) by the same QR and SVD as the one-shot solution.
-    fn new(tiles: &[Tile], readings: Readings, mask: u32) -> Result<Self, DeterminationError> {
-        let ls = factor(tiles, readings, false)?;
-        Ok(Self {
-            inverse_gram: SymMat3::from_upper(&ls.inverse_gram(RANK_REL_TOL)?),
-            tiles: mask,
-        })
-    }
-}
-
 /// Bit `i` set for each tile `i` (< 32) that contributes, or `None` if a contributing tile has
 /// an index ≥ 32 (no cache: the one-shot function is used).
 fn contributing(tiles: &[Tile], readings: Readings) -> Option<u32> {
@@ -264,16 +252,37 @@ fn solve_masked(
     readings: Readings,
     mask: u32,
 ) -> Result<Vec3, DeterminationError> {
+    // On a change of the set, the rows are folded into the QR of the one-shot solution (values
+    // ignored) in the same walk as Hᵀy; the walk's own errors come first, as when the
+    // operator was built in a second walk.
+    enum Operator {
+        Cached(TileSolver),
+        Rebuild(QrLeastSquares<1>, Result<(), SvdError>),
+    }
+    let mut operator = match cache {
+        Some(s) if s.tiles == mask => Operator::Cached(*s),
+        _ => Operator::Rebuild(QrLeastSquares::new(), Ok(())),
+    };
     let mut rhs = Vec3::zeros(); // Hᵀy
     for_each_reading(tiles, readings, |tile, reading| {
         rhs += reading.transposed(tile);
+        if let Operator::Rebuild(ls, status @ Ok(())) = &mut operator {
+            *status = reading.push_rows(tile, ls, false);
+        }
         Ok(())
     })?;
-    let solver = match cache {
-        Some(s) if s.tiles == mask => *s,
-        _ => {
+    let solver = match operator {
+        Operator::Cached(s) => s,
+        Operator::Rebuild(ls, status) => {
             *cache = None;
-            let s = TileSolver::new(tiles, readings, mask)?;
+            status?;
+            if ls.rows() == 0 {
+                return Err(DeterminationError::NotObservable { rank: 0 });
+            }
+            let s = TileSolver {
+                inverse_gram: SymMat3::from_upper(&ls.inverse_gram(RANK_REL_TOL)?),
+                tiles: mask,
+            };
             *cache = Some(s);
             s
         }

@@ -81,19 +81,14 @@ pub(crate) fn lin3(a: &Vec3, b: &Vec3, c: &Vec3, x: f32, y: f32, z: f32) -> Vec3
     )
 }
 
-/// `m·v` (nalgebra's `m * v`).
+/// `m·v` (nalgebra's `m * v`: row i is `(m_i1·v₁ + m_i2·v₂) + m_i3·v₃`).
+#[cfg_attr(target_arch = "msp430", inline(never))]
 pub(crate) fn mat_vec(m: &Mat3, v: &Vec3) -> Vec3 {
-    let [a, b, c] = columns(m);
-    lin3(&a, &b, &c, v.x, v.y, v.z)
-}
-
-/// The columns of `m`.
-fn columns(m: &Mat3) -> [Vec3; 3] {
-    [
-        Vec3::new(m.m11, m.m21, m.m31),
-        Vec3::new(m.m12, m.m22, m.m32),
-        Vec3::new(m.m13, m.m23, m.m33),
-    ]
+    Vec3::new(
+        m.m11 * v.x + m.m12 * v.y + m.m13 * v.z,
+        m.m21 * v.x + m.m22 * v.y + m.m23 * v.z,
+        m.m31 * v.x + m.m32 * v.y + m.m33 * v.z,
+    )
 }
 
 /// A symmetric 3×3 matrix stored as its upper triangle `(m11, m12, m13, m22, m23, m33)`: the
