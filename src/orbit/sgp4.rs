@@ -354,8 +354,7 @@ fn cos_degrees(x_deg: &Df) -> Df {
 /// sin and cos (f32) of an angle given in degrees (double-f32, any finite value): reduced
 /// modulo 360° in double length, then `fmath::sincos`.
 fn sincos_degrees(x_deg: &Df) -> (f32, f32) {
-    let turns = x_deg / 360.0;
-    let r = &turns - crate::fmath::floor(turns.hi());
+    let r = turns_of_degrees(x_deg);
     let r = &r - crate::fmath::floor(r.hi());
     crate::fmath::sincos(r.to_f32() * core::f32::consts::TAU)
 }
