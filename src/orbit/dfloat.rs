@@ -37,8 +37,7 @@ pub(crate) struct Df {
 const SPLITTER: f32 = 4097.0;
 
 /// `a + b` exactly, as a rounded sum and its error (Knuth, any order of magnitude).
-#[cfg_attr(target_arch = "msp430", inline(never))]
-#[cfg_attr(not(target_arch = "msp430"), inline)]
+#[inline]
 fn two_sum(a: f32, b: f32) -> Df {
     let s = a + b;
     let bb = s - a;
@@ -47,8 +46,7 @@ fn two_sum(a: f32, b: f32) -> Df {
 }
 
 /// `a + b` exactly when |a| ≥ |b| (or a = 0) (Dekker's `fast two sum`).
-#[cfg_attr(target_arch = "msp430", inline(never))]
-#[cfg_attr(not(target_arch = "msp430"), inline)]
+#[inline]
 fn fast_two_sum(a: f32, b: f32) -> Df {
     let s = a + b;
     Df {
@@ -58,8 +56,7 @@ fn fast_two_sum(a: f32, b: f32) -> Df {
 }
 
 /// `a` as the sum of two 12-bit halves (Veltkamp); |a| < 2¹¹⁵.
-#[cfg_attr(target_arch = "msp430", inline(never))]
-#[cfg_attr(not(target_arch = "msp430"), inline)]
+#[inline]
 fn split(a: f32) -> (f32, f32) {
     let t = SPLITTER * a;
     let hi = t - (t - a);
