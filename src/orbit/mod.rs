@@ -140,11 +140,22 @@ fn fixed_turns_f32(v: f32) -> i64 {
     // v − round(v) is exact (Sterbenz); the 2⁴⁸ scaling too; beyond 2²³ it is an integer
     let r = v - crate::fmath::floor(v + 0.5);
     let s = r * PHASE_ONE_F32;
-    if crate::fmath::abs(s) >= 8_388_608.0 {
-        s as i64
+    integral_f32_to_i64(if crate::fmath::abs(s) >= 8_388_608.0 {
+        s
     } else {
-        crate::fmath::floor(s + 0.5) as i64
-    }
+        crate::fmath::floor(s + 0.5)
+    })
+}
+
+/// `x as i64` for an integer-valued f32 with |x| < 2⁵⁴ (exact), without the f32 → `i64`
+/// helper (`__fixsfdi`, 492 B on the MSP430, used by nothing else in the flight image):
+/// `x = h·2²⁴ + l` with `h = ⌊x·2⁻²⁴⌋` and `0 ≤ l < 2²⁴`, each step exact in f32, and both
+/// parts small enough for `i32`.
+fn integral_f32_to_i64(x: f32) -> i64 {
+    const TWO_24: f32 = 16_777_216.0;
+    let h = crate::fmath::floor(x * (1.0 / TWO_24));
+    let l = x - h * TWO_24;
+    (i64::from(h as i32) << 24) + i64::from(l as i32)
 }
 
 /// A time span as `(whole, frac)`: whole units (floor) and the remainder `0 ≤ frac < 1` in f32,
@@ -229,6 +240,30 @@ mod tests {
         }
         for &c in &cases {
             assert_eq!(i48_to_f32(c).to_bits(), (c as f32).to_bits(), "{c}");
+        }
+    }
+
+    #[test]
+    fn integral_f32_to_i64_is_the_conversion() {
+        let mut cases: Vec<f32> = (-70_000..70_000).map(|k| k as f32).collect();
+        for k in 0..54 {
+            let p = (1u64 << k) as f32;
+            for m in [1.0f32, 1.5, 1.75, 1.999_999_9] {
+                cases.extend([p * m, -p * m].iter().map(|&v| v.trunc()));
+            }
+        }
+        let mut x = 0x2545_f491u32;
+        for _ in 0..100_000 {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            // random integer-valued f32 below 2^54
+            let v = f32::from_bits(x & 0x8000_0000 | (x % (54 << 23)) + (127 << 23));
+            cases.push(v.trunc());
+        }
+        cases.push(-0.0);
+        for &c in &cases {
+            assert_eq!(integral_f32_to_i64(c), c as i64, "{c:e}");
         }
     }
 
