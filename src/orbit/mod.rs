@@ -258,7 +258,7 @@ mod tests {
             x ^= x >> 17;
             x ^= x << 5;
             // random integer-valued f32 below 2^54
-            let v = f32::from_bits(x & 0x8000_0000 | (x % (54 << 23)) + (127 << 23));
+            let v = f32::from_bits((x & 0x8000_0000) | ((x % (54 << 23)) + (127 << 23)));
             cases.push(v.trunc());
         }
         cases.push(-0.0);
