@@ -116,3 +116,59 @@ impl SymMat3 {
         )
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// f32 values with exact zeros of both signs, ones, and wide and narrow magnitudes.
+    fn values(seed: &mut u32) -> f32 {
+        *seed ^= *seed << 13;
+        *seed ^= *seed >> 17;
+        *seed ^= *seed << 5;
+        let x = (*seed >> 8) as f32 / (1u32 << 24) as f32 * 2.0 - 1.0;
+        match *seed % 8 {
+            0 => 0.0,
+            1 => -0.0,
+            2 => 1.0,
+            3 => x * 1.0e6,
+            4 => x * 1.0e-6,
+            _ => x,
+        }
+    }
+
+    fn bits(v: &Vec3) -> [u32; 3] {
+        [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()]
+    }
+
+    /// Every kernel gives the bits of the nalgebra expression it replaces (signed zeros
+    /// included), so the callers' results did not change.
+    #[test]
+    fn kernels_are_bit_identical_to_nalgebra() {
+        let mut seed = 0x1234_5678u32;
+        for _ in 0..20_000 {
+            let mut v = || Vec3::new(values(&mut seed), values(&mut seed), values(&mut seed));
+            let (a, b, c) = (v(), v(), v());
+            let m = Mat3::from_columns(&[a, b, c]);
+            let (x, y, z) = (values(&mut seed), values(&mut seed), values(&mut seed));
+            assert_eq!(dot(&a, &b).to_bits(), a.dot(&b).to_bits());
+            assert_eq!(dot(&a, &a).to_bits(), a.norm_squared().to_bits());
+            assert_eq!(bits(&cross(&a, &b)), bits(&a.cross(&b)));
+            if x != 0.0 {
+                assert_eq!(bits(&div(&a, x)), bits(&(a / x)));
+            }
+            assert_eq!(bits(&scale(&a, x)), bits(&(a * x)));
+            assert_eq!(bits(&lin2(&a, x, &b, y)), bits(&(a * x + b * y)));
+            assert_eq!(bits(&lin2(&a, x, &b, -y)), bits(&(a * x - b * y)));
+            assert_eq!(bits(&sub_scaled(&a, &b, x)), bits(&(a - b * x)));
+            let abc = Vec3::new(x, y, z);
+            assert_eq!(bits(&lin3(&a, &b, &c, x, y, z)), bits(&(m * abc)));
+            assert_eq!(bits(&mat_vec(&m, &abc)), bits(&(m * abc)));
+            let s = SymMat3::from_upper(&(m + m.transpose()));
+            let full = Mat3::new(
+                s.0[0], s.0[1], s.0[2], s.0[1], s.0[3], s.0[4], s.0[2], s.0[4], s.0[5],
+            );
+            assert_eq!(bits(&s.mul_vec(&abc)), bits(&(full * abc)));
+        }
+    }
+}

@@ -377,6 +377,50 @@ pub fn nearest_rotation(b: &Mat3, min_ratio: f32) -> Result<(Mat3, Vec3), SvdErr
 mod tests {
     use super::*;
 
+    /// `v_diag_vt` and `solve_matrix` give the bits of the nalgebra expressions they replaced.
+    #[test]
+    fn kernel_forms_are_bit_identical_to_nalgebra() {
+        let mut seed = 0x9e37_79b9u32;
+        let mut next = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            (seed >> 8) as f32 / (1u32 << 24) as f32 * 2.0 - 1.0
+        };
+        for n in 0..2_000 {
+            let rows: Vec<Vec3> = (0..3 + n % 4)
+                .map(|_| Vec3::new(next(), next(), next()))
+                .collect();
+            let svd = ThinSvd::<12>::new(&rows).unwrap();
+            let d = Vec3::new(next(), next(), next());
+            let v = svd.v();
+            let expected = v * Mat3::from_diagonal(&d) * v.transpose();
+            let bits = |m: &Mat3| m.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&svd.v_diag_vt(&d)), bits(&expected));
+            let z: Vec<nalgebra::SVector<f32, 2>> = rows
+                .iter()
+                .map(|_| nalgebra::SVector::<f32, 2>::new(next(), next()))
+                .collect();
+            let mut x = nalgebra::SMatrix::<f32, 3, 2>::zeros();
+            for ((wj, vj), sj) in svd.w.iter().zip(svd.v.iter()).zip(svd.sigma.iter()) {
+                if *sj > 1e-5 * svd.sigma[0] {
+                    let wz = wj
+                        .iter()
+                        .zip(z.iter())
+                        .fold(nalgebra::SVector::<f32, 2>::zeros(), |acc, (a, zi)| {
+                            acc + zi * *a
+                        });
+                    x += vj * wz.transpose() / (sj * sj);
+                }
+            }
+            let got = svd.solve_matrix(&z, 1e-5).unwrap();
+            assert_eq!(
+                got.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+                x.iter().map(|x| x.to_bits()).collect::<Vec<_>>()
+            );
+        }
+    }
+
     #[test]
     fn reconstructs_and_orders() {
         let rows = [
