@@ -146,9 +146,10 @@ fn is_nearest_f32(got: f32, exact: f64) -> bool {
         .all(|v| err <= (f64::from(v) - exact).abs())
 }
 
-/// The generated tables hold the numbers of the committed `.shc` file, Schmidt-scaled: each
-/// entry is the f32 nearest to N_n^m times the file's decimal value (so zonal and degree-1
-/// entries are the file's numbers exactly).
+/// The generated tables hold the numbers of the committed `.shc` file, Schmidt-scaled: per
+/// interval, the anchor entries are the f32 nearest to N_n^m times the file's decimal value at
+/// the anchor epoch (so zonal and degree-1 entries are the file's numbers exactly), the delta
+/// entries the f32 nearest to N_n^m times the exact difference to the other end.
 #[test]
 fn tables_match_the_coefficient_file() {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("data/igrf/IGRF14.shc");
@@ -165,44 +166,67 @@ fn tables_match_the_coefficient_file() {
     assert_eq!(FULL.first_year(), epochs[0]);
     assert_eq!(FULL.last_year(), epochs[26]);
     assert_eq!(RECENT.first_year(), epochs[24]);
+    assert_eq!(RECENT.last_year(), epochs[26]);
     let mut checked = 0;
     for line in lines {
         let f: Vec<&str> = line.split_whitespace().collect();
         let n: usize = f[0].parse().unwrap();
         let m: i32 = f[1].parse().unwrap();
         let m_abs = m.unsigned_abs() as usize;
-        for (k, token) in f[2..].iter().enumerate() {
-            let value: f64 = token.parse().unwrap();
-            let (g, h) = FULL.scaled_gauss(k, n, m_abs).unwrap();
-            let got = if m >= 0 { g } else { h };
+        // The file's values in hundredths of nT (two decimals at most): exact integers.
+        let hundredths: Vec<i64> = f[2..]
+            .iter()
+            .map(|t| {
+                let v: f64 = t.parse().unwrap();
+                let c = (v * 100.0).round();
+                assert!((v * 100.0 - c).abs() < 1e-6, "{t} has more than 2 decimals");
+                c as i64
+            })
+            .collect();
+        let norm = schmidt_factor(n, m_abs);
+        for k in 0..26 {
+            let t = FULL.interval_gauss(k, n, m_abs).unwrap();
+            let (anchor, other) = if t.anchor_at_end {
+                (k + 1, k)
+            } else {
+                (k, k + 1)
+            };
+            let pick = |(g, h): (f32, f32)| if m >= 0 { g } else { h };
+            let got = pick(t.anchor_nt);
+            let at_anchor = hundredths[anchor] as f64 / 100.0;
             assert!(
-                is_nearest_f32(got, schmidt_factor(n, m_abs) * value),
-                "epoch {} n {n} m {m}: {got} for {token}",
-                epochs[k]
+                is_nearest_f32(got, norm * at_anchor),
+                "interval {k} n {n} m {m}: anchor {got} for {at_anchor}"
             );
             if m_abs == 0 || n == 1 {
-                let exact: f32 = token.parse().unwrap();
-                assert_eq!(got, exact, "epoch {} n {n} m {m}", epochs[k]);
+                let exact: f32 = f[2 + anchor].parse().unwrap();
+                assert_eq!(got, exact, "interval {k} n {n} m {m}");
             }
+            let change = (hundredths[other] - hundredths[anchor]) as f64 / 100.0;
+            let got = pick(t.delta_nt);
+            assert!(
+                is_nearest_f32(got, norm * change),
+                "interval {k} n {n} m {m}: delta {got} for {change}"
+            );
             if k >= 24 {
-                let (g, h) = RECENT.scaled_gauss(k - 24, n, m_abs).unwrap();
-                assert_eq!(if m >= 0 { g } else { h }, got);
+                assert_eq!(RECENT.interval_gauss(k - 24, n, m_abs), Some(t));
             }
             checked += 1;
         }
     }
-    assert_eq!(checked, 195 * 27);
-    assert_eq!(FULL.scaled_gauss(27, 1, 0), None);
-    assert_eq!(FULL.scaled_gauss(0, 14, 0), None);
-    assert_eq!(FULL.scaled_gauss(0, 2, 3), None);
+    assert_eq!(checked, 195 * 26);
+    assert_eq!(FULL.interval_gauss(26, 1, 0), None);
+    assert_eq!(FULL.interval_gauss(0, 14, 0), None);
+    assert_eq!(FULL.interval_gauss(0, 2, 3), None);
+    assert_eq!(RECENT.interval_gauss(2, 1, 0), None);
     println!(
         "flash: FULL {} B, RECENT {} B, recursion constants {} B",
         FULL.table_bytes(),
         RECENT.table_bytes(),
         acs::env::igrf::RECURSION_TABLE_BYTES
     );
-    assert_eq!(FULL.table_bytes(), 21_060);
-    assert_eq!(RECENT.table_bytes(), 2_340);
+    assert_eq!(FULL.table_bytes(), 39 * 780);
+    assert_eq!(RECENT.table_bytes(), 3 * 780);
 }
 
 /// The `.shc` file in f64: epochs and, per epoch, `g[n][m]`, `h[n][m]` (nT).

@@ -22,19 +22,26 @@ keeps only the ones a firmware refers to:
 - `BONNET`: (n - 1)/n for n = 2..N, Bonnet's recursion of the Legendre polynomials
   n P_n = (2n - 1) u P_{n-1} - (n - 1) P_{n-2}, written P_n = t + ((n - 1)/n) (t - P_{n-2})
   with t = u P_{n-1}.
-- one `[f32; 195]` snapshot per epoch, Schmidt-scaled coefficients N_n^m g_n^m, N_n^m h_n^m in
-  column order, where N_n^0 = 1 and N_n^m = sqrt(2 (n - m)! / (n + m)!) for m >= 1, so that
+- per interval between two epochs, an anchor and a delta `[f32; 195]` table: the anchor
+  (`EPOCH_yyyy`) holds the Schmidt-scaled coefficients N_n^m g_n^m, N_n^m h_n^m at one end of
+  the interval, the delta (`DELTA_yyyy_zzzz`) their change from that end (yyyy) to the other
+  (zzzz), so that the evaluator interpolates with one multiplication and one addition per
+  coefficient (g = anchor + f delta, f the fraction of the interval from the anchor). Every
+  other epoch is an anchor, shared by the intervals on both sides of it, with the parity that
+  makes the current main-field model (the second-to-last epoch, 2025.0 for IGRF-14) one: the
+  last two intervals (RECENT) take three tables, as three snapshots would.
+  N_n^0 = 1 and N_n^m = sqrt(2 (n - m)! / (n + m)!) for m >= 1, so that
   P_n^m(cos t) = N_n^m sin^m t d^m P_n(u)/du^m (the evaluator works with the unnormalised
-  derivatives d^m P_n/du^m). Each entry is the f32 nearest to the exact product of the file's
-  decimal value and N_n^m (50-digit decimal arithmetic, then correct rounding to f32), so the
-  evaluator needs no per-date multiplication by N_n^m; the unscaled (m = 0, and n = 1) entries
-  are the file's numbers rounded once to f32, as before. Column order:
+  derivatives d^m P_n/du^m). Each entry is the f32 nearest to the exact product of N_n^m and
+  the file's decimal value (anchor) or the exact difference of two of them (delta): 50-digit
+  decimal arithmetic, then correct rounding to f32. The unscaled (m = 0, and n = 1) anchor
+  entries are the file's numbers rounded once to f32. Column order:
       m = 0:       g_1^0, g_2^0, ..., g_N^0
       m = 1..N:    g_m^m, h_m^m, g_{m+1}^m, h_{m+1}^m, ..., g_N^m, h_N^m
   (column order lets the evaluator run the recursion in n for one order m at a time with a
   handful of scalars, walking the tables with iterators: no index arithmetic, no scratch arrays.)
-- `FULL`: every epoch of the file; `RECENT`: the last three epochs (last definitive model,
-  current model, and its secular-variation prediction).
+- `FULL`: every interval of the file; `RECENT`: the last two (from the last definitive model
+  through the current model to its secular-variation prediction).
 """
 
 import argparse
@@ -119,11 +126,6 @@ def rust_f32(value):
     return t
 
 
-def scaled(token, norm):
-    """The f32 nearest to norm x the file's decimal `token` (exact decimal product)."""
-    return rust_f32(f32_nearest(Fraction(decimal.Decimal(token) * norm)))
-
-
 def column_order(n_max):
     """(n, m) pairs in column order (m outer, n inner)."""
     order = []
@@ -165,7 +167,7 @@ def generate(shc_path):
     w("// The tables are data: each value is the nearest f32, in its shortest exact decimal form.")
     w("#![allow(clippy::excessive_precision, clippy::unreadable_literal)]")
     w("")
-    w("use super::Model;")
+    w("use super::{Interval, Model};")
     w("")
     w(f"/// Maximum degree N of the tables.")
     w(f"pub(super) const N_MAX: usize = {n_max};")
@@ -178,36 +180,62 @@ def generate(shc_path):
         w(f"    {rust_f32(f32_nearest(Fraction(n - 1, n)))}, // n={n}")
     w("];")
     w("")
-    names = []
-    for k, epoch in enumerate(epochs):
-        name = f"EPOCH_{int(epoch)}"
-        names.append(name)
-        w(f"/// Schmidt-scaled Gauss coefficients N g, N h (nT) at {year_label(epoch)}, column order.")
+    # Anchors: every other epoch, with the parity that makes the second-to-last epoch (the
+    # current main-field model) one, so that the last two intervals share it.
+    parity = (len(epochs) - 2) % 2
+    intervals = []  # (anchor index, other index) per interval
+    for k in range(len(epochs) - 1):
+        anchor = k if k % 2 == parity else k + 1
+        intervals.append((anchor, k + 1 if anchor == k else k))
+
+    def table(name, doc, value):
+        w(f"/// {doc}")
         w(f"static {name}: [f32; N_COEFFS] = [")
         for n, m in order:
             norm = schmidt(n, m)
-            g = scaled(tokens[(n, m)][k], norm)
+            g = rust_f32(f32_nearest(Fraction(value(n, m) * norm)))
             if m == 0:
                 w(f"    {g}, // g{n},{m}")
             else:
-                h = scaled(tokens[(n, -m)][k], norm)
+                h = rust_f32(f32_nearest(Fraction(value(n, -m) * norm)))
                 w(f"    {g}, {h}, // g{n},{m} h{n},{m}")
         w("];")
         w("")
 
+    def dec(n, m, k):
+        return decimal.Decimal(tokens[(n, m)][k])
+
+    for i in sorted({a for a, _ in intervals}):
+        table(f"EPOCH_{int(epochs[i])}",
+              f"Schmidt-scaled Gauss coefficients N g, N h (nT) at {year_label(epochs[i])}, "
+              "column order.",
+              lambda n, m, i=i: dec(n, m, i))
+    for a_, o in intervals:
+        table(f"DELTA_{int(epochs[a_])}_{int(epochs[o])}",
+              f"Schmidt-scaled change N Δg, N Δh (nT) from {year_label(epochs[a_])} to "
+              f"{year_label(epochs[o])}, column order.",
+              lambda n, m, a_=a_, o=o: dec(n, m, o) - dec(n, m, a_))
+
     def model(name, idx, doc):
         first, last = epochs[idx[0]], epochs[idx[-1]]
-        size = len(idx) * n_coeffs * 4
+        ks = range(idx[0], idx[-1])
+        n_tables = len({intervals[k][0] for k in ks}) + len(ks)
+        size = n_tables * n_coeffs * 4
         w(f"/// {doc}")
         w("///")
         w(f"/// {title}: epochs {year_label(first)} to {year_label(last)} every {int(step)} years "
-          f"({len(idx)} tables of {n_coeffs} f32, {size} bytes of flash, plus "
+          f"({n_tables} tables of {n_coeffs} f32, {size} bytes of flash, plus "
           f"{(n_max - 1) * 4} bytes of constants shared by all models).")
         w(f"pub static {name}: Model = Model {{")
         w(f"    name: {title.split(' --')[0].replace(' ', '-')!r},".replace("'", '"'))
         w(f"    first_year: {int(first)},")
         w(f"    step_years: {int(step)},")
-        w(f"    snapshots: &[{', '.join('&' + names[i] for i in idx)}],")
+        w("    intervals: &[")
+        for k in ks:
+            a_, o = intervals[k]
+            w(f"        Interval {{ anchor: &EPOCH_{int(epochs[a_])}, "
+              f"delta: &DELTA_{int(epochs[a_])}_{int(epochs[o])}, from_end: {str(a_ > k).lower()} }},")
+        w("    ],")
         w("};")
         w("")
 
