@@ -48,6 +48,14 @@
 //! few times per evaluation). The same code with every value f32 (the thesis's port) is 205 m,
 //! 529 m and 868 m off on the same three sets. Test bounds: 20 m, 20 m, 100 m.
 //!
+//! # Cost on the MSP430 (measured, `firmware/msp430-bench --groups sgp4`)
+//! Without the hardware multiplier (with it): initialisation 1 225 570 (1 125 278) cycles, once
+//! per element set; propagation 121 845 (102 303) cycles, budget 150 000. Code (opt-level "s",
+//! flight image with the ACS loop): [`Sgp4::new`] ≈ 7.4 KB, propagation 4.9 KB, double-f32
+//! kernels and phases 2.9 KB. The double-f32 operators take their operands by reference and are
+//! not inlined on the MSP430 (`dfloat`), which made the initialisation 5.9 KB smaller than the
+//! inlined form with the same operations in the same order: results are bit for bit unchanged.
+//!
 //! # Validity and errors
 //! Near-Earth element sets only (un-Kozai'd period below 225 min); a deep-space set gives
 //! [`Sgp4Error::DeepSpace`] at initialisation. Vallado's error codes map to [`Sgp4Error`]:
