@@ -257,9 +257,13 @@ pub const fn civil_from_days(days: i32) -> (i32, u8, u8) {
     } else {
         (q + 4, r + 146_037)
     };
+    // From here on everything is non-negative; below the year of the era it fits 16 bits (u16
+    // arithmetic is a few instructions on the MSP430, i32 a library call).
+    let doe = doe as u32;
     let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
-    let y = yoe + era * 400;
-    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let y = yoe as i32 + era * 400;
+    // 0 ≤ doy ≤ 365, 0 ≤ mp ≤ 11
+    let doy = (doe - (365 * yoe + yoe / 4 - yoe / 100)) as u16;
     let mp = (5 * doy + 2) / 153;
     let d = doy - (153 * mp + 2) / 5 + 1;
     let m = if mp < 10 { mp + 3 } else { mp - 9 };
@@ -1042,26 +1046,38 @@ impl Wide {
         self.lo
     }
 
-    /// `self + other` modulo 2^64.
+    /// `self + other` modulo 2^64 (out of line on the MSP430: 0.3 KB less for its 6 uses).
+    #[cfg_attr(target_arch = "msp430", inline(never))]
     pub(crate) fn wrapping_add(self, other: Self) -> Self {
-        let lo = self.lo.wrapping_add(other.lo);
-        let carry = u32::from(lo < other.lo);
+        let (lo, carry) = self.lo.overflowing_add(other.lo);
         Self {
-            hi: self.hi.wrapping_add(other.hi).wrapping_add(carry),
+            hi: self
+                .hi
+                .wrapping_add(other.hi)
+                .wrapping_add(u32::from(carry)),
             lo,
         }
     }
 
     /// `−self` modulo 2^64.
     fn wrapping_neg(self) -> Self {
-        let lo = (!self.lo).wrapping_add(1);
+        Self::ZERO.wrapping_sub(self)
+    }
+
+    /// `self − other` modulo 2^64.
+    fn wrapping_sub(self, other: Self) -> Self {
+        let (lo, borrow) = self.lo.overflowing_sub(other.lo);
         Self {
-            hi: (!self.hi).wrapping_add(u32::from(lo == 0)),
+            hi: self
+                .hi
+                .wrapping_sub(other.hi)
+                .wrapping_sub(u32::from(borrow)),
             lo,
         }
     }
 
     /// The full 64-bit product `a·b`, from four 16 × 16 → 32-bit products.
+    #[cfg_attr(target_arch = "msp430", inline(never))]
     pub(crate) fn mul_u32(a: u32, b: u32) -> Self {
         let (a1, a0) = (a >> 16, a & 0xFFFF);
         let (b1, b0) = (b >> 16, b & 0xFFFF);
