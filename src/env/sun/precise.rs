@@ -415,6 +415,24 @@ fn at(arg: &Fundamental, n: i32, f_q15: i16) -> u16 {
     ((whole >> 16) as u16).wrapping_add(frac as u16)
 }
 
+/// `k·x` modulo 2^16 for the small multipliers of the periodic terms (|k| ≤ 5), by shift and add:
+/// a multiply is a library call of about 80 cycles on the MSP430 without multiplier.
+fn times(x: u16, k: i8) -> u16 {
+    let (mut m, mut x, mut acc) = (k.unsigned_abs(), x, 0u16);
+    while m != 0 {
+        if m & 1 != 0 {
+            acc = acc.wrapping_add(x);
+        }
+        x = x.wrapping_shl(1);
+        m >>= 1;
+    }
+    if k < 0 {
+        acc.wrapping_neg()
+    } else {
+        acc
+    }
+}
+
 /// `c[0] + c[1] x + c[2] x² + …` (Horner). Out of line on the MSP430 (10 calls).
 #[cfg_attr(target_arch = "msp430", inline(never))]
 fn poly(c: &[f32], x: f32) -> f32 {
@@ -516,7 +534,7 @@ pub fn sun_tt(epoch: &Epoch<Tt>) -> Result<Sun, SunError> {
         let mut arg: u16 = 0;
         for &(i, k) in &t.args {
             let x = fundamentals.get(usize::from(i)).copied().unwrap_or(0);
-            arg = arg.wrapping_add(x.wrapping_mul(k as i16 as u16));
+            arg = arg.wrapping_add(times(x, k));
         }
         sum_l = sum_l.wrapping_add(scaled(t.l_amp, cos16(arg.wrapping_add(t.l_phase))));
         if t.r_amp != 0 {
