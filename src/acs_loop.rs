@@ -223,9 +223,15 @@ struct SlewProgress {
 /// `N` ≤ 32 tiles (see [`AcsConfig`]), with room for `F` IGRF coefficients (`F` ≥
 /// [`coefficient_count`] of the configured degree: 80 for degree 8, the default 195 for 13; the
 /// coefficients at the date are kept, `4·F` bytes).
+///
+/// The loop borrows its configuration (`'c`): on the MSP430 the flight configuration is a
+/// `static` in flash and only the run-time state below takes RAM. The tiles' run-time health is
+/// kept here ([`AcsLoop::tile_state`]); the configuration's tile states are the initial ones.
 #[derive(Clone, Debug)]
-pub struct AcsLoop<const N: usize = MAX_TILES, const F: usize = FULL_COEFFS> {
-    config: AcsConfig<N>,
+pub struct AcsLoop<'c, const N: usize = MAX_TILES, const F: usize = FULL_COEFFS> {
+    config: &'c AcsConfig<N>,
+    /// Bit `i` set: tile `i` is out of service (failed at run time or configured failed).
+    failed: u32,
     orbit: Sgp4,
     mode: Mode,
     bdot: BdotState,
@@ -318,9 +324,9 @@ struct Determined {
     dt: f32,
 }
 
-impl<const N: usize, const F: usize> AcsLoop<N, F> {
+impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
     /// A loop in `Detumble` for the given configuration and orbit.
-    pub fn new(config: AcsConfig<N>, orbit: Sgp4) -> Result<Self, AcsError> {
+    pub fn new(config: &'c AcsConfig<N>, orbit: Sgp4) -> Result<Self, AcsError> {
         let gain_ok = config.filter_gain > 0.0 && config.filter_gain <= 1.0;
         let finite = gain_ok
             && config.max_propagation_s.is_finite()
@@ -339,8 +345,17 @@ impl<const N: usize, const F: usize> AcsLoop<N, F> {
         {
             return Err(AcsError::InvalidConfig);
         }
+        let failed = config
+            .tiles
+            .iter()
+            .enumerate()
+            .filter(|(_, t)| !t.is_working())
+            .fold(0u32, |m, (i, _)| {
+                m | 1u32.checked_shl(i as u32).unwrap_or(0)
+            });
         Ok(Self {
             config,
+            failed,
             orbit,
             mode: Mode::Detumble,
             bdot: BdotState::default(),
@@ -365,16 +380,37 @@ impl<const N: usize, const F: usize> AcsLoop<N, F> {
         self.mode
     }
 
-    /// The tiles with their run-time state.
-    pub fn tiles(&self) -> &heapless::Vec<Tile, N> {
-        &self.config.tiles
+    /// The configured tiles (their run-time state: [`AcsLoop::tile_state`]).
+    pub fn tiles(&self) -> &[Tile] {
+        self.config.tiles.as_slice()
+    }
+
+    /// The run-time state of tile `tile`, `None` if there is no such tile.
+    pub fn tile_state(&self, tile: usize) -> Option<TileState> {
+        (tile < self.config.tiles.len()).then(|| {
+            if self.is_working(tile) {
+                TileState::Working
+            } else {
+                TileState::Failed
+            }
+        })
+    }
+
+    /// True if tile `tile` is in service at run time.
+    fn is_working(&self, tile: usize) -> bool {
+        self.failed & 1u32.checked_shl(tile as u32).unwrap_or(0) == 0
+    }
+
+    /// True if tile `tile` carries a wheel and is in service.
+    fn has_working_wheel(&self, tile: usize, t: &Tile) -> bool {
+        t.equipment.reaction_wheel && self.is_working(tile)
     }
 
     /// Marks a tile failed (ground command or fault detection); its devices are no longer used
     /// and its wheel is stopped at the next step.
     pub fn mark_failed(&mut self, tile: usize) {
-        if let Some(t) = self.config.tiles.get_mut(tile) {
-            t.state = TileState::Failed;
+        if tile < self.config.tiles.len() {
+            self.failed |= 1u32.checked_shl(tile as u32).unwrap_or(0);
         }
     }
 
@@ -382,9 +418,7 @@ impl<const N: usize, const F: usize> AcsLoop<N, F> {
     /// failed): its devices are used again from the next step, its bus-failure count restarts,
     /// and the cached allocators and least-squares operators are rebuilt for the new set.
     pub fn restore(&mut self, tile: usize) {
-        if let Some(t) = self.config.tiles.get_mut(tile) {
-            t.state = TileState::Working;
-        }
+        self.failed &= !1u32.checked_shl(tile as u32).unwrap_or(0);
         if let Some(count) = self.failures.get_mut(tile) {
             *count = 0;
         }
@@ -451,8 +485,9 @@ impl<const N: usize, const F: usize> AcsLoop<N, F> {
             .tiles
             .iter()
             .zip(self.wheel_h.iter())
-            .filter(|(t, _)| t.has_working_wheel())
-            .fold(Vec3::zeros(), |acc, (t, h)| acc + t.normal_body() * *h)
+            .enumerate()
+            .filter(|(i, (t, _))| self.has_working_wheel(*i, t))
+            .fold(Vec3::zeros(), |acc, (_, (t, h))| acc + t.normal_body() * *h)
     }
 
     /// Puts every actuator in the safe state: coils off, wheels hold their momentum.
@@ -472,9 +507,9 @@ impl<const N: usize, const F: usize> AcsLoop<N, F> {
             mag: [None; N],
             gyro: [None; N],
         };
-        let tiles = &mut self.config.tiles;
-        for (i, tile) in tiles.iter_mut().enumerate() {
-            if tile.state != TileState::Working {
+        let config = self.config;
+        for (i, tile) in config.tiles.iter().enumerate() {
+            if !self.is_working(i) {
                 continue;
             }
             let mut failed = false;
@@ -514,7 +549,17 @@ impl<const N: usize, const F: usize> AcsLoop<N, F> {
                     faults.device_read = true;
                     *count = count.saturating_add(1);
                     if *count >= FAILURES_TO_MARK_FAILED {
-                        tile.state = TileState::Failed;
+                        // out of service from this step on: its readings of this step too
+                        self.failed |= 1u32.checked_shl(i as u32).unwrap_or(0);
+                        if let Some(x) = r.sun.get_mut(i) {
+                            *x = None;
+                        }
+                        if let Some(x) = r.mag.get_mut(i) {
+                            *x = None;
+                        }
+                        if let Some(x) = r.gyro.get_mut(i) {
+                            *x = None;
+                        }
                     }
                 } else {
                     *count = 0;
@@ -805,7 +850,11 @@ impl<const N: usize, const F: usize> AcsLoop<N, F> {
 
     /// True if any tile has a working wheel.
     fn have_wheels(&self) -> bool {
-        self.config.tiles.iter().any(|t| t.has_working_wheel())
+        self.config
+            .tiles
+            .iter()
+            .enumerate()
+            .any(|(i, t)| self.has_working_wheel(i, t))
     }
 
     /// Recomputes the cached IGRF coefficients in place if they are older than
@@ -840,27 +889,27 @@ impl<const N: usize, const F: usize> AcsLoop<N, F> {
             limit: 1.0,
             working: false,
         }; N];
-        for (w, t) in wheels.iter_mut().zip(self.config.tiles.iter()) {
+        for (i, (w, t)) in wheels.iter_mut().zip(self.config.tiles.iter()).enumerate() {
             *w = Wheel {
                 axis_body: t.normal_body(),
                 limit: self.config.wheel_limit_nms,
-                working: t.has_working_wheel(),
+                working: self.has_working_wheel(i, t),
             };
         }
         // the allocator gives the wheels −W⁺L: ask for the body momentum −h so they hold +h;
         // with no working wheel every wheel is commanded to stop
         let alloc = cached_allocation(&mut self.wheel_allocator, &wheels, &(-h)).ok();
-        for (i, (cmd, tile)) in self
+        for (i, (cmd, (tile, wheel))) in self
             .wheel_h
             .iter_mut()
-            .zip(self.config.tiles.iter())
+            .zip(self.config.tiles.iter().zip(wheels.iter()))
             .enumerate()
         {
             if !tile.equipment.reaction_wheel {
                 continue;
             }
             let value = match &alloc {
-                Some(a) if tile.has_working_wheel() => a.wheel.get(i).copied().unwrap_or(0.0),
+                Some(a) if wheel.working => a.wheel.get(i).copied().unwrap_or(0.0),
                 _ => 0.0,
             };
             *cmd = value;

@@ -273,7 +273,10 @@ fn run_step_laws<S: Sink>(s: &mut S) {
 #[cfg(feature = "group-step")]
 #[inline(always)]
 fn run_step<S: Sink>(s: &mut S) {
-    let mut acs = crate::flight::new_loop();
+    let mut acs = None;
+    if let Some(orbit) = crate::flight::flight_orbit() {
+        crate::flight::init_loop(&mut acs, orbit);
+    }
     let mut bus = crate::flight::MailboxBus;
     // Sensors as in orbit: Sun angles on every tile (the sensor model's average is then taken
     // over five tiles), a 20–40 µT field, rates of a few mrad/s (below the detumble exit

@@ -75,13 +75,12 @@ pub const INERTIA_DIAGONAL: [f32; 3] = [0.010, 0.012, 0.014];
 /// The principal axes of a diagonal inertia tensor: `E = I`, the moments in body-axis order (what
 /// [`acs::control::principal_axes::principal_axes`] returns for it, checked on the host by
 /// `firmware/bench-host`), without its eigen-decomposition (3 KB of flash) on board.
-pub fn principal_axes_of_diagonal(moments: &[f32; 3]) -> PrincipalAxes {
+pub const fn principal_axes_of_diagonal(moments: &[f32; 3]) -> PrincipalAxes {
     let [a, b, c] = *moments;
-    let moments = Vec3::new(a, b, c);
     PrincipalAxes {
-        e: Mat3::identity(),
-        moments,
-        inertia_body: Mat3::from_diagonal(&moments),
+        e: Mat3::new(1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0),
+        moments: Vec3::new(a, b, c),
+        inertia_body: Mat3::new(a, 0.0, 0.0, 0.0, b, 0.0, 0.0, 0.0, c),
     }
 }
 
@@ -91,39 +90,44 @@ pub const FIELD_COEFFS: usize = acs::env::igrf::coefficient_count(8);
 /// The number of tiles of the flight configuration (the thesis's cube): the loop is sized to it.
 pub const TILES: usize = 6;
 
-/// The loop with its flight configuration, or `None` if a part of it is invalid.
-///
-/// Not inlined: its temporaries (configuration, SGP4 initialisation) leave the stack before the
-/// control loop starts.
-#[inline(never)]
-pub fn new_loop() -> Option<AcsLoop<TILES, FIELD_COEFFS>> {
-    let axes = principal_axes_of_diagonal(&INERTIA_DIAGONAL);
-    let inertia = axes.inertia_body;
-    let mut coils = heapless::Vec::new();
-    for axis in [Vec3::x(), Vec3::y(), Vec3::z()] {
-        coils
-            .push(Wheel {
-                axis_body: axis,
-                limit: 0.2,
-                working: true,
-            })
-            .ok()?;
+/// The flight degree of the IGRF model (checked at compile time).
+const IGRF_DEGREE: Degree = match Degree::new(8) {
+    Ok(d) => d,
+    Err(_) => panic!("the flight IGRF degree must be 1..=13"),
+};
+
+/// One magnetorquer coil along `axis` (0.2 A·m²).
+const fn coil(x: f32, y: f32, z: f32) -> Wheel {
+    Wheel {
+        axis_body: Vec3::new(x, y, z),
+        limit: 0.2,
+        working: true,
     }
-    let config = AcsConfig {
-        tiles: acs::tiles::CUBE_THESIS.iter().copied().collect(),
+}
+
+/// The flight configuration, a `static` in flash: the loop borrows it, so only the loop's
+/// run-time state takes RAM (the configuration is 572 B on the MSP430).
+pub static CONFIG: AcsConfig<TILES> = {
+    let axes = principal_axes_of_diagonal(&INERTIA_DIAGONAL);
+    AcsConfig {
+        tiles: heapless::Vec::from_array(acs::tiles::CUBE_THESIS),
+        tracking: TrackingGains::from_bandwidth(&axes.inertia_body, 0.25, 0.9),
         axes,
-        coils,
+        coils: heapless::Vec::from_array([
+            coil(1.0, 0.0, 0.0),
+            coil(0.0, 1.0, 0.0),
+            coil(0.0, 0.0, 1.0),
+        ]),
         wheel_limit_nms: 1.0e-3,
         bdot: BdotConfig {
             gain: 3.0e4,
-            max_dipole_am2: Vec3::from_element(0.2),
+            max_dipole_am2: Vec3::new(0.2, 0.2, 0.2),
         },
-        tracking: TrackingGains::from_bandwidth(&inertia, 0.25, 0.9),
         sun_safe: SunSafeGains {
             kp_nm: 2.0 * 0.05 * 0.05 * 0.014,
             kd_nms: 2.0 * 0.05 * 0.014,
         },
-        sun_axis_body: Vec3::z(),
+        sun_axis_body: Vec3::new(0.0, 0.0, 1.0),
         slew_limits: SlewLimits {
             l_max: 1.0e-3,
             l_min: 1e-7,
@@ -137,13 +141,25 @@ pub fn new_loop() -> Option<AcsLoop<TILES, FIELD_COEFFS>> {
         detumble_enter_radps: 0.5,
         detumble_exit_radps: 0.008_7,
         igrf_model: &RECENT,
-        igrf_degree: Degree::new(8).ok()?,
+        igrf_degree: IGRF_DEGREE,
         weights: (1.0, 1.0),
         filter_gain: 0.1,
         max_propagation_s: 120.0,
-    };
-    let orbit = Sgp4::new(&crate::elements::test_tle()?, Gravity::Wgs72).ok()?;
-    AcsLoop::new(config, orbit).ok()
+    }
+};
+
+/// Builds the loop over the flight configuration [`CONFIG`] and `orbit` in `slot` (in place: the
+/// loop is not returned by value), or leaves `None` there if a part of it is invalid.
+#[inline(never)]
+pub fn init_loop(slot: &mut Option<AcsLoop<'static, TILES, FIELD_COEFFS>>, orbit: Sgp4) {
+    *slot = AcsLoop::new(&CONFIG, orbit).ok();
+}
+
+/// SGP4 initialised on the flight element set (not inlined: its temporaries leave the stack
+/// before the loop's state is built).
+#[inline(never)]
+pub fn flight_orbit() -> Option<Sgp4> {
+    Sgp4::new(&crate::elements::test_tle()?, Gravity::Wgs72).ok()
 }
 
 /// The epoch of control tick `tick` (1 s period) from 2000-06-27 12:00 UTC (near the TLE epoch).

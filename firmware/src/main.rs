@@ -23,13 +23,26 @@ fn acs_step(sensors: &[TileSensors; TILES]) -> [TileCommands; TILES] {
 
 /// Entry point, called by the reset handler (`acs_firmware::rt`): the ACS loop at one step per
 /// control period (the period timer is not modelled: steps run back to back).
+///
+/// SGP4 is initialised first, in its own frames: they are gone before [`run`] puts the loop's
+/// state on the stack, so start-up and the steps do not add up (README "MSP430 firmware", RAM).
 #[cfg(feature = "acs-loop")]
 #[no_mangle]
 pub extern "C" fn main() -> ! {
-    use acs_firmware::flight;
     tiles::command_safe();
-    // used in place through a reference: moving it out of the Option would copy its 1.2 KB
-    let mut slot = flight::new_loop();
+    run(acs_firmware::flight::flight_orbit())
+}
+
+/// The loop over the flight configuration and `orbit`, used in place (its state lives in this
+/// frame); the safe state and a halt if it cannot be built.
+#[cfg(feature = "acs-loop")]
+#[inline(never)]
+fn run(orbit: Option<acs::orbit::sgp4::Sgp4>) -> ! {
+    use acs_firmware::flight;
+    let mut slot = None;
+    if let Some(orbit) = orbit {
+        flight::init_loop(&mut slot, orbit);
+    }
     let Some(acs) = slot.as_mut() else {
         acs_firmware::safe_state();
         acs_firmware::fw_halt()

@@ -64,11 +64,16 @@ impl fmt::Display for TrackingError {
 impl TrackingGains {
     /// `K_p = 2 ω_n² I_kk`, `K_d = 2 ζ ω_n I_kk` from the diagonal of the body inertia
     /// (kg·m²), the natural frequency `omega_n_radps` and the damping ratio `zeta`.
-    pub fn from_bandwidth(inertia_body: &Mat3, omega_n_radps: f32, zeta: f32) -> Self {
-        let diag = inertia_body.diagonal();
+    ///
+    /// A `const fn`, so that a flight configuration can be a `static` in flash.
+    pub const fn from_bandwidth(inertia_body: &Mat3, omega_n_radps: f32, zeta: f32) -> Self {
+        // the diagonal, from the column-major storage (`inertia_body.diagonal()` is not const)
+        let [[i11, _, _], [_, i22, _], [_, _, i33]] = inertia_body.data.0;
+        let kp = 2.0 * omega_n_radps * omega_n_radps;
+        let kd = 2.0 * zeta * omega_n_radps;
         Self {
-            kp_nm: diag * (2.0 * omega_n_radps * omega_n_radps),
-            kd_nms: diag * (2.0 * zeta * omega_n_radps),
+            kp_nm: Vec3::new(i11 * kp, i22 * kp, i33 * kp),
+            kd_nms: Vec3::new(i11 * kd, i22 * kd, i33 * kd),
         }
     }
 }

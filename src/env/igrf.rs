@@ -299,8 +299,8 @@ impl Degree {
     pub const FULL: Self = Self(13);
 
     /// A degree 1..=13, or [`IgrfError::DegreeOutOfRange`].
-    pub fn new(degree: u8) -> Result<Self, IgrfError> {
-        if (1..=13).contains(&degree) {
+    pub const fn new(degree: u8) -> Result<Self, IgrfError> {
+        if degree >= 1 && degree <= 13 {
             Ok(Self(degree))
         } else {
             Err(IgrfError::DegreeOutOfRange { degree })

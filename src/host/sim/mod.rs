@@ -648,7 +648,7 @@ pub struct Sample {
 /// in s from the start) and measuring the pointing error against `target(t)`.
 pub fn run(
     sim: &mut Simulator,
-    acs: &mut AcsLoop,
+    acs: &mut AcsLoop<'_>,
     duration_s: f64,
     dt_s: f64,
     commands: &[(f64, Command)],

@@ -164,7 +164,7 @@ impl Scenario {
             .map_err(|e| SimError::Tle(e.to_string()))?;
         let orbit = Sgp4::new(&tle, self.gravity).map_err(|e| SimError::Model(format!("{e:?}")))?;
         let mut acs: AcsLoop =
-            AcsLoop::new(self.flight.clone(), orbit).map_err(|e| SimError::Model(e.to_string()))?;
+            AcsLoop::new(&self.flight, orbit).map_err(|e| SimError::Model(e.to_string()))?;
         let mut sim = Simulator::new(self.sim.clone(), self.initial.0, self.initial.1)?;
         let target = self.target;
         run(
