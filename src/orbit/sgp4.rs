@@ -49,7 +49,7 @@
 //! 529 m and 868 m off on the same three sets. Test bounds: 20 m, 20 m, 100 m.
 //!
 //! # Cost on the MSP430 (measured, `firmware/msp430-bench --groups sgp4`)
-//! Without the hardware multiplier (with it): initialisation 1 225 570 (1 125 278) cycles, once
+//! Without the hardware multiplier (with it): initialisation 1 225 605 (1 125 281) cycles, once
 //! per element set; propagation 121 845 (102 303) cycles, budget 150 000. Code (opt-level "s",
 //! flight image with the ACS loop): [`Sgp4::new`] ≈ 7.4 KB, propagation 4.9 KB, double-f32
 //! kernels and phases 2.9 KB. The double-f32 operators take their operands by reference and are
@@ -428,16 +428,19 @@ impl Sgp4 {
         let rteosq = omeosq.sqrt();
         let cosio = cos_degrees(&inclo_deg);
         let cosio2 = &cosio * &cosio;
-        let ak = two_thirds_power(&(&g.xke / &no_kozai));
-        // d1 = 0.75·J₂·(3cos²i₀ − 1)/(√(1 − e₀²)·(1 − e₀²))
-        let d1 = &(&(0.75 * &g.j2) * &(&(3.0 * &cosio2) - 1.0)) / &(&rteosq * &omeosq);
-        let del = &d1 / &(&ak * &ak);
-        // adel = ak·(1 − δ² − δ·(1/3 + 134δ²/81))
-        let del2 = &del * &del;
-        let series = &X1O3 + &(&(&(134.0 * &del) * &del) / 81.0);
-        let adel = &ak * &(&(1.0 - &del2) - &(&del * &series));
-        let del = &d1 / &(&adel * &adel);
-        let no = &no_kozai / &(1.0 + &del);
+        // (in a block: its temporaries leave the stack frame, ≈ 100 B on the MSP430)
+        let no = {
+            let ak = two_thirds_power(&(&g.xke / &no_kozai));
+            // d1 = 0.75·J₂·(3cos²i₀ − 1)/(√(1 − e₀²)·(1 − e₀²))
+            let d1 = &(&(0.75 * &g.j2) * &(&(3.0 * &cosio2) - 1.0)) / &(&rteosq * &omeosq);
+            let del = &d1 / &(&ak * &ak);
+            // adel = ak·(1 − δ² − δ·(1/3 + 134δ²/81))
+            let del2 = &del * &del;
+            let series = &X1O3 + &(&(&(134.0 * &del) * &del) / 81.0);
+            let adel = &ak * &(&(1.0 - &del2) - &(&del * &series));
+            let del = &d1 / &(&adel * &adel);
+            &no_kozai / &(1.0 + &del)
+        };
         if !(finite32(no.hi()) && no.hi() > 0.0) {
             return Err(Sgp4Error::MeanMotion {
                 rad_per_min: no.to_f32(),
@@ -478,41 +481,56 @@ impl Sgp4 {
 
         // drag reference height and the perigee-relative quantities, double-f32: a − s and
         // 1 − η² cancel for low perigees (f32 there puts 22312 160 m off)
-        let rp = &ao * &(1.0 - &ecco);
-        let isimp = (&rp - &(&(220.0 / &radius_km) + 1.0)).hi() < 0.0;
-        let perige = &(&rp - 1.0) * &radius_km;
-        let (sfour, qzms24) = if perige.hi() < 156.0 {
-            let s = if perige.hi() < 98.0 {
-                Df::from_f32(20.0)
+        // (in a block, returning f32: its double-f32 temporaries leave the stack frame)
+        let (isimp, sfour, tsi, eta, etasq, eeta, psisq, coef, coef1, cc1) = {
+            let rp = &ao * &(1.0 - &ecco);
+            let isimp = (&rp - &(&(220.0 / &radius_km) + 1.0)).hi() < 0.0;
+            let perige = &(&rp - 1.0) * &radius_km;
+            let (sfour, qzms24) = if perige.hi() < 156.0 {
+                let s = if perige.hi() < 98.0 {
+                    Df::from_f32(20.0)
+                } else {
+                    &perige - 78.0
+                };
+                (
+                    &(&s / &radius_km) + 1.0,
+                    fourth_power(&(&(120.0 - &s) / &radius_km)),
+                )
             } else {
-                &perige - 78.0
+                (
+                    &(78.0 / &radius_km) + 1.0,
+                    fourth_power(&((120.0 - 78.0) / &radius_km)),
+                )
             };
+            let tsi = 1.0 / &(&ao - &sfour);
+            let eta = &(&ao * &ecco) * &tsi;
+            let etasq = &eta * &eta;
+            let eeta = &ecco * &eta;
+            let psisq = (1.0 - &etasq).to_f32();
+            let psisq = Df::from_f32(fmath::abs(psisq)); // |1 − η²|
+            let coef = &qzms24 * &fourth_power(&tsi);
+            // C₁ = B*·C₂ scales the mean-longitude drag t²·(3/2)C₁ (radians after a day for a
+            // decaying orbit): double-f32 too. psisq^3.5 as psisq³·√psisq.
+            let coef1 = &coef / &(&(&(&psisq * &psisq) * &psisq) * &psisq.sqrt());
+            // C₂ = coef1·n₀″·(a₀″(1 + 1.5η² + eη(4 + η²)) + 0.375J₂·ξ/ψ²·con41·(8 + 3η²(8 + η²)))
+            let a_term = &ao * &(&(1.0 + &(1.5 * &etasq)) + &(&eeta * &(4.0 + &etasq)));
+            let j2_term = &(&(&(&(0.375 * &g.j2) * &tsi) / &psisq) * &con41)
+                * &(8.0 + &(&(3.0 * &etasq) * &(8.0 + &etasq)));
+            let cc2 = &(&coef1 * &no) * &(&a_term + j2_term.to_f32());
+            let cc1 = (&bstar * &cc2).to_f32();
             (
-                &(&s / &radius_km) + 1.0,
-                fourth_power(&(&(120.0 - &s) / &radius_km)),
-            )
-        } else {
-            (
-                &(78.0 / &radius_km) + 1.0,
-                fourth_power(&((120.0 - 78.0) / &radius_km)),
+                isimp,
+                sfour.to_f32(),
+                tsi.to_f32(),
+                eta.to_f32(),
+                etasq.to_f32(),
+                eeta.to_f32(),
+                psisq.to_f32(),
+                coef.to_f32(),
+                coef1.to_f32(),
+                cc1,
             )
         };
-        let tsi = 1.0 / &(&ao - &sfour);
-        let eta = &(&ao * &ecco) * &tsi;
-        let etasq = &eta * &eta;
-        let eeta = &ecco * &eta;
-        let psisq = (1.0 - &etasq).to_f32();
-        let psisq = Df::from_f32(fmath::abs(psisq)); // |1 − η²|
-        let coef = &qzms24 * &fourth_power(&tsi);
-        // C₁ = B*·C₂ scales the mean-longitude drag t²·(3/2)C₁ (radians after a day for a
-        // decaying orbit): double-f32 too. psisq^3.5 as psisq³·√psisq.
-        let coef1 = &coef / &(&(&(&psisq * &psisq) * &psisq) * &psisq.sqrt());
-        // C₂ = coef1·n₀″·(a₀″(1 + 1.5η² + eη(4 + η²)) + 0.375J₂·ξ/ψ²·con41·(8 + 3η²(8 + η²)))
-        let a_term = &ao * &(&(1.0 + &(1.5 * &etasq)) + &(&eeta * &(4.0 + &etasq)));
-        let j2_term = &(&(&(&(0.375 * &g.j2) * &tsi) / &psisq) * &con41)
-            * &(8.0 + &(&(3.0 * &etasq) * &(8.0 + &etasq)));
-        let cc2 = &(&coef1 * &no) * &(&a_term + j2_term.to_f32());
-        let cc1 = (&bstar * &cc2).to_f32();
 
         // sgp4init, drag and periodic coefficients: f32 (they multiply small terms)
         let re = radius_km.to_f32();
@@ -523,14 +541,6 @@ impl Sgp4 {
         let (ao, ecco, bstar) = (ao.to_f32(), ecco.to_f32(), bstar.to_f32());
         let (cosio, omeosq, con41) = (cosio.to_f32(), omeosq.to_f32(), con41.to_f32());
         let sinio = fmath::sqrt(fmath::abs((1.0 - &cosio2).to_f32())); // ≥ 0 for 0 ≤ i₀ ≤ 180°
-        let (sfour, tsi, eta, etasq, eeta) = (
-            sfour.to_f32(),
-            tsi.to_f32(),
-            eta.to_f32(),
-            etasq.to_f32(),
-            eeta.to_f32(),
-        );
-        let (psisq, coef, coef1) = (psisq.to_f32(), coef.to_f32(), coef1.to_f32());
         let large_ecc = ecco > 1.0e-4;
         let cc3 = if large_ecc {
             -2.0 * coef * tsi * j3oj2 * no32 * sinio / ecco
