@@ -699,7 +699,10 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
 
     /// Step phase 4a: mode transitions on the rate and on the validity of the attitude.
     fn change_mode(&mut self, det: &Determined) {
-        let rate = det.omega.map(|w| w.norm());
+        // |ω| (nalgebra's `norm`, same operations; both square roots are correctly rounded)
+        let rate = det
+            .omega
+            .map(|w| crate::fmath::sqrt(crate::linalg::dot(&w, &w)));
         if let Some(r) = rate {
             if r > self.config.detumble_enter_radps && self.mode != Mode::Detumble {
                 self.mode = Mode::Detumble;
@@ -809,7 +812,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         // wheels: a torque law integrates into momentum (ḣ = −τ); a slew sets momentum
         if let Some(tau) = torque {
             if self.have_wheels() {
-                h_target = Some(self.wheels_body() - tau * dt);
+                h_target = Some(crate::linalg::sub_scaled(&self.wheels_body(), &tau, dt));
             } else if let Some(b) = b_body_nt {
                 dipole = dipole_for_torque(&tau, &b).unwrap_or_else(|_| Vec3::zeros());
             }

@@ -173,12 +173,12 @@ impl Dcm {
 
     /// A reference-frame vector expressed in the body frame, `A · v_ref`.
     pub fn to_body(&self, v_ref: &Vec3) -> Vec3 {
-        self.0 * v_ref
+        crate::linalg::mat_vec(&self.0, v_ref)
     }
 
     /// A body-frame vector expressed in the reference frame, `Aᵀ · v_body`.
     pub fn to_reference(&self, v_body: &Vec3) -> Vec3 {
-        self.0.transpose() * v_body
+        crate::linalg::mat_vec(&self.0.transpose(), v_body)
     }
 
     /// The inverse rotation `Aᵀ` (body → reference).

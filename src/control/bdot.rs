@@ -23,7 +23,7 @@
 //! its direction ([`super::magnetorquer::saturate_dipole`]).
 
 use crate::control::magnetorquer::{saturate_dipole, MagnetorquerError};
-use crate::linalg::Vec3;
+use crate::linalg::{self, Vec3};
 
 /// Nanotesla to tesla.
 const NT_TO_T: f32 = 1e-9;
@@ -99,6 +99,7 @@ pub fn bdot_from_rates(
     if config.gain < 0.0 {
         return Err(MagnetorquerError::InvalidParameter);
     }
-    let m = omega_body_radps.cross(&(b_body_nt * NT_TO_T)) * config.gain;
+    let b_t = linalg::scale(b_body_nt, NT_TO_T);
+    let m = linalg::scale(&linalg::cross(omega_body_radps, &b_t), config.gain);
     saturate_dipole(&m, &config.max_dipole_am2).map(|(m, _)| m)
 }

@@ -18,7 +18,8 @@
 
 use core::fmt;
 
-use crate::linalg::Vec3;
+use crate::fmath;
+use crate::linalg::{self, Vec3};
 
 /// Nanotesla to tesla.
 const NT_TO_T: f32 = 1e-9;
@@ -51,7 +52,7 @@ impl fmt::Display for MagnetorquerError {
 }
 
 fn finite(v: &Vec3) -> bool {
-    v.iter().all(|x| x.is_finite())
+    linalg::finite3(v)
 }
 
 /// The part of `torque_nm` a magnetorquer can produce in the field `b_body_nt`:
@@ -74,12 +75,16 @@ pub fn dipole_for_torque(torque_nm: &Vec3, b_body_nt: &Vec3) -> Result<Vec3, Mag
     if !finite(torque_nm) || !finite(b_body_nt) {
         return Err(MagnetorquerError::NotFinite);
     }
-    let b_norm = b_body_nt.norm();
+    let b_norm = fmath::sqrt(linalg::dot(b_body_nt, b_body_nt));
     if b_norm < MIN_FIELD_NT {
         return Err(MagnetorquerError::WeakField(b_norm));
     }
-    let b_t = b_body_nt * NT_TO_T;
-    Ok(b_t.cross(torque_nm) / b_t.norm_squared())
+    // out-of-line kernels: nalgebra's `b_t.cross(τ) / |b_t|²`, the same operations
+    let b_t = linalg::scale(b_body_nt, NT_TO_T);
+    Ok(linalg::div(
+        &linalg::cross(&b_t, torque_nm),
+        linalg::dot(&b_t, &b_t),
+    ))
 }
 
 /// The torque a dipole produces, `τ = m × B`, N·m.

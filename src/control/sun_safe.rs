@@ -15,7 +15,8 @@
 //! With magnetorquers only, pass the torque to [`super::magnetorquer::dipole_for_torque`].
 
 use crate::control::tracking::TrackingError;
-use crate::linalg::Vec3;
+use crate::fmath;
+use crate::linalg::{self, Vec3};
 
 /// `â·ŝ` below which the Sun is taken as behind the pointing axis (176°).
 const ANTI_ALIGNED_COS: f32 = -0.998;
@@ -54,19 +55,36 @@ pub fn sun_safe_torque(
     let Some(s) = sun_body else {
         return Ok(damping);
     };
-    let (Some(s), Some(a)) = (s.try_normalize(0.0), axis_body.try_normalize(0.0)) else {
+    let (Some(s), Some(a)) = (unit(s), unit(axis_body)) else {
         return Err(TrackingError::NotFinite);
     };
-    let cross = if a.dot(&s) < ANTI_ALIGNED_COS {
+    let cross = if linalg::dot(&a, &s) < ANTI_ALIGNED_COS {
         // leave the unstable equilibrium about an axis perpendicular to â
         let helper = if a.x.abs() < 0.9 {
             Vec3::x()
         } else {
             Vec3::y()
         };
-        a.cross(&helper).normalize()
+        let c = linalg::cross(&a, &helper);
+        linalg::div(&c, norm(&c))
     } else {
-        a.cross(&s)
+        linalg::cross(&a, &s)
     };
-    Ok(cross * gains.kp_nm + damping)
+    // `cross·K_p + damping` (the damping term times 1 is itself)
+    Ok(linalg::lin2(&cross, gains.kp_nm, &damping, 1.0))
+}
+
+/// `|v|` (nalgebra's `norm`; both square roots are correctly rounded).
+fn norm(v: &Vec3) -> f32 {
+    fmath::sqrt(linalg::dot(v, v))
+}
+
+/// `v/|v|`, or `None` for a zero vector (nalgebra's `try_normalize(0.0)`, same operations).
+fn unit(v: &Vec3) -> Option<Vec3> {
+    let n = norm(v);
+    if n <= 0.0 {
+        None
+    } else {
+        Some(linalg::div(v, n))
+    }
 }
