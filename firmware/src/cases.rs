@@ -281,8 +281,9 @@ fn run_step<S: Sink>(s: &mut S) {
     // Sensors as in orbit: Sun angles on every tile (the sensor model's average is then taken
     // over five tiles), a 20–40 µT field, rates of a few mrad/s (below the detumble exit
     // threshold: the first step leaves Detumble for SunSafe, which runs the wheel law). So a
-    // step runs every part: SGP4, Sun, eclipse, GMST, IGRF, least squares, QUEST, the filter,
-    // the law and the wheel and coil allocations.
+    // step runs every part: SGP4, Sun, eclipse, GMST, IGRF, least squares, Wahba's SVD, the filter,
+    // the law and the wheel and coil allocations. The flight element set's epoch (2025) is inside
+    // the on-board IGRF model, so the field model runs too.
     crate::flight::set_mailboxes(
         [[0, 0], [1200, -800], [-500, 2500], [3000, 100], [-2200, -1500], [700, 1900]],
         [[0, 0], [2100, -1800], [-900, 3200], [1500, 2400], [-2600, 700], [300, -3100]],
@@ -305,6 +306,27 @@ fn run_step<S: Sink>(s: &mut S) {
         s.out(d.x);
         s.out(d.y);
         s.out(d.z);
+        // the chain ran: the measured attitude, and the faults as a mask (0 = none)
+        let q = report.and_then(|r| r.measured_attitude);
+        s.out(q.map_or(f32::NAN, |q| q.q0));
+        s.out(q.map_or(f32::NAN, |q| q.q3));
+        let mask = report.map_or(f32::NAN, |r| {
+            let f = r.faults;
+            [
+                f.orbit,
+                f.model,
+                f.field,
+                f.rate,
+                f.attitude,
+                f.device_read,
+                f.actuator,
+                f.saturated,
+            ]
+            .iter()
+            .enumerate()
+            .fold(0.0, |m, (i, b)| if *b { m + (1u32 << i) as f32 } else { m })
+        });
+        s.out(mask);
     }
 }
 

@@ -1,4 +1,6 @@
-//! The orbital elements the flight firmware and the benchmark use.
+//! The orbital elements the flight firmware and the benchmark use: Vallado's test satellite
+//! for the SGP4 benchmark cases, and the flight loop's orbit (within the on-board IGRF model's
+//! 2020–2030 range).
 
 use acs::time::Epoch;
 
@@ -32,3 +34,35 @@ pub fn test_tle() -> Option<acs::tle::Tle> {
         })
 }
 
+
+/// The flight loop's element set: the `tracking` scenario's dawn-dusk orbit of the simulator
+/// (`acs::host::sim::scenarios::tracking`: 500 km, 97.4°, RAAN 90°, near-circular, B* = 0),
+/// epoch 2025-03-20 12:00 UTC, inside the on-board IGRF model (`RECENT`, 2020–2030). Built
+/// field by field like [`test_tle`]; `firmware/bench-host` checks it against the text:
+/// ```text
+/// 1 90101U 25001A   25079.50000000  .00000000  00000-0  00000-0 0  9997
+/// 2 90101  97.4000  90.0000 0001000   0.0000   0.0000 15.21936487    10
+/// ```
+pub fn flight_tle() -> Option<acs::tle::Tle> {
+    Epoch::from_tle_epoch(25, 79, 50_000_000)
+        .ok()
+        .map(|epoch| acs::tle::Tle {
+            name: None,
+            catalog_number: 90_101,
+            classification: b'U',
+            international_designator: heapless::String::new(),
+            epoch,
+            mean_motion_dot: 0.0,
+            mean_motion_ddot: 0.0,
+            bstar: 0.0,
+            ephemeris_type: 0,
+            element_set_number: 999,
+            inclination_deg: 97.4,
+            raan_deg: 90.0,
+            eccentricity: 0.000_1,
+            arg_perigee_deg: 0.0,
+            mean_anomaly_deg: 0.0,
+            mean_motion_rev_per_day: 15.219_364_87,
+            revolution_number: 1,
+        })
+}

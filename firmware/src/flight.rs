@@ -3,7 +3,7 @@
 //! Shared by the flight firmware (`src/main.rs`, feature `acs-loop`) and the benchmark's "ACS
 //! step" case (`src/cases.rs`, group `step`). Configuration: the thesis's cube of six tiles
 //! (`acs::tiles::cube_thesis`), three 0.2 A·m² coils, 1 mN·m·s wheels, IGRF degree 8 of the
-//! recent-epochs table, SGP4 on the test TLE 00005 (Vallado et al. 2006).
+//! recent-epochs table, SGP4 on the flight element set (`crate::elements::flight_tle`).
 
 use acs::acs_loop::{AcsConfig, AcsLoop};
 use acs::control::bdot::BdotConfig;
@@ -159,12 +159,13 @@ pub fn init_loop(slot: &mut Option<AcsLoop<'static, TILES, FIELD_COEFFS>>, orbit
 /// before the loop's state is built).
 #[inline(never)]
 pub fn flight_orbit() -> Option<Sgp4> {
-    Sgp4::new(&crate::elements::test_tle()?, Gravity::Wgs72).ok()
+    Sgp4::new(&crate::elements::flight_tle()?, Gravity::Wgs72).ok()
 }
 
-/// The epoch of control tick `tick` (1 s period) from 2000-06-27 12:00 UTC (near the TLE epoch).
+/// The epoch of control tick `tick` (1 s period) from 2025-03-20 12:00 UTC, the flight element
+/// set's epoch ([`crate::elements::flight_tle`]; `firmware/bench-host` checks they agree).
 pub fn tick_epoch(tick: u32) -> Option<Epoch<Utc>> {
-    Epoch::from_parts(178, 43_200, 0)
+    Epoch::from_parts(9_210, 43_200, 0)
         .ok()
         .map(|e| e.add(acs::time::TimeSpan::new(tick as i32, 0)))
 }

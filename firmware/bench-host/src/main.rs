@@ -44,6 +44,28 @@ fn main() {
         let inertia = acs::linalg::Mat3::from_diagonal(&acs::linalg::Vec3::new(d[0], d[1], d[2]));
         let computed = acs::control::principal_axes::principal_axes(&inertia);
         assert_eq!(computed.ok(), Some(flight::principal_axes_of_diagonal(&d)));
+        // the flight element set is the text it documents, and the ticks start at its epoch
+        let parsed = acs::tle::Tle::parse(
+            "1 90101U 25001A   25079.50000000  .00000000  00000-0  00000-0 0  9997",
+            "2 90101  97.4000  90.0000 0001000   0.0000   0.0000 15.21936487    10",
+        );
+        let built = elements::flight_tle();
+        let orbit = |t: &acs::tle::Tle| {
+            (
+                t.epoch,
+                t.catalog_number,
+                t.mean_motion_dot.to_bits(),
+                t.bstar.to_bits(),
+                t.inclination_deg.to_bits(),
+                t.raan_deg.to_bits(),
+                t.eccentricity.to_bits(),
+                t.arg_perigee_deg.to_bits(),
+                t.mean_anomaly_deg.to_bits(),
+                t.mean_motion_rev_per_day.to_bits(),
+            )
+        };
+        assert_eq!(parsed.as_ref().ok().map(orbit), built.as_ref().map(orbit));
+        assert_eq!(built.map(|t| t.epoch), flight::tick_epoch(0));
     }
     let mut h = Host::default();
     cases::run(&mut h);
