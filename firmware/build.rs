@@ -1,11 +1,14 @@
 //! Chooses the memory map: the top-level `memory.x` (MSP430FG439) or, with feature `large-map`,
-//! `memory-large.x`; copies it to OUT_DIR as `memory.x`, where `link.x` includes it.
+//! `memory-large.x`, or with feature `size-map` the measurement-only `memory-size.x`; copies it
+//! to OUT_DIR as `memory.x`, where `link.x` includes it.
 use std::{env, fs, path::PathBuf};
 
 fn main() {
     let manifest = PathBuf::from(env::var_os("CARGO_MANIFEST_DIR").unwrap_or_default());
     let out = PathBuf::from(env::var_os("OUT_DIR").unwrap_or_default());
-    let map = if env::var_os("CARGO_FEATURE_LARGE_MAP").is_some() {
+    let map = if env::var_os("CARGO_FEATURE_SIZE_MAP").is_some() {
+        manifest.join("memory-size.x")
+    } else if env::var_os("CARGO_FEATURE_LARGE_MAP").is_some() {
         manifest.join("memory-large.x")
     } else {
         manifest.join("../memory.x")
@@ -18,5 +21,6 @@ fn main() {
     println!("cargo:rerun-if-changed={}", map.display());
     println!("cargo:rerun-if-changed=link.x");
     println!("cargo:rerun-if-changed=memory-large.x");
+    println!("cargo:rerun-if-changed=memory-size.x");
     println!("cargo:rerun-if-changed=../memory.x");
 }
