@@ -112,6 +112,12 @@ fn norm(v: &Vec3) -> f32 {
     fmath::sqrt(v.x * v.x + v.y * v.y + v.z * v.z)
 }
 
+/// `v / k` component by component (nalgebra's `v / k`, out of line on the MSP430: two uses).
+#[cfg_attr(target_arch = "msp430", inline(never))]
+fn div3(v: &Vec3, k: f32) -> Vec3 {
+    Vec3::new(v.x / k, v.y / k, v.z / k)
+}
+
 fn check_position(r_teme_km: &Vec3) -> Result<f32, EclipseError> {
     if !r_teme_km.iter().all(|c| c.is_finite()) {
         return Err(EclipseError::NonFinitePosition);
@@ -135,8 +141,8 @@ fn check_direction(v: &Vec3) -> Result<Vec3, EclipseError> {
     if largest <= 0.0 {
         return Err(EclipseError::ZeroSun(largest));
     }
-    let scaled = v / largest;
-    Ok(scaled / norm(&scaled))
+    let scaled = div3(v, largest);
+    Ok(div3(&scaled, norm(&scaled)))
 }
 
 /// The cylindrical shadow test of seed 003 (note 003 §2.5): `true` if the spacecraft is in

@@ -452,18 +452,17 @@ fn nutation(node: u16, sun_lon: u16, d: u16, e: u16) -> (f32, f32) {
     let two_sun = sun_lon.wrapping_mul(2);
     let two_moon = d.wrapping_add(sun_lon).wrapping_mul(2);
     let two_node = node.wrapping_mul(2);
-    // Σ amplitude (0.001″) × Q14 cosine: |sum| ≤ 19 095 · 2^14 < 2^31.
-    let [p0, p1, p2, p3, p4] = DPSI_MAS;
-    let dpsi = scaled(p0, cos16(node.wrapping_sub(QUARTER)))
-        .wrapping_add(scaled(p1, cos16(two_sun.wrapping_sub(QUARTER))))
-        .wrapping_add(scaled(p2, cos16(two_moon.wrapping_sub(QUARTER))))
-        .wrapping_add(scaled(p3, cos16(two_node.wrapping_sub(QUARTER))))
-        .wrapping_add(scaled(p4, cos16(e)));
-    let [q0, q1, q2, q3] = DEPS_MAS;
-    let deps = scaled(q0, cos16(node))
-        .wrapping_add(scaled(q1, cos16(two_sun)))
-        .wrapping_add(scaled(q2, cos16(two_moon)))
-        .wrapping_add(scaled(q3, cos16(two_node)));
+    // Σ amplitude (0.001″) × Q14 cosine: |sum| ≤ 19 095 · 2^14 < 2^31. Loops (for flash): the
+    // integer sums do not depend on the order. l′ enters as M' + 90°.
+    let args = [node, two_sun, two_moon, two_node, e.wrapping_add(QUARTER)];
+    let mut dpsi: i32 = 0;
+    for (&x, &p) in args.iter().zip(&DPSI_MAS) {
+        dpsi = dpsi.wrapping_add(scaled(p, cos16(x.wrapping_sub(QUARTER))));
+    }
+    let mut deps: i32 = 0;
+    for (&x, &q) in args.iter().zip(&DEPS_MAS) {
+        deps = deps.wrapping_add(scaled(q, cos16(x)));
+    }
     let (dpsi, deps) = (dpsi as f32 * NUT_SUM_UNIT, deps as f32 * NUT_SUM_UNIT);
     (dpsi, deps)
 }
@@ -504,16 +503,20 @@ pub fn sun_tt(epoch: &Epoch<Tt>) -> Result<Sun, SunError> {
     let c2 = 1.0 - (s1 + s1) * s1;
 
     // Equation of the centre and slow terms (rad, AU).
-    let mut dl = c1 * poly(&L1_COS, tau)
-        + s1 * poly(&L1_SIN, tau)
-        + c2 * poly(&L2_COS, tau)
-        + s2 * poly(&L2_SIN, tau)
-        + poly(&SLOW_L, tau);
-    let mut r_au = c1 * poly(&R1_COS, tau)
-        + s1 * poly(&R1_SIN, tau)
-        + c2 * poly(&R2_COS, tau)
-        + s2 * poly(&R2_SIN, tau)
-        + poly(&SLOW_R, tau);
+    // c1·L1c + s1·L1s + c2·L2c + s2·L2s + slow, summed left to right (as a loop, for flash).
+    let mut dl = c1 * poly(&L1_COS, tau);
+    let mut r_au = c1 * poly(&R1_COS, tau);
+    let series: [(f32, &[f32], &[f32]); 3] = [
+        (s1, &L1_SIN, &R1_SIN),
+        (c2, &L2_COS, &R2_COS),
+        (s2, &L2_SIN, &R2_SIN),
+    ];
+    for (x, l, r) in series {
+        dl += x * poly(l, tau);
+        r_au += x * poly(r, tau);
+    }
+    dl += poly(&SLOW_L, tau);
+    r_au += poly(&SLOW_R, tau);
 
     // Fundamental arguments, 2^-16 turn.
     let e = turn16(m);
