@@ -36,10 +36,11 @@
 //! off and the wheels hold their momentum (no torque). [`AcsLoop::safe`] puts all actuators in
 //! the safe state (coils off, wheel momentum held).
 //!
-//! Memory (measured by `tests/closed_loop.rs::loop_state_size` on the 64-bit host): the mutable
-//! state is 368 B; with the configuration (1 408 B, 24 tile slots) and the SGP4 elements (240 B)
-//! [`AcsLoop`] is 2 016 B. No allocation. On a 2 KB part the configuration belongs in flash
-//! (fewer tile slots shrink it).
+//! Memory: the loop borrows its [`AcsConfig`] (the flight firmware keeps it in flash, a
+//! `static`) and holds only its run-time state: the SGP4 elements, the IGRF coefficients at the
+//! date and ≈ 400 B of mode, estimator, commands, tile health and cached operators
+//! (`tests/closed_loop.rs::loop_state_size` prints them on the host; on the MSP430,
+//! `AcsLoop<6, 80>` is ≈ 950 B: README "MSP430 firmware"). No allocation.
 
 use core::fmt;
 
@@ -75,7 +76,7 @@ pub const INVALID_STEPS_TO_SAFE: u16 = 30;
 pub const MAX_COILS: usize = 6;
 /// Age (s) after which the cached IGRF coefficients are recomputed for the current date: the
 /// secular variation is at most 165 nT/yr at 400 km, so 600 s costs ≤ 0.003 nT (`tests/igrf.rs`,
-/// `refresh_interval`) and saves the per-date build (87 058 MSP430 cycles at degree 8) on all
+/// `refresh_interval`) and saves the per-date build (39 855 MSP430 cycles at degree 8) on all
 /// but one step in 600.
 pub const FIELD_REFRESH_S: f32 = 600.0;
 
