@@ -765,7 +765,7 @@ impl Epoch<Utc> {
     /// # Errors
     /// As [`Epoch::<Utc>::to_tai`].
     pub fn to_tt(&self) -> Result<Epoch<Tt>, TimeError> {
-        Ok(self.to_tai()?.to_tt())
+        Ok(self.plus_tt_minus_utc(self.tai_minus_utc(false)?))
     }
 
     /// As [`Epoch::<Utc>::to_tt`] with [`Epoch::<Utc>::to_tai_extrapolated`].
@@ -773,7 +773,17 @@ impl Epoch<Utc> {
     /// # Errors
     /// As [`Epoch::<Utc>::to_tai_extrapolated`].
     pub fn to_tt_extrapolated(&self) -> Result<Epoch<Tt>, TimeError> {
-        Ok(self.to_tai_extrapolated()?.to_tt())
+        Ok(self.plus_tt_minus_utc(self.tai_minus_utc(true)?))
+    }
+
+    /// `UTC + ΔAT + 32.184 s` in one exact addition (the same epoch as adding ΔAT, then
+    /// 32.184 s: both are non-negative, so the day's saturation cannot differ).
+    fn plus_tt_minus_utc(&self, tai_minus_utc_s: u8) -> Epoch<Tt> {
+        self.add(TimeSpan {
+            seconds: i32::from(tai_minus_utc_s) + TT_MINUS_TAI.seconds,
+            nano: TT_MINUS_TAI.nano,
+        })
+        .relabel()
     }
 
     /// This UTC epoch in UT1: `UT1 = UTC + DUT1`.
@@ -1414,6 +1424,32 @@ mod tests {
             TT_MINUS_TAI.negated(),
             TimeSpan::from_seconds_nanos_i64(0, -TT_MINUS_TAI_NS)
         );
+    }
+
+    /// UTC → TT in one addition equals UTC → TAI → TT (leap seconds and saturated days included).
+    #[test]
+    fn utc_to_tt_in_one_addition() {
+        let mut rng = Rng(0x7777_1234_abcd_0001);
+        for i in 0..100_000 {
+            let day = match i % 4 {
+                0 => rng.i32(),
+                1 => i32::MAX - (rng.next() % 3) as i32,
+                _ => (rng.next() % 30_000) as i32 - 10_000,
+            };
+            let second = (rng.next() % 86_401) as u32;
+            let nano = (rng.next() % 1_000_000_000) as u32;
+            let e = Epoch::<Utc>::from_parts(day, second, nano).unwrap();
+            assert_eq!(e.to_tt(), e.to_tai().map(|t| t.to_tt()), "{e:?}");
+            assert_eq!(
+                e.to_tt_extrapolated(),
+                e.to_tai_extrapolated().map(|t| t.to_tt()),
+                "{e:?}"
+            );
+        }
+        for entry in LEAP_SECONDS.iter().skip(1) {
+            let leap = Epoch::<Utc>::from_parts(entry.day - 1, SECONDS_PER_DAY, 5).unwrap();
+            assert_eq!(leap.to_tt(), leap.to_tai().map(|t| t.to_tt()));
+        }
     }
 
     #[test]
