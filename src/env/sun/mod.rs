@@ -3,7 +3,7 @@
 //! | model | module | accuracy vs JPL DE421 (1990–2050, 400 instants) | cost |
 //! |---|---|---|---|
 //! | Schlyter's algorithm, seed 000 §7.1 | [`thesis`] | 46.9″ max, 26.2″ RMS | 3 sincos, 1 atan2, 1 sqrt |
-//! | VSOP87 (equation of the centre + 19 planetary/lunar terms) + 5-term nutation + aberration | [`precise`] | 2.22″ max, 0.82″ RMS (bound 15″) | 2 table sine-cosines, 36 table cosines, no f64; ≈ 47 500 MSP430 cycles |
+//! | VSOP87 (equation of the centre + 19 planetary/lunar terms) + 5-term nutation + aberration | [`precise`] | 2.22″ max, 0.82″ RMS (bound 15″) | 2 table sine-cosines, 36 table cosines, no f64; ≈ 47 400 MSP430 cycles |
 //!
 //! Both take an exact [`Epoch`](crate::time::Epoch) and never form a Julian date in f32: the whole
 //! days and the fraction of the day are kept apart, and every angle that grows with time is

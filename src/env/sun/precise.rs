@@ -51,7 +51,7 @@
 //! rounding). No f64, no division but the aberration's, 2 table sine-cosines; the 36 cosines of
 //! the periodic and nutation terms are Q14 table values times 16-bit amplitudes summed in i32
 //! (exact; one conversion to f32 per sum; the periodic terms are a table walked by one loop, for
-//! flash), and the fundamental arguments are exact 32-bit fixed point. About 47 500 MSP430 cycles without hardware multiplier (README "MSP430 firmware and cycle
+//! flash), and the fundamental arguments are exact 32-bit fixed point. About 47 400 MSP430 cycles without hardware multiplier (README "MSP430 firmware and cycle
 //! budget").
 //!
 //! # Range and measured accuracy
