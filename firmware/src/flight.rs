@@ -157,9 +157,19 @@ pub fn init_loop(slot: &mut Option<AcsLoop<'static, TILES, FIELD_COEFFS>>, orbit
 
 /// SGP4 initialised on the flight element set (not inlined: its temporaries leave the stack
 /// before the loop's state is built).
+#[cfg(not(feature = "ground-init"))]
 #[inline(never)]
 pub fn flight_orbit() -> Option<Sgp4> {
     Sgp4::new(&crate::elements::flight_tle()?, Gravity::Wgs72).ok()
+}
+
+/// SGP4 on the flight element set initialised on the ground (`ground-init`: `Sgp4::new` ran on
+/// the host, `firmware/bench-host` checks the words; the board checks and reads them).
+#[cfg(feature = "ground-init")]
+#[inline(never)]
+pub fn flight_orbit() -> Option<Sgp4> {
+    let _ = Gravity::Wgs72;
+    Sgp4::from_words(&crate::flight_elements::FLIGHT_ELEMENT_WORDS).ok()
 }
 
 /// The epoch of control tick `tick` (1 s period) from 2025-03-20 12:00 UTC, the flight element

@@ -15,6 +15,8 @@
 pub mod elements;
 #[cfg(feature = "acs-loop")]
 pub mod flight;
+#[cfg(feature = "ground-init")]
+pub mod flight_elements;
 pub mod rt;
 pub mod tiles;
 

@@ -109,6 +109,29 @@ impl Phase {
     pub(crate) fn radians(&self, whole: i32, frac: f32) -> f32 {
         self.turns(whole, frac) * core::f32::consts::TAU
     }
+
+    /// The stored parts `(θ₀ · 2⁴⁸, θ̇ mod 1 · 2⁴⁸, θ̇)`, for an uplink of the initialised elements.
+    pub(crate) fn raw(&self) -> (i64, i64, f32) {
+        (self.at_epoch, self.rate_fx, self.rate_turns)
+    }
+
+    /// A phase from [`Phase::raw`]'s parts (check them with [`Phase::in_range`]).
+    pub(crate) fn from_raw(at_epoch: i64, rate_fx: i64, rate_turns: f32) -> Self {
+        Self {
+            at_epoch,
+            rate_fx,
+            rate_turns,
+        }
+    }
+
+    /// Whether the parts are those an initialisation can make: both fixed-point values within
+    /// ±2⁴⁷ (half a turn) and the rate finite.
+    pub(crate) fn in_range(&self) -> bool {
+        const HALF_TURN: i64 = 1 << (PHASE_BITS - 1);
+        (-HALF_TURN..=HALF_TURN).contains(&self.at_epoch)
+            && (-HALF_TURN..=HALF_TURN).contains(&self.rate_fx)
+            && self.rate_turns.is_finite()
+    }
 }
 
 /// `x as f32` for |x| ≤ 2⁴⁷, without the `i64` → f32 helper (`__floatdisf`, 990 B on the

@@ -56,6 +56,15 @@
 //! not inlined on the MSP430 (`dfloat`), which made the initialisation 5.9 KB smaller than the
 //! inlined form with the same operations in the same order: results are bit for bit unchanged.
 //!
+//! # Initialisation on the ground
+//! [`Sgp4::to_words`] writes the initialised element set as [`ELEMENT_WORDS`] 32-bit words (a
+//! format tag, the epoch, the constants and phases, a checksum: 232 B to uplink) and
+//! [`Sgp4::from_words`] reads them back, checked, on board: propagation is then bit for bit that
+//! of the element set that wrote them (`tests/sgp4.rs`, every near-Earth set of the reference
+//! files), and the board needs neither the TLE parser nor [`Sgp4::new`]: the flight image
+//! without them is 9.2 KB smaller (firmware feature `ground-init`, `firmware/tools/loop-image s
+//! ground-init`).
+//!
 //! # Validity and errors
 //! Near-Earth element sets only (un-Kozai'd period below 225 min); a deep-space set gives
 //! [`Sgp4Error::DeepSpace`] at initialisation. Vallado's error codes map to [`Sgp4Error`]:
@@ -217,6 +226,12 @@ pub enum Sgp4Error {
         /// Minutes since epoch.
         tsince_min: f32,
     },
+    /// Initialised elements ([`Sgp4::from_words`]) with a wrong format tag or checksum, or a
+    /// word out of its range; carries the index of the first bad word.
+    Words {
+        /// Index of the offending word.
+        index: u8,
+    },
 }
 
 impl fmt::Display for Sgp4Error {
@@ -265,6 +280,9 @@ impl fmt::Display for Sgp4Error {
                 f,
                 "propagation diverged at {tsince_min} min (far outside the element set's validity)"
             ),
+            Self::Words { index } => {
+                write!(f, "initialised SGP4 elements: word {index} is invalid")
+            }
         }
     }
 }
@@ -888,6 +906,270 @@ fn cube(x: f32) -> f32 {
 
 fn cube32(x: f32) -> f32 {
     x * x * x
+}
+
+/// Number of 32-bit words of an initialised element set ([`Sgp4::to_words`]).
+pub const ELEMENT_WORDS: usize = 58;
+
+/// Format tag of [`Sgp4::to_words`] (word 0): "S4", layout version 1.
+const WORDS_TAG: u32 = 0x5334_0001;
+
+/// Checksum of words `0..ELEMENT_WORDS − 1`: each word rotated in (a corrupted or truncated
+/// uplink is refused; the link layer's CRC is the real protection).
+fn words_checksum(words: &[u32]) -> u32 {
+    words
+        .iter()
+        .fold(0x0acc_5a7e_u32, |c, w| c.rotate_left(5) ^ *w)
+}
+
+/// Reads the words in order, checking each; remembers the first bad index.
+struct WordReader<'a> {
+    words: core::slice::Iter<'a, u32>,
+    index: u8,
+    bad: Option<u8>,
+}
+
+impl WordReader<'_> {
+    /// The next word (0 past the end, which marks it bad).
+    fn word(&mut self) -> u32 {
+        let w = self.words.next().copied();
+        if w.is_none() {
+            self.mark(self.index);
+        }
+        self.index = self.index.saturating_add(1);
+        w.unwrap_or(0)
+    }
+    fn mark(&mut self, index: u8) {
+        if self.bad.is_none() {
+            self.bad = Some(index);
+        }
+    }
+    /// The next word as a finite f32 (else marked bad).
+    fn f32(&mut self) -> f32 {
+        let index = self.index;
+        let x = f32::from_bits(self.word());
+        if !finite32(x) {
+            self.mark(index);
+        }
+        x
+    }
+    fn i64(&mut self) -> i64 {
+        let hi = self.word();
+        let lo = self.word();
+        ((u64::from(hi) << 32) | u64::from(lo)) as i64
+    }
+    fn phase(&mut self) -> Phase {
+        let at_epoch = self.i64();
+        let rate_fx = self.i64();
+        let rate_turns = self.f32();
+        Phase::from_raw(at_epoch, rate_fx, rate_turns)
+    }
+}
+
+/// Writes the words in order.
+struct WordWriter<'a> {
+    words: core::slice::IterMut<'a, u32>,
+}
+
+impl WordWriter<'_> {
+    fn word(&mut self, w: u32) {
+        if let Some(slot) = self.words.next() {
+            *slot = w;
+        }
+    }
+    fn f32(&mut self, x: f32) {
+        self.word(x.to_bits());
+    }
+    fn i64(&mut self, x: i64) {
+        self.word((x as u64 >> 32) as u32);
+        self.word(x as u64 as u32);
+    }
+    fn phase(&mut self, p: &Phase) {
+        let (at_epoch, rate_fx, rate_turns) = p.raw();
+        self.i64(at_epoch);
+        self.i64(rate_fx);
+        self.f32(rate_turns);
+    }
+}
+
+impl Sgp4 {
+    /// The initialised element set as [`ELEMENT_WORDS`] 32-bit words, to be uplinked when the
+    /// initialisation runs on the ground ([`Sgp4::from_words`] on board): a format tag, the
+    /// epoch (day, second, nanosecond), the initialised constants and phases, the full-drag
+    /// flag and terms (zero when absent), and a checksum.
+    ///
+    /// Initialisation on the host and on the MSP430 gives the same bits (checked by the
+    /// firmware benchmark, `firmware/msp430-bench`), so the words do not depend on where they
+    /// were made.
+    pub fn to_words(&self) -> [u32; ELEMENT_WORDS] {
+        let mut words = [0u32; ELEMENT_WORDS];
+        let mut w = WordWriter {
+            words: words.iter_mut(),
+        };
+        w.word(WORDS_TAG);
+        w.word(self.epoch.day() as u32);
+        w.word(self.epoch.second_of_day());
+        w.word(self.epoch.nano());
+        for x in [
+            self.radius_km,
+            self.xke,
+            self.j2,
+            self.ao_km,
+            self.v_scale_kmps,
+        ] {
+            w.f32(x);
+        }
+        for p in [
+            &self.mean_anomaly,
+            &self.arg_perigee,
+            &self.node,
+            &self.arg_latitude,
+        ] {
+            w.phase(p);
+        }
+        for x in [
+            self.no,
+            self.ao,
+            self.ecco,
+            self.bstar,
+            self.cosio,
+            self.sinio,
+            self.con41,
+            self.x1mth2,
+            self.x7thm1,
+            self.cc1,
+            self.cc4,
+            self.nodecf,
+            self.t2cof,
+            self.xlcof,
+            self.aycof,
+        ] {
+            w.f32(x);
+        }
+        w.word(u32::from(self.full_drag.is_some()));
+        let d = self.full_drag.unwrap_or(FullDrag {
+            d2: 0.0,
+            d3: 0.0,
+            d4: 0.0,
+            t3cof: 0.0,
+            t4cof: 0.0,
+            t5cof: 0.0,
+            cc5: 0.0,
+            omgcof: 0.0,
+            xmcof: 0.0,
+            eta: 0.0,
+            delmo: 0.0,
+            sinmao: 0.0,
+        });
+        for x in [
+            d.d2, d.d3, d.d4, d.t3cof, d.t4cof, d.t5cof, d.cc5, d.omgcof, d.xmcof, d.eta, d.delmo,
+            d.sinmao,
+        ] {
+            w.f32(x);
+        }
+        let (body, last) = words.split_at_mut(ELEMENT_WORDS - 1);
+        if let Some(sum) = last.first_mut() {
+            *sum = words_checksum(body);
+        }
+        words
+    }
+
+    /// The element set [`Sgp4::to_words`] wrote, checked: the format tag, the checksum, the
+    /// epoch, every constant finite, the phases in range and the drag flag 0 or 1, else
+    /// [`Sgp4Error::Words`] with the first bad word. Propagation from it is bit for bit that of
+    /// the element set that wrote it.
+    pub fn from_words(words: &[u32; ELEMENT_WORDS]) -> Result<Self, Sgp4Error> {
+        let (body, last) = words.split_at(ELEMENT_WORDS - 1);
+        if last.first() != Some(&words_checksum(body)) {
+            return Err(Sgp4Error::Words {
+                index: (ELEMENT_WORDS - 1) as u8,
+            });
+        }
+        let mut r = WordReader {
+            words: body.iter(),
+            index: 0,
+            bad: None,
+        };
+        if r.word() != WORDS_TAG {
+            return Err(Sgp4Error::Words { index: 0 });
+        }
+        let (day, second, nano) = (r.word() as i32, r.word(), r.word());
+        let epoch = crate::time::Epoch::from_parts(day, second, nano)
+            .map_err(|_| Sgp4Error::Words { index: 1 })?;
+        let (radius_km, xke, j2, ao_km, v_scale_kmps) =
+            (r.f32(), r.f32(), r.f32(), r.f32(), r.f32());
+        let phase_index = r.index;
+        let (mean_anomaly, arg_perigee, node, arg_latitude) =
+            (r.phase(), r.phase(), r.phase(), r.phase());
+        let mut c = [0.0f32; 15];
+        for x in c.iter_mut() {
+            *x = r.f32();
+        }
+        let [no, ao, ecco, bstar, cosio, sinio, con41, x1mth2, x7thm1, cc1, cc4, nodecf, t2cof, xlcof, aycof] =
+            c;
+        let flag_index = r.index;
+        let flag = r.word();
+        let mut d = [0.0f32; 12];
+        for x in d.iter_mut() {
+            *x = r.f32();
+        }
+        let [d2, d3, d4, t3cof, t4cof, t5cof, cc5, omgcof, xmcof, eta, delmo, sinmao] = d;
+        if let Some(index) = r.bad {
+            return Err(Sgp4Error::Words { index });
+        }
+        let full_drag = match flag {
+            0 => None,
+            1 => Some(FullDrag {
+                d2,
+                d3,
+                d4,
+                t3cof,
+                t4cof,
+                t5cof,
+                cc5,
+                omgcof,
+                xmcof,
+                eta,
+                delmo,
+                sinmao,
+            }),
+            _ => return Err(Sgp4Error::Words { index: flag_index }),
+        };
+        let phases_ok = [&mean_anomaly, &arg_perigee, &node, &arg_latitude]
+            .iter()
+            .all(|p| p.in_range());
+        if !phases_ok {
+            return Err(Sgp4Error::Words { index: phase_index });
+        }
+        Ok(Self {
+            epoch,
+            radius_km,
+            xke,
+            j2,
+            ao_km,
+            v_scale_kmps,
+            mean_anomaly,
+            arg_perigee,
+            node,
+            arg_latitude,
+            no,
+            ao,
+            ecco,
+            bstar,
+            cosio,
+            sinio,
+            con41,
+            x1mth2,
+            x7thm1,
+            cc1,
+            cc4,
+            nodecf,
+            t2cof,
+            xlcof,
+            aycof,
+            full_drag,
+        })
+    }
 }
 
 #[cfg(test)]
