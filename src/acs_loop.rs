@@ -16,8 +16,8 @@
 //! 3. Body field and rate by least squares over the tiles (operators cached per set of working
 //!    tiles); Sun direction averaged over the lit tiles (only outside the umbra); attitude by
 //!    Wahba's SVD (two-vector closed form) from the Sun and field pairs, filtered with the gyros
-//!    ([`crate::determination::complementary`], which also bridges short gaps, e.g. eclipse entry, for at most
-//!    `max_propagation_s`).
+//!    ([`crate::determination::complementary`], which also bridges short gaps, e.g. eclipse
+//!    entry, for at most `max_propagation_s`).
 //! 4. Mode logic (below), the mode's law, wheel momentum and coil dipole commands.
 //!
 //! # Modes and transitions

@@ -2,7 +2,7 @@
 //!
 //! Shared by the flight firmware (`src/main.rs`, feature `acs-loop`) and the benchmark's "ACS
 //! step" case (`src/cases.rs`, group `step`). Configuration: the thesis's cube of six tiles
-//! (`acs::tiles::cube_thesis`), three 0.2 A·m² coils, 1 mN·m·s wheels, IGRF degree 8 of the
+//! (`acs::tiles::CUBE_THESIS`), three 0.2 A·m² coils, 1 mN·m·s wheels, IGRF degree 8 of the
 //! recent-epochs table, SGP4 on the flight element set (`crate::elements::flight_tle`).
 
 use acs::acs_loop::{AcsConfig, AcsLoop};
@@ -96,7 +96,7 @@ const IGRF_DEGREE: Degree = match Degree::new(8) {
     Err(_) => panic!("the flight IGRF degree must be 1..=13"),
 };
 
-/// One magnetorquer coil along `axis` (0.2 A·m²).
+/// One working magnetorquer coil along the body axis `(x, y, z)`, 0.2 A·m².
 const fn coil(x: f32, y: f32, z: f32) -> Wheel {
     Wheel {
         axis_body: Vec3::new(x, y, z),
