@@ -700,10 +700,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
 
     /// Step phase 4a: mode transitions on the rate and on the validity of the attitude.
     fn change_mode(&mut self, det: &Determined) {
-        // |ω| (nalgebra's `norm`, same operations; both square roots are correctly rounded)
-        let rate = det
-            .omega
-            .map(|w| crate::fmath::sqrt(crate::linalg::dot(&w, &w)));
+        let rate = det.omega.map(|w| crate::linalg::norm(&w));
         if let Some(r) = rate {
             if r > self.config.detumble_enter_radps && self.mode != Mode::Detumble {
                 self.mode = Mode::Detumble;

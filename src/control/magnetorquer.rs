@@ -18,7 +18,6 @@
 
 use core::fmt;
 
-use crate::fmath;
 use crate::linalg::{self, Vec3};
 
 /// Nanotesla to tesla.
@@ -75,7 +74,7 @@ pub fn dipole_for_torque(torque_nm: &Vec3, b_body_nt: &Vec3) -> Result<Vec3, Mag
     if !finite(torque_nm) || !finite(b_body_nt) {
         return Err(MagnetorquerError::NotFinite);
     }
-    let b_norm = fmath::sqrt(linalg::dot(b_body_nt, b_body_nt));
+    let b_norm = linalg::norm(b_body_nt);
     if b_norm < MIN_FIELD_NT {
         return Err(MagnetorquerError::WeakField(b_norm));
     }

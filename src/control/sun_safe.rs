@@ -15,7 +15,6 @@
 //! With magnetorquers only, pass the torque to [`super::magnetorquer::dipole_for_torque`].
 
 use crate::control::tracking::TrackingError;
-use crate::fmath;
 use crate::linalg::{self, Vec3};
 
 /// `â·ŝ` below which the Sun is taken as behind the pointing axis (176°).
@@ -66,7 +65,7 @@ pub fn sun_safe_torque(
             Vec3::y()
         };
         let c = linalg::cross(&a, &helper);
-        linalg::div(&c, norm(&c))
+        linalg::div(&c, linalg::norm(&c))
     } else {
         linalg::cross(&a, &s)
     };
@@ -74,14 +73,9 @@ pub fn sun_safe_torque(
     Ok(linalg::lin2(&cross, gains.kp_nm, &damping, 1.0))
 }
 
-/// `|v|` (nalgebra's `norm`; both square roots are correctly rounded).
-fn norm(v: &Vec3) -> f32 {
-    fmath::sqrt(linalg::dot(v, v))
-}
-
 /// `v/|v|`, or `None` for a zero vector (nalgebra's `try_normalize(0.0)`, same operations).
 fn unit(v: &Vec3) -> Option<Vec3> {
-    let n = norm(v);
+    let n = linalg::norm(v);
     if n <= 0.0 {
         None
     } else {

@@ -14,8 +14,7 @@
 //! sensor noise the average reduces it by about √n.
 
 use super::DeterminationError;
-use crate::fmath;
-use crate::linalg::{div, dot, lin3, Vec3};
+use crate::linalg::{div, lin3, norm, Vec3};
 use crate::tiles::{sun_direction_tile, SunAngles, Tile};
 
 /// The unit Sun direction in the body frame, averaged over the tiles whose reading is
@@ -53,7 +52,7 @@ pub fn sun_direction_body(
         );
         lit += 1;
     }
-    let n = fmath::sqrt(dot(&sum, &sum));
+    let n = norm(&sum);
     if lit == 0 || n <= 0.0 {
         return Err(DeterminationError::NoSunSensorLit);
     }

@@ -70,7 +70,7 @@ use super::{Unit, Units};
 use crate::attitude::Dcm;
 use crate::fmath;
 use crate::linalg::svd::{nearest_rotation, SvdError};
-use crate::linalg::{cross, div, dot, lin2, lin3, Mat3, Vec3};
+use crate::linalg::{cross, div, dot, lin2, lin3, norm, Mat3, Vec3};
 
 /// Smallest `s₂/s₁` of the attitude profile matrix accepted (see the module docs).
 pub const MIN_SINGULAR_RATIO: f32 = 1.0e-4;
@@ -132,7 +132,7 @@ fn two_observations(u1: &Unit, u2: &Unit, sum_w: f32) -> Result<Solution, Determ
     let (w1, w2) = (u1.weight * k, u2.weight * k);
     let nb = cross(&u1.body, &u2.body);
     let nr = cross(&u1.reference, &u2.reference);
-    let (sb, sr) = (fmath::sqrt(dot(&nb, &nb)), fmath::sqrt(dot(&nr, &nr)));
+    let (sb, sr) = (norm(&nb), norm(&nr));
     let (cb, cr) = (dot(&u1.body, &u2.body), dot(&u1.reference, &u2.reference));
     // M = Eᵀ B F (upper 2×2 block; the third row and column are zero).
     let m11 = w1 + w2 * cb * cr;

@@ -35,6 +35,12 @@ pub(crate) fn dot(a: &Vec3, b: &Vec3) -> f32 {
     a.x * b.x + a.y * b.y + a.z * b.z
 }
 
+/// `|v| = √(v·v)` (nalgebra's `norm`: both square roots are correctly rounded).
+#[cfg_attr(target_arch = "msp430", inline(never))]
+pub(crate) fn norm(v: &Vec3) -> f32 {
+    crate::fmath::sqrt(dot(v, v))
+}
+
 /// `a × b` (nalgebra's `cross`).
 #[cfg_attr(target_arch = "msp430", inline(never))]
 pub(crate) fn cross(a: &Vec3, b: &Vec3) -> Vec3 {
@@ -153,6 +159,7 @@ mod tests {
             let (x, y, z) = (values(&mut seed), values(&mut seed), values(&mut seed));
             assert_eq!(dot(&a, &b).to_bits(), a.dot(&b).to_bits());
             assert_eq!(dot(&a, &a).to_bits(), a.norm_squared().to_bits());
+            assert_eq!(norm(&a).to_bits(), a.norm().to_bits());
             assert_eq!(bits(&cross(&a, &b)), bits(&a.cross(&b)));
             if x != 0.0 {
                 assert_eq!(bits(&div(&a, x)), bits(&(a / x)));

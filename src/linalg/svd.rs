@@ -30,7 +30,7 @@
 //! No recursion; every loop is bounded by `M` and [`MAX_SWEEPS`].
 
 use crate::fmath;
-use crate::linalg::{cross, div, dot, finite3, lin3, scale, sub_scaled, Mat3, Vec3};
+use crate::linalg::{cross, div, dot, finite3, lin3, norm, scale, sub_scaled, Mat3, Vec3};
 
 /// The default row capacity of [`ThinSvd`] (12 tiles or 12 two-axis rows). The crate's own
 /// solvers use `ThinSvd<3>` (the 3×3 triangular factor of [`crate::linalg::lsq`], or the
@@ -356,9 +356,9 @@ pub fn nearest_rotation(b: &Mat3, min_ratio: f32) -> Result<(Mat3, Vec3), SvdErr
     };
     // Re-orthogonalise u₂ against u₁ (Gram–Schmidt, one step) and complete right-handed.
     // (Divided, not multiplied by the reciprocal: one rounding per component.)
-    let u1 = div(&u1, fmath::sqrt(dot(&u1, &u1)));
+    let u1 = div(&u1, norm(&u1));
     let u2 = sub_scaled(&u2, &u1, dot(&u1, &u2));
-    let u2 = div(&u2, fmath::sqrt(dot(&u2, &u2)));
+    let u2 = div(&u2, norm(&u2));
     let u3 = cross(&u1, &u2);
     let [v1, v2, v3] = svd.v;
     let det_v = dot(&cross(&v1, &v2), &v3);
