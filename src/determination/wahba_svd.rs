@@ -47,7 +47,7 @@
 //! `../shared/ref/attitude/wahba.json` (2–6 vectors, 51 of them with two, noise 0–0.01 rad):
 //! [`solve`] within 1.8e-5° of the f64 optimum (RMS 5.9e-6°), [`solve_raw`] within 1.6e-5°
 //! (`cargo test --test determination wahba -- --nocapture`; README). MSP430 (no hardware
-//! multiplier): 100 577 cycles for two observations, 487 411 for three
+//! multiplier): 100 601 cycles for two observations, 487 427 for three
 //! (`firmware/msp430-bench --groups det`).
 //!
 //! # Example
