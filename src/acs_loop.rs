@@ -583,7 +583,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         let det = self.determine(&readings, &models, &now, dt_s, &mut faults);
         self.change_mode(&det);
         let (dipole, h_target) = self.laws(&det, &now);
-        let dipole = self.actuate(bus, &det, dipole, h_target, &mut faults);
+        let (dipole, h_wheels) = self.actuate(bus, &det, dipole, h_target, &mut faults);
         StepReport {
             mode: self.mode,
             measured_attitude: det.measured,
@@ -593,7 +593,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
             sun_body: det.sun_body,
             sun_fraction: models.illumination.map(|i| i.fraction),
             dipole_body_am2: dipole,
-            h_wheels_body: self.wheels_body(),
+            h_wheels_body: h_wheels,
             faults,
         }
     }
@@ -792,9 +792,12 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
             }
             Mode::Tracking => {}
         }
+        // the wheels' momentum in force, summed once for the tracking law and the integration
+        let mut h_now: Option<Vec3> = None;
         if self.mode == Mode::Tracking {
             if let (Some(q), Some(w), Some(target)) = (det.attitude, omega, self.target) {
                 let h_w = self.wheels_body();
+                h_now = Some(h_w);
                 torque = tracking_torque(
                     &self.config.tracking,
                     &self.config.axes.inertia_body,
@@ -810,7 +813,8 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         // wheels: a torque law integrates into momentum (ḣ = −τ); a slew sets momentum
         if let Some(tau) = torque {
             if self.have_wheels() {
-                h_target = Some(crate::linalg::sub_scaled(&self.wheels_body(), &tau, dt));
+                let h_w = h_now.unwrap_or_else(|| self.wheels_body());
+                h_target = Some(crate::linalg::sub_scaled(&h_w, &tau, dt));
             } else if let Some(b) = b_body_nt {
                 dipole = dipole_for_torque(&tau, &b).unwrap_or_else(|_| Vec3::zeros());
             }
@@ -820,7 +824,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
 
     /// Step phase 5: wheel momentum (the target, or the momentum in force re-sent: it stops
     /// failed tiles' wheels), momentum dumping through the coils outside detumble, coil dipole.
-    /// Returns the dipole commanded.
+    /// Returns the dipole commanded and the wheels' total momentum now commanded (body).
     #[inline(never)]
     fn actuate<B: TileBus>(
         &mut self,
@@ -829,15 +833,17 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         dipole: Vec3,
         h_target: Option<Vec3>,
         faults: &mut Faults,
-    ) -> Vec3 {
+    ) -> (Vec3, Vec3) {
         let h = h_target.unwrap_or_else(|| self.wheels_body());
         faults.saturated |= self.command_wheels(bus, &h, faults);
+        // what the wheels now hold: dumped through the coils and reported
+        let h_wheels = self.wheels_body();
         let mut dipole = dipole;
         if self.mode != Mode::Detumble && self.config.dumping_gain_per_s > 0.0 && self.have_wheels()
         {
             if let Some(b) = det.b_body_nt {
                 let dump = dumping_dipole(
-                    &self.wheels_body(),
+                    &h_wheels,
                     &Vec3::zeros(),
                     self.config.dumping_gain_per_s,
                     &b,
@@ -846,7 +852,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
                 dipole += dump;
             }
         }
-        self.command_coils(bus, &dipole, faults)
+        (self.command_coils(bus, &dipole, faults), h_wheels)
     }
 
     /// True if any tile has a working wheel.

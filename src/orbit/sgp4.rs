@@ -62,7 +62,7 @@
 //! [`Sgp4::from_words`] reads them back, checked, on board: propagation is then bit for bit that
 //! of the element set that wrote them (`tests/sgp4.rs`, every near-Earth set of the reference
 //! files), and the board needs neither the TLE parser nor [`Sgp4::new`]: the flight image
-//! without them is 9 474 B smaller (firmware feature `ground-init`, `firmware/tools/loop-image s
+//! without them is 9 480 B smaller (firmware feature `ground-init`, `firmware/tools/loop-image s
 //! ground-init`).
 //!
 //! # Validity and errors
