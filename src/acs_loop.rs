@@ -116,6 +116,26 @@ pub struct Faults {
     pub saturated: bool,
 }
 
+impl Faults {
+    /// The flags as a telemetry word: bit 0 `device_read`, 1 `actuator`, 2 `orbit`, 3 `model`,
+    /// 4 `field`, 5 `rate`, 6 `attitude`, 7 `saturated`.
+    pub fn bits(&self) -> u16 {
+        [
+            self.device_read,
+            self.actuator,
+            self.orbit,
+            self.model,
+            self.field,
+            self.rate,
+            self.attitude,
+            self.saturated,
+        ]
+        .iter()
+        .rev()
+        .fold(0u16, |m, f| (m << 1) | u16::from(*f))
+    }
+}
+
 /// Gains, limits and geometry of the loop, for at most `N` tiles (`N` ≤ 32; the host default
 /// [`MAX_TILES`]; the flight firmware sizes it to its satellite, e.g. 6 for the thesis's cube, which
 /// keeps the loop's RAM small).
@@ -374,6 +394,13 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
             field: None,
             field_time: None,
         })
+    }
+
+    /// Replaces the element set the loop propagates (an uplink: check the words with
+    /// [`Sgp4::from_words`] first, so that a refused set leaves the one in use); the rest of the
+    /// state is kept.
+    pub fn set_orbit(&mut self, orbit: Sgp4) {
+        self.orbit = orbit;
     }
 
     /// The current mode.

@@ -31,6 +31,7 @@ pub mod attitude;
 pub mod control;
 pub mod determination;
 pub mod env;
+pub mod flight;
 pub mod fmath;
 pub mod frames;
 pub mod hal;

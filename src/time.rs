@@ -523,6 +523,11 @@ impl TimeSpan {
         }
     }
 
+    /// A span of whole seconds (a control period, a clock step).
+    pub const fn from_whole_seconds(seconds: i32) -> Self {
+        Self { seconds, nano: 0 }
+    }
+
     /// A span of whole seconds and nanoseconds (nanoseconds may be any value; they are carried).
     /// Saturates at the ends of the range (±68 years).
     pub fn new(seconds: i32, nanos: i64) -> Self {

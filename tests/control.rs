@@ -477,3 +477,28 @@ fn cached_allocator_matches_allocate_and_detects_a_failure() {
     }
     assert_eq!(Allocator::new(&wheels), Err(WheelError::NoWorkingWheel));
 }
+
+/// A slew about one principal axis of the flight configuration: the f32 decomposition leaves
+/// ~1e-8 rad on the other axes, which the planner treats as null rotations (it refused the
+/// slew with `BelowMinimumMomentum` before `NULL_ANGLE_RAD`).
+#[test]
+fn single_axis_slew_is_planned() {
+    use acs::attitude::Quaternion;
+    use acs::control::slew::{decompose, manoeuvre_matrix, plan, Branch, NULL_ANGLE_RAD};
+    let cfg = &acs::flight::CONFIG;
+    let q = Quaternion::new_normalize(0.094, 0.156, -0.723, 0.666).unwrap();
+    let r = Quaternion::new_normalize(0.996_194_7, 0.087_155_74, 0.0, 0.0).unwrap();
+    let t = q.mul(&r);
+    let m = manoeuvre_matrix(&q.to_dcm(), &t.to_dcm(), &cfg.axes);
+    let angles = decompose(&m, Branch::Shortest).unwrap();
+    assert!(angles.theta_b.abs() <= NULL_ANGLE_RAD && angles.psi_c.abs() <= NULL_ANGLE_RAD);
+    assert!(
+        (angles.phi_a - 10f32.to_radians()).abs() < 1e-5,
+        "{angles:?}"
+    );
+    let p = plan(&cfg.axes, &angles, &cfg.slew_limits, 120.0).unwrap();
+    // only the rotation about A takes time
+    assert_eq!(p.steps[0].duration_s, 0.0);
+    assert_eq!(p.steps[1].duration_s, 0.0);
+    assert!(p.steps[2].duration_s > 0.0);
+}

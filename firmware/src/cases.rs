@@ -69,9 +69,7 @@ pub fn run<S: Sink>(s: &mut S) {
 #[inline(always)]
 fn run_step_parts<S: Sink>(s: &mut S) {
     use acs::control::wheels::{Allocator, Wheel};
-    use acs::determination::least_squares::{
-        angular_rate_body_cached, magnetic_field_body_cached,
-    };
+    use acs::determination::least_squares::{angular_rate_body_cached, magnetic_field_body_cached};
     use acs::determination::sun_sensor::sun_direction_body;
     use acs::env::eclipse::conical;
     use acs::linalg::{Vec2, Vec3};
@@ -261,7 +259,9 @@ fn run_step_laws<S: Sink>(s: &mut S) {
     let alloc = Allocator::new(&coils).ok();
     s.begin("step: dumping + coil allocation (cached, 3 coils)");
     let dump = dumping_dipole(&h_w, &Vec3::zeros(), 1e-3, &b).unwrap_or_default();
-    let a = alloc.as_ref().and_then(|a| a.allocate(&coils, &(-dump)).ok());
+    let a = alloc
+        .as_ref()
+        .and_then(|a| a.allocate(&coils, &(-dump)).ok());
     let a = core::hint::black_box(a);
     s.end();
     for x in a.map_or([f32::NAN; 6], |a| a.wheel) {
@@ -269,64 +269,107 @@ fn run_step_laws<S: Sink>(s: &mut S) {
     }
 }
 
-/// One full ACS step (`crate::flight`: the loop over the mailbox tile bus).
+/// The ACS step as one call (`crate::flight`: the flight loop over the tile mailboxes), in every
+/// mode: the first step (IGRF coefficients and the least-squares operators built) and the
+/// steady state of Detumble, SunSafe, Slew and Tracking, each entered as in flight (the rate
+/// readings, then uplinked commands through `crate::flight::take_uplink`, outside the measured
+/// section). Results: each step's mode, fault bits, coil dipole and wheel momentum (body).
 #[cfg(feature = "group-step")]
 #[inline(always)]
 fn run_step<S: Sink>(s: &mut S) {
-    let mut acs = None;
-    if let Some(orbit) = crate::flight::flight_orbit() {
-        crate::flight::init_loop(&mut acs, orbit);
+    use crate::flight;
+    let mut slot = None;
+    if let Some(orbit) = flight::flight_orbit() {
+        flight::init_loop(&mut slot, orbit);
     }
-    let mut bus = crate::flight::MailboxBus;
-    // Sensors as in orbit: Sun angles on every tile (the sensor model's average is then taken
-    // over five tiles), a 20–40 µT field, rates of a few mrad/s (below the detumble exit
-    // threshold: the first step leaves Detumble for SunSafe, which runs the wheel law). So a
-    // step runs every part: SGP4, Sun, eclipse, GMST, IGRF, least squares, Wahba's SVD, the filter,
-    // the law and the wheel and coil allocations. The flight element set's epoch (2025) is inside
-    // the on-board IGRF model, so the field model runs too.
-    crate::flight::set_mailboxes(
-        [[0, 0], [1200, -800], [-500, 2500], [3000, 100], [-2200, -1500], [700, 1900]],
-        [[0, 0], [2100, -1800], [-900, 3200], [1500, 2400], [-2600, 700], [300, -3100]],
-        [0, 25, -18, 31, -12, 9],
-    );
-    for tick in 0..2u32 {
-        let now = core::hint::black_box(crate::flight::tick_epoch(tick));
-        s.begin(if tick == 0 {
-            "ACS step (first)"
-        } else {
-            "ACS step"
-        });
-        let report = match (acs.as_mut(), now) {
-            (Some(a), Some(now)) => Some(a.step(&mut bus, now, 1.0)),
-            _ => None,
-        };
+    let (Some(acs), Some(mut clock)) = (slot.as_mut(), flight::reset_clock()) else {
+        s.out(f32::NAN);
+        return;
+    };
+    let mut bus = crate::tiles::MailboxBus;
+    // Sensors as in orbit: the Sun on five tiles (the sensor model averages them), a 20–40 µT
+    // field, and first a tumble of ≈ 0.05 rad/s (Detumble), then rates of a few mrad/s (below
+    // the exit threshold: SunSafe, whose law drives the wheels). So a step runs every part:
+    // SGP4, Sun, eclipse, GMST, IGRF, least squares, Wahba's SVD, the filter, the mode's law and
+    // the wheel and coil allocations.
+    let sun = [
+        [0, 0],
+        [1200, -800],
+        [-500, 2500],
+        [3000, 100],
+        [-2200, -1500],
+        [700, 1900],
+    ];
+    let mag = [
+        [0, 0],
+        [2100, -1800],
+        [-900, 3200],
+        [1500, 2400],
+        [-2600, 700],
+        [300, -3100],
+    ];
+    crate::tiles::set_readings(sun, 0b11_1110, mag, [0, 500, -400, 450, -380, 300]);
+    let mut attitude = None;
+    // (name, uplink before the step: 0 none, 3 slew, 2 track)
+    let steps: [(&str, u16); 8] = [
+        ("ACS step (first)", 0),
+        ("ACS step (Detumble)", 0),
+        ("", 0),
+        ("ACS step (SunSafe)", 0),
+        ("", 3),
+        ("ACS step (Slew)", 0),
+        ("", 2),
+        ("ACS step (Tracking)", 0),
+    ];
+    for (k, (name, uplink)) in steps.iter().enumerate() {
+        if k == 2 {
+            crate::tiles::set_readings(sun, 0b11_1110, mag, [0, 25, -18, 31, -12, 9]);
+        }
+        if *uplink != 0 {
+            // a target 10° about body x from the attitude in force (or the identity)
+            let q = attitude.map_or([1.0, 0.0, 0.0, 0.0], |q: acs::attitude::Quaternion| {
+                let r = acs::attitude::Quaternion {
+                    q0: 0.996_194_7,
+                    q1: 0.087_155_74,
+                    q2: 0.0,
+                    q3: 0.0,
+                };
+                let t = q.mul(&r);
+                [t.q0, t.q1, t.q2, t.q3]
+            });
+            flight::set_uplink(
+                *uplink,
+                &[
+                    q[0].to_bits(),
+                    q[1].to_bits(),
+                    q[2].to_bits(),
+                    q[3].to_bits(),
+                    120f32.to_bits(),
+                ],
+            );
+            flight::take_uplink(acs, &mut clock, attitude.as_ref());
+        }
+        let now = core::hint::black_box(clock);
+        if !name.is_empty() {
+            s.begin(name);
+        }
+        let report = acs.step(&mut bus, now, acs::flight::CONTROL_PERIOD_S);
         let report = core::hint::black_box(report);
-        s.end();
-        let d = report.map_or(Default::default(), |r| r.dipole_body_am2);
-        s.out(d.x);
-        s.out(d.y);
-        s.out(d.z);
-        // the chain ran: the measured attitude, and the faults as a mask (0 = none)
-        let q = report.and_then(|r| r.measured_attitude);
-        s.out(q.map_or(f32::NAN, |q| q.q0));
-        s.out(q.map_or(f32::NAN, |q| q.q3));
-        let mask = report.map_or(f32::NAN, |r| {
-            let f = r.faults;
-            [
-                f.orbit,
-                f.model,
-                f.field,
-                f.rate,
-                f.attitude,
-                f.device_read,
-                f.actuator,
-                f.saturated,
-            ]
-            .iter()
-            .enumerate()
-            .fold(0.0, |m, (i, b)| if *b { m + (1u32 << i) as f32 } else { m })
-        });
-        s.out(mask);
+        if !name.is_empty() {
+            s.end();
+        }
+        attitude = report.attitude;
+        clock = clock.add(flight::PERIOD);
+        if name.is_empty() {
+            continue;
+        }
+        s.out(report.mode as u8 as f32);
+        s.out(f32::from(report.faults.bits()));
+        let d = report.dipole_body_am2;
+        let h = report.h_wheels_body;
+        for x in [d.x, d.y, d.z, h.x, h.y, h.z] {
+            s.out(x);
+        }
     }
 }
 
@@ -479,7 +522,8 @@ pub fn run_flight<S: Sink>(s: &mut S) {
     if cfg!(feature = "group-env") {
         // Opaque, so the Sun models cannot be constant-folded into the case (they were: the
         // precise Sun measured 41 728 folded, 56 519 not).
-        let utc: Option<Epoch<Utc>> = core::hint::black_box(Epoch::from_parts(9_300, 43_210, 0).ok());
+        let utc: Option<Epoch<Utc>> =
+            core::hint::black_box(Epoch::from_parts(9_300, 43_210, 0).ok());
         s.begin("UTC -> TT");
         let tt = utc.as_ref().and_then(|e| e.to_tt_extrapolated().ok());
         let tt = core::hint::black_box(tt);

@@ -34,7 +34,6 @@ pub fn test_tle() -> Option<acs::tle::Tle> {
         })
 }
 
-
 /// The flight loop's element set: the `tracking` scenario's dawn-dusk orbit of the simulator
 /// (`acs::host::sim::scenarios::tracking`: 500 km, 97.4°, RAAN 90°, near-circular, B* = 0),
 /// epoch 2025-03-20 12:00 UTC, inside the on-board IGRF model (`RECENT`, 2020–2030). Built

@@ -1,181 +1,229 @@
-//! The flight loop on the target: [`acs::acs_loop::AcsLoop`] over the stubbed tile bus.
+//! The flight loop on the target: [`acs::flight::FlightLoop`] over the tile mailboxes
+//! ([`crate::tiles`]), the ground uplink, and the on-board clock.
 //!
-//! Shared by the flight firmware (`src/main.rs`, feature `acs-loop`) and the benchmark's "ACS
-//! step" case (`src/cases.rs`, group `step`). Configuration: the thesis's cube of six tiles
-//! (`acs::tiles::CUBE_THESIS`), three 0.2 A·m² coils, 1 mN·m·s wheels, IGRF degree 8 of the
-//! recent-epochs table, SGP4 on the flight element set (`crate::elements::flight_tle`).
+//! Shared by the flight firmware (`src/main.rs`) and the benchmark's "ACS step" cases
+//! (`src/cases.rs`, group `step`). The configuration is [`acs::flight::CONFIG`], the one the
+//! host simulator flies; the element set at reset is the flight element set initialised on the
+//! ground ([`crate::flight_elements`]; with feature `onboard-init`, SGP4 initialised on board
+//! from the TLE of [`crate::elements::flight_tle`]).
+//!
+//! # Uplink mailbox
+//! The ground (the processor-in-the-loop host, or the communication subsystem's driver) writes
+//! the arguments into `UPLINK_ARGS`, then the command code into `UPLINK_KIND`. Before each step
+//! the firmware takes the command, clears `UPLINK_KIND` and writes the outcome into
+//! `UPLINK_STATUS`:
+//!
+//! | `UPLINK_KIND` | command | `UPLINK_ARGS` (u32 words) |
+//! |---|---|---|
+//! | 1 | sun-safe | — |
+//! | 2 | track an attitude | 0–3: quaternion (f32 bits, scalar first, TEME → body) |
+//! | 3 | slew, then track | 0–3: quaternion; 4: time allowed, s (f32 bits) |
+//! | 4 | new element set | 0–57: the words of `Sgp4::to_words` (`acs elements`) |
+//! | 5 | set the clock (UTC) | 0: days since 2000-01-01 (i32); 1: second of day; 2: nanoseconds |
+//! | 6 / 7 | mark tile failed / restore it | 0: tile index |
+//!
+//! | `UPLINK_STATUS` | meaning |
+//! |---|---|
+//! | 0 | accepted |
+//! | 1 | unknown command |
+//! | 2 | invalid argument (a quaternion that is not finite or zero, a time out of range, a tile index) |
+//! | 3 | refused by the loop (a slew that cannot be planned now) |
+//! | `0x100 + i` | element set refused: word `i` is bad (the elements in use are kept) |
+//!
+//! After each step the firmware publishes the mode (`STEP_MODE`: 0 detumble, 1 sun-safe,
+//! 2 slew, 3 tracking) and the faults (`STEP_FAULTS`, [`acs::acs_loop::Faults::bits`]).
 
-use acs::acs_loop::{AcsConfig, AcsLoop};
-use acs::control::bdot::BdotConfig;
-use acs::control::principal_axes::PrincipalAxes;
-use acs::control::slew::SlewLimits;
-use acs::control::sun_safe::SunSafeGains;
-use acs::control::tracking::TrackingGains;
-use acs::control::wheels::Wheel;
-use acs::env::igrf::{Degree, RECENT};
-use acs::hal::{ErrorKind, TileBus};
-use acs::linalg::{Mat3, Vec3};
-use acs::orbit::sgp4::{Gravity, Sgp4};
-use acs::time::{Epoch, Utc};
+use acs::acs_loop::{Command, Mode, StepReport};
+use acs::attitude::Quaternion;
+use acs::flight::{FlightLoop, CONFIG, CONTROL_PERIOD_S};
+use acs::orbit::sgp4::{Sgp4, ELEMENT_WORDS};
+use acs::time::{Epoch, TimeSpan, Utc};
 
-/// Raw sensor mailboxes (written by the simulator or a debugger), one entry per tile.
+/// Uplink command code (see the [module docs](self)); 0: none.
 #[no_mangle]
-pub static mut RAW_SUN: [[i16; 2]; 6] = [[0; 2]; 6];
-/// Raw magnetometer mailbox.
+pub static mut UPLINK_KIND: u16 = 0;
+/// Outcome of the last uplink command.
 #[no_mangle]
-pub static mut RAW_MAG: [[i16; 2]; 6] = [[0; 2]; 6];
-/// Raw gyro mailbox.
+pub static mut UPLINK_STATUS: u16 = 0;
+/// Uplink arguments.
 #[no_mangle]
-pub static mut RAW_GYRO: [i16; 6] = [0; 6];
+pub static mut UPLINK_ARGS: [u32; ELEMENT_WORDS] = [0; ELEMENT_WORDS];
+/// Mode after the last step.
+#[no_mangle]
+pub static mut STEP_MODE: u16 = 0;
+/// Faults of the last step.
+#[no_mangle]
+pub static mut STEP_FAULTS: u16 = 0;
 
-/// Writes the sensor mailboxes (what the tile drivers would deliver): raw Sun angles (1e-4 rad),
-/// magnetometer components (10 nT) and gyro rates (1e-4 rad/s), one entry per tile.
-pub fn set_mailboxes(sun: [[i16; 2]; 6], mag: [[i16; 2]; 6], gyro: [i16; 6]) {
-    // SAFETY: single-threaded firmware; volatile: read by the bus as if written from outside.
-    unsafe {
-        core::ptr::write_volatile(&raw mut RAW_SUN, sun);
-        core::ptr::write_volatile(&raw mut RAW_MAG, mag);
-        core::ptr::write_volatile(&raw mut RAW_GYRO, gyro);
-    }
+/// The UTC epoch of the on-board clock at reset, 2025-03-20 12:00 (the flight element set's
+/// epoch) until the ground sets it.
+pub const RESET_EPOCH: (i32, u32) = (9_210, 43_200);
+
+/// The on-board clock at reset.
+pub fn reset_clock() -> Option<Epoch<Utc>> {
+    Epoch::from_parts(RESET_EPOCH.0, RESET_EPOCH.1, 0).ok()
 }
 
-/// The tile bus over the RAM mailboxes (`crate::tiles` for the commands).
-pub struct MailboxBus;
+/// One control period.
+pub const PERIOD: TimeSpan = TimeSpan::from_whole_seconds(CONTROL_PERIOD_S as i32);
 
-impl TileBus for MailboxBus {
-    fn read_sun(&mut self, tile: usize) -> Result<Option<[i16; 2]>, ErrorKind> {
-        // SAFETY: single-threaded firmware; volatile: written from outside.
-        let all = unsafe { core::ptr::read_volatile(&raw const RAW_SUN) };
-        all.get(tile)
-            .copied()
-            .map(Some)
-            .ok_or(ErrorKind::DeviceAbsent)
-    }
-    fn read_magnetometer(&mut self, tile: usize) -> Result<[i16; 2], ErrorKind> {
-        // SAFETY: as above.
-        let all = unsafe { core::ptr::read_volatile(&raw const RAW_MAG) };
-        all.get(tile).copied().ok_or(ErrorKind::DeviceAbsent)
-    }
-    fn read_gyro(&mut self, tile: usize) -> Result<i16, ErrorKind> {
-        // SAFETY: as above.
-        let all = unsafe { core::ptr::read_volatile(&raw const RAW_GYRO) };
-        all.get(tile).copied().ok_or(ErrorKind::DeviceAbsent)
-    }
-    fn set_wheel_momentum(&mut self, tile: usize, h_nms: f32) -> Result<(), ErrorKind> {
-        crate::tiles::command_one(tile, Some(h_nms), None).ok_or(ErrorKind::DeviceAbsent)
-    }
-    fn set_dipole(&mut self, tile: usize, m_am2: f32) -> Result<(), ErrorKind> {
-        crate::tiles::command_one(tile, None, Some(m_am2)).ok_or(ErrorKind::DeviceAbsent)
-    }
-}
-
-/// The principal moments of inertia, kg·m²: the body axes are principal axes.
-pub const INERTIA_DIAGONAL: [f32; 3] = [0.010, 0.012, 0.014];
-
-/// The principal axes of a diagonal inertia tensor: `E = I`, the moments in body-axis order (what
-/// [`acs::control::principal_axes::principal_axes`] returns for it, checked on the host by
-/// `firmware/bench-host`), without its eigen-decomposition (3 KB of flash) on board.
-pub const fn principal_axes_of_diagonal(moments: &[f32; 3]) -> PrincipalAxes {
-    let [a, b, c] = *moments;
-    PrincipalAxes {
-        e: Mat3::new(1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0),
-        moments: Vec3::new(a, b, c),
-        inertia_body: Mat3::new(a, 0.0, 0.0, 0.0, b, 0.0, 0.0, 0.0, c),
-    }
-}
-
-/// Room for the IGRF coefficients of the flight degree (8): 320 B of loop state.
-pub const FIELD_COEFFS: usize = acs::env::igrf::coefficient_count(8);
-
-/// The number of tiles of the flight configuration (the thesis's cube): the loop is sized to it.
-pub const TILES: usize = 6;
-
-/// The flight degree of the IGRF model (checked at compile time).
-const IGRF_DEGREE: Degree = match Degree::new(8) {
-    Ok(d) => d,
-    Err(_) => panic!("the flight IGRF degree must be 1..=13"),
-};
-
-/// One working magnetorquer coil along the body axis `(x, y, z)`, 0.2 A·m².
-const fn coil(x: f32, y: f32, z: f32) -> Wheel {
-    Wheel {
-        axis_body: Vec3::new(x, y, z),
-        limit: 0.2,
-        working: true,
-    }
-}
-
-/// The flight configuration, a `static` in flash: the loop borrows it, so only the loop's
-/// run-time state takes RAM (the configuration is 572 B on the MSP430).
-pub static CONFIG: AcsConfig<TILES> = {
-    let axes = principal_axes_of_diagonal(&INERTIA_DIAGONAL);
-    AcsConfig {
-        tiles: heapless::Vec::from_array(acs::tiles::CUBE_THESIS),
-        tracking: TrackingGains::from_bandwidth(&axes.inertia_body, 0.25, 0.9),
-        axes,
-        coils: heapless::Vec::from_array([
-            coil(1.0, 0.0, 0.0),
-            coil(0.0, 1.0, 0.0),
-            coil(0.0, 0.0, 1.0),
-        ]),
-        wheel_limit_nms: 1.0e-3,
-        bdot: BdotConfig {
-            gain: 3.0e4,
-            max_dipole_am2: Vec3::new(0.2, 0.2, 0.2),
-        },
-        sun_safe: SunSafeGains {
-            kp_nm: 2.0 * 0.05 * 0.05 * 0.014,
-            kd_nms: 2.0 * 0.05 * 0.014,
-        },
-        sun_axis_body: Vec3::new(0.0, 0.0, 1.0),
-        slew_limits: SlewLimits {
-            l_max: 1.0e-3,
-            l_min: 1e-7,
-            t_min: 0.3,
-            default_fraction: 0.85,
-            wheels_per_axis: [1, 2, 2],
-        },
-        slew_pause_s: 5.0,
-        control_period_s: 1.0,
-        dumping_gain_per_s: 1e-3,
-        detumble_enter_radps: 0.5,
-        detumble_exit_radps: 0.008_7,
-        igrf_model: &RECENT,
-        igrf_degree: IGRF_DEGREE,
-        weights: (1.0, 1.0),
-        filter_gain: 0.1,
-        max_propagation_s: 120.0,
-    }
-};
-
-/// Builds the loop over the flight configuration [`CONFIG`] and `orbit` in `slot` (in place: the
-/// loop is not returned by value), or leaves `None` there if a part of it is invalid.
+/// Builds the loop over the flight configuration and `orbit` in `slot` (in place: the loop is
+/// not returned by value), or leaves `None` there if a part of it is invalid.
 #[inline(never)]
-pub fn init_loop(slot: &mut Option<AcsLoop<'static, TILES, FIELD_COEFFS>>, orbit: Sgp4) {
-    *slot = AcsLoop::new(&CONFIG, orbit).ok();
+pub fn init_loop(slot: &mut Option<FlightLoop>, orbit: Sgp4) {
+    *slot = FlightLoop::new(&CONFIG, orbit).ok();
 }
 
-/// SGP4 initialised on the flight element set (not inlined: its temporaries leave the stack
-/// before the loop's state is built).
-#[cfg(not(feature = "ground-init"))]
+/// SGP4 on the flight element set initialised on the ground: the board checks and reads the
+/// words (`firmware/bench-host` checks them against `Sgp4::new` on the host).
+#[cfg(not(feature = "onboard-init"))]
 #[inline(never)]
 pub fn flight_orbit() -> Option<Sgp4> {
-    Sgp4::new(&crate::elements::flight_tle()?, Gravity::Wgs72).ok()
-}
-
-/// SGP4 on the flight element set initialised on the ground (`ground-init`: `Sgp4::new` ran on
-/// the host, `firmware/bench-host` checks the words; the board checks and reads them).
-#[cfg(feature = "ground-init")]
-#[inline(never)]
-pub fn flight_orbit() -> Option<Sgp4> {
-    let _ = Gravity::Wgs72;
     Sgp4::from_words(&crate::flight_elements::FLIGHT_ELEMENT_WORDS).ok()
 }
 
-/// The epoch of control tick `tick` (1 s period) from 2025-03-20 12:00 UTC, the flight element
-/// set's epoch ([`crate::elements::flight_tle`]; `firmware/bench-host` checks they agree).
-pub fn tick_epoch(tick: u32) -> Option<Epoch<Utc>> {
-    Epoch::from_parts(9_210, 43_200, 0)
-        .ok()
-        .map(|e| e.add(acs::time::TimeSpan::new(tick as i32, 0)))
+/// SGP4 initialised on board from the flight TLE (feature `onboard-init`, for larger parts).
+#[cfg(feature = "onboard-init")]
+#[inline(never)]
+pub fn flight_orbit() -> Option<Sgp4> {
+    Sgp4::new(
+        &crate::elements::flight_tle()?,
+        acs::orbit::sgp4::Gravity::Wgs72,
+    )
+    .ok()
+}
+
+/// Uplink status codes.
+mod status {
+    pub const ACCEPTED: u16 = 0;
+    pub const UNKNOWN: u16 = 1;
+    pub const INVALID: u16 = 2;
+    pub const REFUSED: u16 = 3;
+    pub const BAD_WORD: u16 = 0x100;
+}
+
+/// The uplink argument `i` (0 beyond the buffer).
+fn arg(i: usize) -> u32 {
+    // SAFETY: single-threaded firmware; volatile: written from outside the program. The element
+    // is read through a raw pointer after a bounds check, without a reference to the static.
+    unsafe {
+        if i >= ELEMENT_WORDS {
+            return 0;
+        }
+        core::ptr::read_volatile((&raw const UPLINK_ARGS as *const u32).add(i))
+    }
+}
+
+/// The quaternion of uplink arguments 0–3, normalised; `None` if not finite or zero.
+fn arg_quaternion() -> Option<Quaternion> {
+    Quaternion::new_normalize(
+        f32::from_bits(arg(0)),
+        f32::from_bits(arg(1)),
+        f32::from_bits(arg(2)),
+        f32::from_bits(arg(3)),
+    )
+}
+
+/// Takes a pending uplink command, if any, and applies it to the loop or the clock
+/// (`attitude`: the last filtered attitude, which a slew is planned from).
+#[inline(never)]
+pub fn take_uplink(acs: &mut FlightLoop, clock: &mut Epoch<Utc>, attitude: Option<&Quaternion>) {
+    // SAFETY: as in `arg`.
+    let kind = unsafe { core::ptr::read_volatile(&raw const UPLINK_KIND) };
+    if kind == 0 {
+        return;
+    }
+    let outcome = match kind {
+        1 => acs
+            .command(Command::SunSafe, attitude, *clock)
+            .map_or(status::REFUSED, |_| status::ACCEPTED),
+        2 => match arg_quaternion() {
+            Some(target) => acs
+                .command(Command::Track { target }, attitude, *clock)
+                .map_or(status::REFUSED, |_| status::ACCEPTED),
+            None => status::INVALID,
+        },
+        3 => match (arg_quaternion(), f32::from_bits(arg(4))) {
+            (Some(q), within_s) if within_s.is_finite() && within_s > 0.0 => {
+                let command = Command::Slew {
+                    target: q.to_dcm(),
+                    within_s,
+                };
+                acs.command(command, attitude, *clock)
+                    .map_or(status::REFUSED, |_| status::ACCEPTED)
+            }
+            _ => status::INVALID,
+        },
+        4 => take_elements(acs),
+        5 => match Epoch::from_parts(arg(0) as i32, arg(1), arg(2)) {
+            Ok(t) => {
+                *clock = t;
+                status::ACCEPTED
+            }
+            Err(_) => status::INVALID,
+        },
+        6 | 7 => {
+            let tile = arg(0) as usize;
+            if acs.tile_state(tile).is_none() {
+                status::INVALID
+            } else {
+                if kind == 6 {
+                    acs.mark_failed(tile);
+                } else {
+                    acs.restore(tile);
+                }
+                status::ACCEPTED
+            }
+        }
+        _ => status::UNKNOWN,
+    };
+    // SAFETY: as in `arg`.
+    unsafe {
+        core::ptr::write_volatile(&raw mut UPLINK_STATUS, outcome);
+        core::ptr::write_volatile(&raw mut UPLINK_KIND, 0);
+    }
+}
+
+/// An uplinked element set: checked completely (`Sgp4::from_words`) before it replaces the
+/// one in use, which is kept if any word is bad.
+#[inline(never)]
+fn take_elements(acs: &mut FlightLoop) -> u16 {
+    // SAFETY: as in `arg`.
+    let words = unsafe { core::ptr::read_volatile(&raw const UPLINK_ARGS) };
+    match Sgp4::from_words(&words) {
+        Ok(orbit) => {
+            acs.set_orbit(orbit);
+            status::ACCEPTED
+        }
+        Err(acs::orbit::sgp4::Sgp4Error::Words { index }) => status::BAD_WORD + u16::from(index),
+        Err(_) => status::BAD_WORD,
+    }
+}
+
+/// Writes an uplink command as the ground would (the benchmark's commands): the arguments
+/// `args` (the rest of the buffer unchanged), then the command code `kind`.
+pub fn set_uplink(kind: u16, args: &[u32]) {
+    // SAFETY: as in `arg`; each element written through a raw pointer after a bounds check.
+    unsafe {
+        let base = &raw mut UPLINK_ARGS as *mut u32;
+        for (i, a) in args.iter().enumerate().take(ELEMENT_WORDS) {
+            core::ptr::write_volatile(base.add(i), *a);
+        }
+        core::ptr::write_volatile(&raw mut UPLINK_KIND, kind);
+    }
+}
+
+/// Publishes the step's mode and faults.
+pub fn publish(report: &StepReport) {
+    let mode = match report.mode {
+        Mode::Detumble => 0,
+        Mode::SunSafe => 1,
+        Mode::Slew => 2,
+        Mode::Tracking => 3,
+    };
+    // SAFETY: as in `arg`.
+    unsafe {
+        core::ptr::write_volatile(&raw mut STEP_MODE, mode);
+        core::ptr::write_volatile(&raw mut STEP_FAULTS, report.faults.bits());
+    }
 }

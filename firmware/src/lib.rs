@@ -2,10 +2,11 @@
 //!
 //! - [`rt`]: reset handler (stack pointer, watchdog off, `.data` copy, `.bss` zero, stack
 //!   painting for the high-water mark) and the interrupt vector table.
-//! - [`tiles`]: the tile drivers, stubbed: sensors read from and actuator commands written to RAM
-//!   mailboxes that the simulator (or a debugger) can read and write.
-//! - [`safe_state`]: the hook that puts every actuator in its safe state; the panic handler and
-//!   unexpected interrupts call it and then halt.
+//! - [`tiles`]: the tile bus in the HAL's raw formats over RAM mailboxes that the simulator, the
+//!   processor-in-the-loop host or a debugger read and write.
+//! - [`flight`]: the flight loop's set-up, the ground uplink and the published step results.
+//! - [`safe_state`]: the hook that puts every actuator in its safe state; unexpected interrupts
+//!   call it and then halt.
 //!
 //! The binaries: `acs-firmware` (the flight loop, `src/main.rs`) and `bench` (the cycle benchmark
 //! driven by `firmware/msp430-bench` in `mspdebug`'s simulator).
@@ -13,9 +14,7 @@
 #![feature(asm_experimental_arch)]
 
 pub mod elements;
-#[cfg(feature = "acs-loop")]
 pub mod flight;
-#[cfg(feature = "ground-init")]
 pub mod flight_elements;
 pub mod rt;
 pub mod tiles;
@@ -23,15 +22,26 @@ pub mod tiles;
 // The EABI helper functions (`__mspabi_*`, soft-float and integer), linked in by reference.
 use msp430_eabi as _;
 
-/// Puts every actuator in its safe state: reaction wheels commanded to zero momentum (they spin
-/// down), magnetorquers off (zero current).
+/// Puts every actuator in its safe state: magnetorquers off, reaction wheels holding the
+/// momentum last commanded (a wheel stopped while it carries the satellite's momentum would spin
+/// the satellite).
 ///
-/// This is the hook the panic handler and the unexpected-interrupt handler call before halting.
-/// It must not fail and must not depend on any state that a fault may have corrupted: it writes
-/// constant commands straight to the actuator drivers ([`tiles::command_safe`]).
+/// This is the hook the unexpected-interrupt handler calls before halting. It must not fail and
+/// must not depend on any state that a fault may have corrupted: it writes constant commands
+/// straight to the coil drivers ([`tiles::coils_off`]).
 #[inline(never)]
 pub fn safe_state() {
-    tiles::command_safe();
+    tiles::coils_off();
+}
+
+/// The start of a control period: on the part, where the loop waits for the period timer; the
+/// benchmark and the processor-in-the-loop host stop here (breakpoint on the symbol) to write
+/// the next readings and uplink and read the last commands.
+#[no_mangle]
+#[inline(never)]
+pub extern "C" fn fw_period_start() {
+    // SAFETY: `nop` has no effect; it keeps the function's body (and its symbol) in the image.
+    unsafe { core::arch::asm!("nop") };
 }
 
 /// Halts the core for good: interrupts off, then an endless loop (on the real part the watchdog
@@ -58,16 +68,6 @@ pub extern "C" fn fw_unexpected_interrupt() -> ! {
 /// the firmware): safe state, then halt.
 #[no_mangle]
 pub extern "C" fn abort() -> ! {
-    safe_state();
-    fw_halt()
-}
-
-/// Panic handler: actuators to their safe state ([`safe_state`]), then halt ([`fw_halt`]).
-/// The flight library is written not to panic (clippy denies every panicking construct there);
-/// this is the last line of defence for what the compiler still inserts (bounds checks it could
-/// not remove, overflow in debug builds).
-#[panic_handler]
-fn panic(_info: &core::panic::PanicInfo) -> ! {
     safe_state();
     fw_halt()
 }

@@ -1,70 +1,60 @@
-//! The acs flight firmware: reset → init → fixed-rate loop (read tiles, ACS step, command tiles).
+//! The acs flight firmware: reset → SGP4 elements → the ACS loop, one step per control period
+//! (uplink, read tiles, models, determination, laws, actuators), for ever.
 //!
-//! With feature `acs-loop` the loop is `acs::acs_loop::AcsLoop::step` over the mailbox tile bus
-//! (`acs_firmware::flight`); it does not fit the MSP430FG439's flash yet (README), so the default
-//! build keeps the stub [`acs_step`], which commands the safe state.
+//! The loop is [`acs::flight::FlightLoop`] over the flight configuration [`acs::flight::CONFIG`]
+//! and the tile mailboxes ([`acs_firmware::tiles`]); the uplink and the clock are in
+//! [`acs_firmware::flight`].
 #![no_std]
 #![no_main]
 
-use acs_firmware::tiles;
-#[cfg(not(feature = "acs-loop"))]
-use acs_firmware::tiles::{TileCommands, TileSensors, TILES};
+use acs_firmware::{flight, tiles};
 
-/// One control period: sensors in, actuator commands out.
+/// Entry point, called by the reset handler (`acs_firmware::rt`): coils off, then the loop.
 ///
-/// When the ACS loop lands, this becomes `loop_state.step(&sensors, dt)` (its state lives in
-/// `main`'s stack frame, created once before the loop).
-#[cfg(not(feature = "acs-loop"))]
-#[inline(never)]
-fn acs_step(sensors: &[TileSensors; TILES]) -> [TileCommands; TILES] {
-    let _ = sensors;
-    [TileCommands::SAFE; TILES]
-}
-
-/// Entry point, called by the reset handler (`acs_firmware::rt`): the ACS loop at one step per
-/// control period (the period timer is not modelled: steps run back to back).
-///
-/// SGP4 is initialised first, in its own frames: they are gone before [`run`] puts the loop's
-/// state on the stack, so start-up and the steps do not add up (README "MSP430 firmware", RAM).
-#[cfg(feature = "acs-loop")]
+/// SGP4 is set up first, in its own frames: they are gone before [`run`] puts the loop's
+/// state on the stack, so start-up and the steps do not add up.
 #[no_mangle]
 pub extern "C" fn main() -> ! {
-    tiles::command_safe();
-    run(acs_firmware::flight::flight_orbit())
+    tiles::coils_off();
+    run(flight::flight_orbit())
 }
 
-/// The loop over the flight configuration and `orbit`, used in place (its state lives in this
-/// frame); the safe state and a halt if it cannot be built.
-#[cfg(feature = "acs-loop")]
+/// The loop over the flight configuration and `orbit`, built in place (its state lives in this
+/// frame); coils off and a halt if it cannot be built.
 #[inline(never)]
 fn run(orbit: Option<acs::orbit::sgp4::Sgp4>) -> ! {
-    use acs_firmware::flight;
     let mut slot = None;
     if let Some(orbit) = orbit {
         flight::init_loop(&mut slot, orbit);
     }
-    let Some(acs) = slot.as_mut() else {
+    let (Some(acs), Some(mut clock)) = (slot.as_mut(), flight::reset_clock()) else {
         acs_firmware::safe_state();
         acs_firmware::fw_halt()
     };
-    let mut bus = flight::MailboxBus;
-    let mut tick: u32 = 0;
+    let mut bus = tiles::MailboxBus;
+    let mut attitude = None;
     loop {
-        if let Some(now) = flight::tick_epoch(tick) {
-            let _report = acs.step(&mut bus, now, 1.0);
-        }
-        tick = tick.wrapping_add(1);
+        acs_firmware::fw_period_start();
+        flight::take_uplink(acs, &mut clock, attitude.as_ref());
+        let report = acs.step(&mut bus, clock, acs::flight::CONTROL_PERIOD_S);
+        attitude = report.attitude;
+        flight::publish(&report);
+        clock = clock.add(flight::PERIOD);
     }
 }
 
-/// Entry point, called by the reset handler (`acs_firmware::rt`).
-#[cfg(not(feature = "acs-loop"))]
-#[no_mangle]
-pub extern "C" fn main() -> ! {
-    tiles::command_safe();
-    loop {
-        let sensors = tiles::read_sensors();
-        let cmds = acs_step(&sensors);
-        tiles::command(&cmds);
+/// No panic path in the flight image, proven at link time: the handler calls a symbol that
+/// nothing defines, so an image in which any panic is reachable (a bounds check, an integer
+/// division by zero, an `unwrap` the optimiser could not remove) fails to link, naming the
+/// symbol. Where no panic is reachable, LTO and `--gc-sections` drop the handler and the
+/// reference with it (`firmware/tools/loop-image` also checks that the linked ELF holds no
+/// `panic` symbol).
+#[panic_handler]
+fn panic(_info: &core::panic::PanicInfo) -> ! {
+    extern "C" {
+        /// Deliberately undefined (see above).
+        fn acs_flight_image_has_a_reachable_panic() -> !;
     }
+    // SAFETY: never linked, so never called: a reachable call fails the build.
+    unsafe { acs_flight_image_has_a_reachable_panic() }
 }

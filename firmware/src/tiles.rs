@@ -1,87 +1,159 @@
-//! Tile drivers, stubbed for the simulator.
+//! The tile bus of the firmware, in the HAL's raw formats ([`acs::hal`]), over RAM mailboxes.
 //!
 //! On the satellite each power tile carries a sun sensor, a two-axis magnetometer, a one-axis
-//! gyro, a reaction wheel and a magnetorquer, reached over the tile bus. Here the drivers read
-//! the sensors from a RAM mailbox ([`SENSORS`]) that the simulator or a debugger writes, and write
-//! the actuator commands to another ([`ACTUATORS`]) that it reads: the firmware around them is the
-//! flight one, only the bus transactions are missing.
+//! gyro, a reaction wheel, and the satellite three magnetorquer coils, reached over the tile
+//! bus. In this firmware the bus transactions are RAM mailboxes that the simulator, the
+//! processor-in-the-loop host (`acs sim --pil`) or a debugger read and write; everything above
+//! them is the flight code. The mailboxes hold exactly what [`acs::hal::TileBus`] returns and
+//! takes, so there is one raw tile format:
+//!
+//! | symbol | type | meaning |
+//! |---|---|---|
+//! | `TILE_SUN` | `[[i16; 2]; 6]` | sun-sensor angles `(a, b)`, 1e-4 rad |
+//! | `TILE_SUN_SEEN` | `u16` | bit `i`: tile `i`'s sensor sees the Sun (clear: `Ok(None)`) |
+//! | `TILE_MAG` | `[[i16; 2]; 6]` | magnetometer, tile x and y, 10 nT |
+//! | `TILE_GYRO` | `[i16; 6]` | gyro rate about tile z, 1e-4 rad/s |
+//! | `TILE_READ_ERRORS` | `u32` | bits `i`, `8 + i`, `16 + i`: tile `i`'s sun sensor, magnetometer, gyro does not answer (a bus error) |
+//! | `ACTUATOR_REFUSE` | `u16` | bits `i`, `8 + c`: wheel `i`, coil `c` refuses its command |
+//! | `CMD_WHEEL_NMS` | `[f32; 6]` | wheel momentum commands, kg·m²/s along tile z |
+//! | `CMD_DIPOLE_AM2` | `[f32; 3]` | coil dipole commands, A·m² |
 
-/// Number of tiles (the six faces of the AraMiS cube).
-pub const TILES: usize = 6;
+use acs::flight::TILES;
+use acs::hal::{ErrorKind, TileBus};
 
-/// Raw sensor readings of one tile, as the tile bus delivers them (engineering units).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-#[repr(C)]
-pub struct TileSensors {
-    /// Sun sensor, normalised current (0..1, 0 in shadow).
-    pub sun: f32,
-    /// Magnetometer, two in-plane axes, nT.
-    pub mag_nt: [f32; 2],
-    /// Gyro, rate about the tile normal, rad/s.
-    pub gyro_radps: f32,
-}
+/// Number of magnetorquer coils of the flight configuration.
+pub const COILS: usize = 3;
 
-/// Actuator commands of one tile.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-#[repr(C)]
-pub struct TileCommands {
-    /// Reaction-wheel momentum command, kg·m²/s (0: stop).
-    pub wheel_momentum_nms: f32,
-    /// Magnetorquer dipole, A·m² (0: off).
-    pub dipole_am2: f32,
-}
-
-impl TileCommands {
-    /// The safe state: wheel commanded to zero momentum, magnetorquer off.
-    pub const SAFE: TileCommands = TileCommands {
-        wheel_momentum_nms: 0.0,
-        dipole_am2: 0.0,
-    };
-}
-
-/// Sensor mailbox (written by the simulator).
+/// Sun-sensor mailbox (written by the bus).
 #[no_mangle]
-pub static mut SENSORS: [TileSensors; TILES] = [TileSensors {
-    sun: 0.0,
-    mag_nt: [0.0; 2],
-    gyro_radps: 0.0,
-}; TILES];
-
-/// Actuator mailbox (read by the simulator).
+pub static mut TILE_SUN: [[i16; 2]; TILES] = [[0; 2]; TILES];
+/// Bit `i` set: tile `i`'s sun sensor sees the Sun.
 #[no_mangle]
-pub static mut ACTUATORS: [TileCommands; TILES] = [TileCommands::SAFE; TILES];
+pub static mut TILE_SUN_SEEN: u16 = 0;
+/// Magnetometer mailbox.
+#[no_mangle]
+pub static mut TILE_MAG: [[i16; 2]; TILES] = [[0; 2]; TILES];
+/// Gyro mailbox.
+#[no_mangle]
+pub static mut TILE_GYRO: [i16; TILES] = [0; TILES];
+/// Devices that do not answer (see the [module docs](self)).
+#[no_mangle]
+pub static mut TILE_READ_ERRORS: u32 = 0;
+/// Actuators that refuse their command (see the [module docs](self)).
+#[no_mangle]
+pub static mut ACTUATOR_REFUSE: u16 = 0;
+/// Wheel momentum commands (read by the bus).
+#[no_mangle]
+pub static mut CMD_WHEEL_NMS: [f32; TILES] = [0.0; TILES];
+/// Coil dipole commands (read by the bus).
+#[no_mangle]
+pub static mut CMD_DIPOLE_AM2: [f32; COILS] = [0.0; COILS];
 
-/// Reads every tile's sensors.
-pub fn read_sensors() -> [TileSensors; TILES] {
-    // SAFETY: single-threaded firmware, no interrupt touches the mailbox; volatile so that the
-    // compiler does not assume the simulator-written memory constant.
-    unsafe { core::ptr::read_volatile(&raw const SENSORS) }
+/// Bit `i` of `mask` (false beyond 31).
+fn bit(mask: u32, i: usize) -> bool {
+    mask & 1u32.checked_shl(i as u32).unwrap_or(0) != 0
 }
 
-/// Sends the actuator commands to every tile.
-pub fn command(cmds: &[TileCommands; TILES]) {
-    // SAFETY: as in `read_sensors`.
-    unsafe { core::ptr::write_volatile(&raw mut ACTUATORS, *cmds) }
-}
-
-/// Commands one tile's wheel momentum and/or dipole (`None`: unchanged); `None` if there is no
-/// such tile.
-pub fn command_one(tile: usize, wheel: Option<f32>, dipole: Option<f32>) -> Option<()> {
-    // SAFETY: as in `read_sensors`.
-    let mut all = unsafe { core::ptr::read_volatile(&raw const ACTUATORS) };
-    let t = all.get_mut(tile)?;
-    if let Some(h) = wheel {
-        t.wheel_momentum_nms = h;
+/// The read error of device bit `i` of [`TILE_READ_ERRORS`], if set.
+fn read_error(i: usize) -> Result<(), ErrorKind> {
+    // SAFETY: single-threaded firmware, no interrupt touches the mailboxes; volatile: written
+    // from outside the program.
+    let errors = unsafe { core::ptr::read_volatile(&raw const TILE_READ_ERRORS) };
+    if bit(errors, i) {
+        Err(ErrorKind::Bus)
+    } else {
+        Ok(())
     }
-    if let Some(m) = dipole {
-        t.dipole_am2 = m;
-    }
-    command(&all);
-    Some(())
 }
 
-/// Commands every actuator to its safe state ([`TileCommands::SAFE`]); used by
-/// [`crate::safe_state`].
-pub fn command_safe() {
-    command(&[TileCommands::SAFE; TILES]);
+/// True if actuator bit `i` of [`ACTUATOR_REFUSE`] is set.
+fn refuses(i: usize) -> bool {
+    // SAFETY: as in `read_error`.
+    let refuse = unsafe { core::ptr::read_volatile(&raw const ACTUATOR_REFUSE) };
+    bit(u32::from(refuse), i)
+}
+
+/// The tile bus over the mailboxes.
+pub struct MailboxBus;
+
+impl TileBus for MailboxBus {
+    fn read_sun(&mut self, tile: usize) -> Result<Option<[i16; 2]>, ErrorKind> {
+        read_error(tile)?;
+        // SAFETY: as in `read_error`.
+        let (all, seen) = unsafe {
+            (
+                core::ptr::read_volatile(&raw const TILE_SUN),
+                core::ptr::read_volatile(&raw const TILE_SUN_SEEN),
+            )
+        };
+        let angles = all.get(tile).copied().ok_or(ErrorKind::DeviceAbsent)?;
+        Ok(bit(u32::from(seen), tile).then_some(angles))
+    }
+    fn read_magnetometer(&mut self, tile: usize) -> Result<[i16; 2], ErrorKind> {
+        read_error(8 + tile)?;
+        // SAFETY: as in `read_error`.
+        let all = unsafe { core::ptr::read_volatile(&raw const TILE_MAG) };
+        all.get(tile).copied().ok_or(ErrorKind::DeviceAbsent)
+    }
+    fn read_gyro(&mut self, tile: usize) -> Result<i16, ErrorKind> {
+        read_error(16 + tile)?;
+        // SAFETY: as in `read_error`.
+        let all = unsafe { core::ptr::read_volatile(&raw const TILE_GYRO) };
+        all.get(tile).copied().ok_or(ErrorKind::DeviceAbsent)
+    }
+    fn set_wheel_momentum(&mut self, tile: usize, h_nms: f32) -> Result<(), ErrorKind> {
+        if refuses(tile) {
+            return Err(ErrorKind::OutOfRange);
+        }
+        // SAFETY: as in `read_error`; the element is written through a raw pointer, without a
+        // reference to the `static mut`.
+        unsafe {
+            let all = &raw mut CMD_WHEEL_NMS;
+            if tile >= TILES {
+                return Err(ErrorKind::DeviceAbsent);
+            }
+            core::ptr::write_volatile((all as *mut f32).add(tile), h_nms);
+        }
+        Ok(())
+    }
+    fn set_dipole(&mut self, coil: usize, m_am2: f32) -> Result<(), ErrorKind> {
+        if refuses(8 + coil) {
+            return Err(ErrorKind::OutOfRange);
+        }
+        // SAFETY: as in `set_wheel_momentum`.
+        unsafe {
+            let all = &raw mut CMD_DIPOLE_AM2;
+            if coil >= COILS {
+                return Err(ErrorKind::DeviceAbsent);
+            }
+            core::ptr::write_volatile((all as *mut f32).add(coil), m_am2);
+        }
+        Ok(())
+    }
+}
+
+/// Switches every magnetorquer off. The wheels keep the momentum they were last commanded
+/// (stopping a momentum-carrying wheel would spin the satellite): the safe state of the loop
+/// ([`acs::acs_loop::AcsLoop::safe`]), here without any state a fault may have corrupted.
+pub fn coils_off() {
+    // SAFETY: as in `read_error`.
+    unsafe { core::ptr::write_volatile(&raw mut CMD_DIPOLE_AM2, [0.0; COILS]) }
+}
+
+/// Writes the sensor mailboxes as the bus would deliver them (the benchmark's readings): Sun
+/// angles and the tiles that see the Sun (bit mask), magnetometer and gyro; no read errors.
+pub fn set_readings(
+    sun: [[i16; 2]; TILES],
+    sun_seen: u16,
+    mag: [[i16; 2]; TILES],
+    gyro: [i16; TILES],
+) {
+    // SAFETY: as in `read_error`.
+    unsafe {
+        core::ptr::write_volatile(&raw mut TILE_SUN, sun);
+        core::ptr::write_volatile(&raw mut TILE_SUN_SEEN, sun_seen);
+        core::ptr::write_volatile(&raw mut TILE_MAG, mag);
+        core::ptr::write_volatile(&raw mut TILE_GYRO, gyro);
+        core::ptr::write_volatile(&raw mut TILE_READ_ERRORS, 0);
+    }
 }

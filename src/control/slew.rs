@@ -173,13 +173,16 @@ pub fn decompose(m_abc: &Mat3, branch: Branch) -> Result<AxisAngles, SlewError> 
     }
 }
 
-/// `x` wrapped to (−π, π].
+/// `x` wrapped to (−π, π], for |x| ≤ 3π (the candidates `Φ ± π` of [`decompose`], with
+/// `Φ ∈ [−π/2, π/2]`): one addition of the f32 2π at most (no general reduction, whose
+/// large-argument path links a 64-bit remainder into the flight image).
 fn wrap_pi(x: f32) -> f32 {
-    let w = fmath::wrap_two_pi(x);
-    if w > PI {
-        w - 2.0 * PI
+    if x > PI {
+        x - 2.0 * PI
+    } else if x <= -PI {
+        x + 2.0 * PI
     } else {
-        w
+        x
     }
 }
 
@@ -312,8 +315,9 @@ pub fn step_for(axes: &PrincipalAxes, axis: u8, angle_rad: f32, duration_s: f32)
 /// 3. if the total exceeds `command_time_s`, everything is redone with `f = 1`; if it still
 ///    exceeds it, [`SlewError::TooSlow`].
 ///
-/// A null rotation (angle 0) takes no time and no momentum (a decision: the thesis would
-/// report it as below `l_min`).
+/// A null rotation (|angle| ≤ [`NULL_ANGLE_RAD`]) takes no time and no momentum (a decision:
+/// the thesis would report it as below `l_min`; the f32 decomposition of a rotation about one
+/// principal axis leaves ~1e-8 rad on the other two, which must not make the slew fail).
 pub fn plan(
     axes: &PrincipalAxes,
     angles: &AxisAngles,
@@ -365,6 +369,11 @@ pub fn plan(
     })
 }
 
+/// Rotations about a principal axis up to this angle are null in [`plan`], rad (1e-5 rad = 2″:
+/// a hundred times below the attitude the loop determines, a hundred times above the f32
+/// round-off of [`decompose`]).
+pub const NULL_ANGLE_RAD: f32 = 1e-5;
+
 /// Durations `[t_A, t_B, t_C]` with momentum fraction `fraction` of `l_max` per wheel.
 fn durations(
     axes: &PrincipalAxes,
@@ -384,7 +393,7 @@ fn durations(
         .enumerate()
     {
         let axis = k as u8;
-        if *angle == 0.0 {
+        if fmath::abs(*angle) <= NULL_ANGLE_RAD {
             continue;
         }
         if *wheels == 0 {

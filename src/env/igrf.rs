@@ -308,7 +308,7 @@ impl Degree {
     }
 
     /// The degree as a number.
-    pub fn get(self) -> u8 {
+    pub const fn get(self) -> u8 {
         self.0
     }
 }

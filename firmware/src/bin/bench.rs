@@ -10,14 +10,14 @@
 use acs_firmware as _;
 use acs_firmware::elements;
 #[cfg(feature = "group-step")]
-use acs_firmware::flight;
+use acs_firmware::{flight, tiles};
 
 #[path = "../cases.rs"]
 #[allow(dead_code)]
 mod cases;
 
 /// Capacity of [`BENCH_RESULTS`] in f32 words.
-const MAX_RESULTS: usize = 32;
+const MAX_RESULTS: usize = 48;
 
 /// Results of every case, as f32 bit patterns, in order.
 #[no_mangle]
@@ -87,5 +87,14 @@ pub extern "C" fn main() -> ! {
     let mut t = Target { mark: 0 };
     cases::run(&mut t);
     bench_done();
+    acs_firmware::fw_halt()
+}
+
+/// Panic handler of the benchmark image: coils off, then halt (the driver then finds fewer
+/// marks than cases and fails). The flight image proves instead that it has no panic path
+/// (`src/main.rs`).
+#[panic_handler]
+fn panic(_info: &core::panic::PanicInfo) -> ! {
+    acs_firmware::safe_state();
     acs_firmware::fw_halt()
 }

@@ -1,0 +1,119 @@
+//! The flight configuration: the one satellite the firmware flies, defined once.
+//!
+//! The MSP430 firmware (`firmware/`) runs [`FlightLoop`] over [`CONFIG`], and the host
+//! simulator's `flight` scenario and processor-in-the-loop runs fly the same constant, so what
+//! `acs sim` measures is what flies. Everything here is `const`: on the target [`CONFIG`] is a
+//! `static` in flash and only the loop's run-time state takes RAM.
+//!
+//! | item | value | source |
+//! |---|---|---|
+//! | tiles | the thesis's cube: one telecom and five power tiles ([`crate::tiles::CUBE_THESIS`]) | seed 000 §1.1 |
+//! | inertia | diag(0.010, 0.012, 0.014) kg·m², body axes principal | AraMiS 1U class, seed 000 §4.2 order of magnitude |
+//! | wheels | one per power tile, ±1 mN·m·s | seed 000 §9 (tile wheel) |
+//! | coils | three, along body x, y, z, ±0.2 A·m² | seed 002 §8 (coil sizing) |
+//! | field model | IGRF-14 degree 8, 2020–2030 tables | issue #17 product decision |
+//! | control period | 1 s | seed 000 §1.5 |
+//!
+//! Attitudes follow [`crate::attitude`]: `v_body = A · v_ref`, reference TEME of date.
+
+use crate::acs_loop::{AcsConfig, AcsLoop};
+use crate::control::bdot::BdotConfig;
+use crate::control::principal_axes::PrincipalAxes;
+use crate::control::slew::SlewLimits;
+use crate::control::sun_safe::SunSafeGains;
+use crate::control::tracking::TrackingGains;
+use crate::control::wheels::Wheel;
+use crate::env::igrf::{coefficient_count, Degree, RECENT};
+use crate::linalg::{Mat3, Vec3};
+
+/// The number of tiles of the flight configuration (the thesis's cube): the loop is sized to it.
+pub const TILES: usize = 6;
+
+/// The flight degree of the IGRF model.
+pub const IGRF_DEGREE: Degree = match Degree::new(8) {
+    Ok(d) => d,
+    // allow-panic: evaluated at compile time only (a constant), never on board
+    Err(_) => panic!("the flight IGRF degree must be 1..=13"),
+};
+
+/// Room for the IGRF coefficients of the flight degree: 80 (320 B of loop state).
+pub const FIELD_COEFFS: usize = coefficient_count(IGRF_DEGREE.get());
+
+/// The loop the firmware runs: six tiles, the flight degree's coefficients.
+pub type FlightLoop = AcsLoop<'static, TILES, FIELD_COEFFS>;
+
+/// The principal moments of inertia, kg·m²: the body axes are principal axes.
+pub const INERTIA_DIAGONAL_KGM2: [f32; 3] = [0.010, 0.012, 0.014];
+
+/// Momentum limit of each reaction wheel, kg·m²/s.
+pub const WHEEL_LIMIT_NMS: f32 = 1.0e-3;
+
+/// Dipole limit of each magnetorquer coil, A·m².
+pub const COIL_LIMIT_AM2: f32 = 0.2;
+
+/// The control period, s.
+pub const CONTROL_PERIOD_S: f32 = 1.0;
+
+/// The principal axes of a diagonal inertia tensor: `E = I`, the moments in body-axis order
+/// (what [`crate::control::principal_axes::principal_axes`] returns for it; a test checks it),
+/// without its eigen-decomposition on board.
+pub const fn principal_axes_of_diagonal(moments: &[f32; 3]) -> PrincipalAxes {
+    let [a, b, c] = *moments;
+    PrincipalAxes {
+        e: Mat3::new(1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0),
+        moments: Vec3::new(a, b, c),
+        inertia_body: Mat3::new(a, 0.0, 0.0, 0.0, b, 0.0, 0.0, 0.0, c),
+    }
+}
+
+/// One working magnetorquer coil along the body axis `(x, y, z)`.
+const fn coil(x: f32, y: f32, z: f32) -> Wheel {
+    Wheel {
+        axis_body: Vec3::new(x, y, z),
+        limit: COIL_LIMIT_AM2,
+        working: true,
+    }
+}
+
+/// The flight configuration (see the [module docs](self)).
+pub static CONFIG: AcsConfig<TILES> = {
+    let axes = principal_axes_of_diagonal(&INERTIA_DIAGONAL_KGM2);
+    let i_max = INERTIA_DIAGONAL_KGM2[2];
+    AcsConfig {
+        tiles: heapless::Vec::from_array(crate::tiles::CUBE_THESIS),
+        tracking: TrackingGains::from_bandwidth(&axes.inertia_body, 0.25, 0.9),
+        axes,
+        coils: heapless::Vec::from_array([
+            coil(1.0, 0.0, 0.0),
+            coil(0.0, 1.0, 0.0),
+            coil(0.0, 0.0, 1.0),
+        ]),
+        wheel_limit_nms: WHEEL_LIMIT_NMS,
+        bdot: BdotConfig {
+            gain: 3.0e4,
+            max_dipole_am2: Vec3::new(COIL_LIMIT_AM2, COIL_LIMIT_AM2, COIL_LIMIT_AM2),
+        },
+        sun_safe: SunSafeGains {
+            kp_nm: 2.0 * 0.05 * 0.05 * i_max,
+            kd_nms: 2.0 * 0.05 * i_max,
+        },
+        sun_axis_body: Vec3::new(0.0, 0.0, 1.0),
+        slew_limits: SlewLimits {
+            l_max: WHEEL_LIMIT_NMS,
+            l_min: 1e-7,
+            t_min: 0.3,
+            default_fraction: 0.85,
+            wheels_per_axis: [1, 2, 2],
+        },
+        slew_pause_s: 5.0,
+        control_period_s: CONTROL_PERIOD_S,
+        dumping_gain_per_s: 1e-3,
+        detumble_enter_radps: 0.5,
+        detumble_exit_radps: 0.008_7,
+        igrf_model: &RECENT,
+        igrf_degree: IGRF_DEGREE,
+        weights: (1.0, 1.0),
+        filter_gain: 0.1,
+        max_propagation_s: 120.0,
+    }
+};
