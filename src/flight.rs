@@ -11,7 +11,7 @@
 //! | inertia | diag(0.010, 0.012, 0.014) kg·m², body axes principal | AraMiS 1U class, seed 000 §4.2 order of magnitude |
 //! | wheels | one per power tile, ±1 mN·m·s | seed 000 §9 (tile wheel) |
 //! | coils | three, along body x, y, z, ±0.2 A·m² | seed 002 §8 (coil sizing) |
-//! | field model | IGRF-14 degree 8, 2020–2030 tables | issue #17 product decision |
+//! | field model | IGRF-14 degree 8, 2020–2030 ([`crate::env::igrf::FLIGHT`]: only the tables it evaluates) | issue #17 product decision |
 //! | control period | 1 s | seed 000 §1.5 |
 //!
 //! Attitudes follow [`crate::attitude`]: `v_body = A · v_ref`, reference TEME of date.
@@ -23,7 +23,7 @@ use crate::control::slew::SlewLimits;
 use crate::control::sun_safe::SunSafeGains;
 use crate::control::tracking::TrackingGains;
 use crate::control::wheels::Wheel;
-use crate::env::igrf::{coefficient_count, Degree, RECENT};
+use crate::env::igrf::{coefficient_count, Degree, FLIGHT};
 use crate::linalg::{Mat3, Vec3};
 
 /// The number of tiles of the flight configuration (the thesis's cube): the loop is sized to it.
@@ -110,7 +110,7 @@ pub static CONFIG: AcsConfig<TILES> = {
         dumping_gain_per_s: 1e-3,
         detumble_enter_radps: 0.5,
         detumble_exit_radps: 0.008_7,
-        igrf_model: &RECENT,
+        igrf_model: &FLIGHT,
         igrf_degree: IGRF_DEGREE,
         weights: (1.0, 1.0),
         filter_gain: 0.1,

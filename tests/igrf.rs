@@ -5,7 +5,7 @@
 
 use std::path::PathBuf;
 
-use acs::env::igrf::{Degree, Igrf, IgrfError, FULL, MIN_RADIUS_KM, RECENT};
+use acs::env::igrf::{Degree, Igrf, IgrfError, FLIGHT, FULL, MIN_RADIUS_KM, RECENT};
 use acs::linalg::Vec3;
 
 mod common;
@@ -210,6 +210,9 @@ fn tables_match_the_coefficient_file() {
             );
             if k >= 24 {
                 assert_eq!(RECENT.interval_gauss(k - 24, n, m_abs), Some(t));
+                // the flight tables are the same values up to degree 8, and only those
+                let flight = FLIGHT.interval_gauss(k - 24, n, m_abs);
+                assert_eq!(flight, if n <= 8 { Some(t) } else { None }, "n {n} m {m}");
             }
             checked += 1;
         }
@@ -219,14 +222,20 @@ fn tables_match_the_coefficient_file() {
     assert_eq!(FULL.interval_gauss(0, 14, 0), None);
     assert_eq!(FULL.interval_gauss(0, 2, 3), None);
     assert_eq!(RECENT.interval_gauss(2, 1, 0), None);
+    assert_eq!(FLIGHT.interval_gauss(2, 1, 0), None);
+    assert_eq!(FLIGHT.first_year(), RECENT.first_year());
+    assert_eq!(FLIGHT.last_year(), RECENT.last_year());
+    assert_eq!(FLIGHT.degree().get(), 8);
     println!(
-        "flash: FULL {} B, RECENT {} B, recursion constants {} B",
+        "flash: FULL {} B, RECENT {} B, FLIGHT {} B, recursion constants {} B",
         FULL.table_bytes(),
         RECENT.table_bytes(),
+        FLIGHT.table_bytes(),
         acs::env::igrf::RECURSION_TABLE_BYTES
     );
     assert_eq!(FULL.table_bytes(), 39 * 780);
     assert_eq!(RECENT.table_bytes(), 3 * 780);
+    assert_eq!(FLIGHT.table_bytes(), 3 * 320);
 }
 
 /// The `.shc` file in f64: epochs and, per epoch, `g[n][m]`, `h[n][m]` (nT).
@@ -937,4 +946,38 @@ fn refresh_and_capacity() {
             capacity: 80
         })
     ));
+}
+
+/// The flight tables give, at every degree they hold, bit for bit the field of the full recent
+/// tables (same coefficients, same operations), at dates across 2020–2030 and points from the
+/// reference file's range; a degree above theirs is refused.
+#[test]
+fn flight_tables_match_recent() {
+    for year in [2020.0_f32, 2021.3, 2024.99, 2025.0, 2025.5, 2029.7, 2030.0] {
+        for degree in 1..=8 {
+            let d = Degree::new(degree).unwrap();
+            let a = Igrf::new(&FLIGHT, year, d).unwrap();
+            let b = Igrf::new(&RECENT, year, d).unwrap();
+            for (r, colat, lon) in [
+                (6771.0_f32, 0.3_f32, -2.0_f32),
+                (7200.0, 1.6, 0.7),
+                (6378.0, 2.9, 3.1),
+            ] {
+                assert_eq!(a.geocentric(r, colat, lon), b.geocentric(r, colat, lon));
+            }
+        }
+        assert_eq!(
+            Igrf::new(&FLIGHT, year, Degree::new(9).unwrap()).err(),
+            Some(IgrfError::DegreeAboveModel {
+                degree: 9,
+                model_degree: 8
+            })
+        );
+    }
+    let mut slot = None;
+    assert!(
+        Igrf::<80>::emplace_year(&mut slot, &FLIGHT, 2020.0 - 0.01, Degree::new(8).unwrap())
+            .is_err()
+    );
+    assert!(slot.is_none());
 }

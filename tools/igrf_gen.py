@@ -41,7 +41,10 @@ keeps only the ones a firmware refers to:
   (column order lets the evaluator run the recursion in n for one order m at a time with a
   handful of scalars, walking the tables with iterators: no index arithmetic, no scratch arrays.)
 - `FULL`: every interval of the file; `RECENT`: the last two (from the last definitive model
-  through the current model to its secular-variation prediction).
+  through the current model to its secular-variation prediction); `FLIGHT`: the intervals of
+  `RECENT` in tables truncated at degree FLIGHT_DEGREE (8, the on-board model: the same f32
+  values in the same column order for n <= 8, so the flight image carries 960 B instead of
+  2 340 B).
 """
 
 import argparse
@@ -53,6 +56,9 @@ import sys
 from fractions import Fraction
 
 decimal.getcontext().prec = 50
+
+# Degree of the flight tables (`FLIGHT`): the on-board field model (`acs::flight::IGRF_DEGREE`).
+FLIGHT_DEGREE = 8
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
@@ -188,10 +194,11 @@ def generate(shc_path):
         anchor = k if k % 2 == parity else k + 1
         intervals.append((anchor, k + 1 if anchor == k else k))
 
-    def table(name, doc, value):
+    def table(name, doc, value, degree=n_max):
         w(f"/// {doc}")
-        w(f"static {name}: [f32; N_COEFFS] = [")
-        for n, m in order:
+        size = "N_COEFFS" if degree == n_max else str(degree * (degree + 2))
+        w(f"static {name}: [f32; {size}] = [")
+        for n, m in column_order(degree):
             norm = schmidt(n, m)
             g = rust_f32(f32_nearest(Fraction(value(n, m) * norm)))
             if m == 0:
@@ -205,45 +212,63 @@ def generate(shc_path):
     def dec(n, m, k):
         return decimal.Decimal(tokens[(n, m)][k])
 
-    for i in sorted({a for a, _ in intervals}):
-        table(f"EPOCH_{int(epochs[i])}",
-              f"Schmidt-scaled Gauss coefficients N g, N h (nT) at {year_label(epochs[i])}, "
-              "column order.",
-              lambda n, m, i=i: dec(n, m, i))
-    for a_, o in intervals:
-        table(f"DELTA_{int(epochs[a_])}_{int(epochs[o])}",
-              f"Schmidt-scaled change N Δg, N Δh (nT) from {year_label(epochs[a_])} to "
-              f"{year_label(epochs[o])}, column order.",
-              lambda n, m, a_=a_, o=o: dec(n, m, o) - dec(n, m, a_))
+    recent = list(range(len(epochs) - 3, len(epochs)))
 
-    def model(name, idx, doc):
+    def suffix(degree):
+        return "" if degree == n_max else f"_N{degree}"
+
+    def tables_of(idx, degree):
+        ks = range(idx[0], idx[-1])
+        for i in sorted({intervals[k][0] for k in ks}):
+            table(f"EPOCH_{int(epochs[i])}{suffix(degree)}",
+                  f"Schmidt-scaled Gauss coefficients N g, N h (nT) at {year_label(epochs[i])}, "
+                  f"column order, n <= {degree}.",
+                  lambda n, m, i=i: dec(n, m, i), degree)
+        for k in ks:
+            a_, o = intervals[k]
+            table(f"DELTA_{int(epochs[a_])}_{int(epochs[o])}{suffix(degree)}",
+                  f"Schmidt-scaled change N Δg, N Δh (nT) from {year_label(epochs[a_])} to "
+                  f"{year_label(epochs[o])}, column order, n <= {degree}.",
+                  lambda n, m, a_=a_, o=o: dec(n, m, o) - dec(n, m, a_), degree)
+
+    tables_of(list(range(len(epochs))), n_max)
+    tables_of(recent, FLIGHT_DEGREE)
+
+    def model(name, idx, doc, degree=n_max):
         first, last = epochs[idx[0]], epochs[idx[-1]]
         ks = range(idx[0], idx[-1])
         n_tables = len({intervals[k][0] for k in ks}) + len(ks)
-        size = n_tables * n_coeffs * 4
+        count = degree * (degree + 2)
+        size = n_tables * count * 4
         w(f"/// {doc}")
         w("///")
-        w(f"/// {title}: epochs {year_label(first)} to {year_label(last)} every {int(step)} years "
-          f"({n_tables} tables of {n_coeffs} f32, {size} bytes of flash, plus "
+        w(f"/// {title}: epochs {year_label(first)} to {year_label(last)} every {int(step)} years, "
+          f"degree {degree} ({n_tables} tables of {count} f32, {size} bytes of flash, plus "
           f"{(n_max - 1) * 4} bytes of constants shared by all models).")
         w(f"pub static {name}: Model = Model {{")
         w(f"    name: {title.split(' --')[0].replace(' ', '-')!r},".replace("'", '"'))
         w(f"    first_year: {int(first)},")
         w(f"    step_years: {int(step)},")
+        w(f"    degree: {degree},")
         w("    intervals: &[")
         for k in ks:
             a_, o = intervals[k]
-            w(f"        Interval {{ anchor: &EPOCH_{int(epochs[a_])}, "
-              f"delta: &DELTA_{int(epochs[a_])}_{int(epochs[o])}, from_end: {str(a_ > k).lower()} }},")
+            sfx = suffix(degree)
+            w(f"        Interval {{ anchor: &EPOCH_{int(epochs[a_])}{sfx}, "
+              f"delta: &DELTA_{int(epochs[a_])}_{int(epochs[o])}{sfx}, from_end: {str(a_ > k).lower()} }},")
         w("    ],")
         w("};")
         w("")
 
     model("FULL", list(range(len(epochs))),
           "The whole model: every epoch of the file (for the host, the tests and mission analysis).")
-    model("RECENT", list(range(len(epochs) - 3, len(epochs))),
-          "The flight default: the last definitive model, the current model and its "
-          "secular-variation prediction.")
+    model("RECENT", recent,
+          "The last definitive model, the current model and its secular-variation prediction, "
+          "at full degree.")
+    model("FLIGHT", recent,
+          f"The flight tables: the epochs of [`RECENT`] truncated at degree {FLIGHT_DEGREE} "
+          "(the flight image carries only what it evaluates; issue #17).",
+          FLIGHT_DEGREE)
     return "\n".join(out) + "\n"
 
 

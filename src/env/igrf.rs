@@ -87,6 +87,9 @@
 //! linker drops the others, with no cargo feature to get wrong):
 //! - [`RECENT`]: 2020.0–2030.0 (DGRF-2020, IGRF-2025 and its SV; anchor 2025.0 and the changes
 //!   to 2020.0 and 2030.0): 3 tables, 2 340 bytes;
+//! - [`FLIGHT`]: the tables of [`RECENT`] truncated at degree 8, the on-board model (the same
+//!   f32 values for n ≤ 8, so bit-identical results; a degree above 8 is refused,
+//!   [`IgrfError::DegreeAboveModel`]): 3 tables, 960 bytes;
 //! - [`FULL`]: 1900.0–2030.0, 26 intervals: 13 anchors and 26 changes, 30 420 bytes;
 //! - both use 48 bytes of constants (Bonnet's recursion).
 //!
@@ -139,7 +142,7 @@ use crate::linalg::Vec3;
 use crate::time::{Epoch, TimeScale};
 
 use tables::{BONNET, N_COEFFS, N_MAX};
-pub use tables::{FULL, RECENT};
+pub use tables::{FLIGHT, FULL, RECENT};
 
 /// Reference radius R of the IGRF expansion, km.
 pub const REFERENCE_RADIUS_KM: f32 = 6371.2;
@@ -162,18 +165,31 @@ pub struct Model {
     name: &'static str,
     first_year: u16,
     step_years: u16,
+    /// Highest degree of the tables (their layout: [`coefficient_count`] entries each).
+    degree: u8,
     intervals: &'static [Interval],
 }
 
 /// The tables of one interval between two epochs of a [`Model`].
 #[derive(Debug)]
 struct Interval {
-    /// `N g`, `N h` at the anchor epoch (the interval's start, or its end if `from_end`).
-    anchor: &'static [f32; N_COEFFS],
+    /// `N g`, `N h` at the anchor epoch (the interval's start, or its end if `from_end`), for
+    /// n up to the model's degree.
+    anchor: &'static [f32],
     /// `N Δg`, `N Δh` from the anchor epoch to the other end.
-    delta: &'static [f32; N_COEFFS],
+    delta: &'static [f32],
     /// Whether the anchor is the interval's end.
     from_end: bool,
+}
+
+/// The tables of the interval that holds a date, and where the date lies in it.
+struct Span {
+    anchor: &'static [f32],
+    delta: &'static [f32],
+    /// Fraction of the interval from the anchor epoch to the date.
+    fraction: f32,
+    /// Degree of the tables' layout (the model's).
+    table_degree: usize,
 }
 
 /// The tables of one interval of a [`Model`] for one term (n, m), as stored
@@ -206,31 +222,38 @@ impl Model {
         self.first_year() + f32::from(self.step_years) * self.intervals.len() as f32
     }
 
+    /// The highest degree its tables hold (13, or 8 for [`FLIGHT`]).
+    pub fn degree(&self) -> Degree {
+        Degree(self.degree)
+    }
+
     /// Bytes of coefficient tables this model puts in flash (the recursion constants,
     /// [`RECURSION_TABLE_BYTES`], are shared and counted separately).
     pub fn table_bytes(&self) -> usize {
         // One delta per interval, one anchor per pair of intervals sharing it.
-        let mut previous: Option<&[f32; N_COEFFS]> = None;
-        let mut tables = 0;
+        let mut previous: Option<&[f32]> = None;
+        let mut entries = 0;
         for interval in self.intervals {
             if !previous.is_some_and(|p| core::ptr::eq(p, interval.anchor)) {
-                tables += 1;
+                entries += interval.anchor.len();
             }
-            tables += 1;
+            entries += interval.delta.len();
             previous = Some(interval.anchor);
         }
-        tables * core::mem::size_of::<[f32; N_COEFFS]>()
+        entries * core::mem::size_of::<f32>()
     }
 
     /// The interval holding `years` since the first year: its anchor and delta tables and the
-    /// fraction of the way from the anchor to the other end; `decimal_year` only for the error
-    /// report.
-    #[allow(clippy::type_complexity)]
-    fn interval(
-        &self,
-        years: f32,
-        decimal_year: f32,
-    ) -> Result<(&'static [f32; N_COEFFS], &'static [f32; N_COEFFS], f32), IgrfError> {
+    /// fraction of the way from the anchor to the other end, for an evaluation at `degree`
+    /// ([`IgrfError::DegreeAboveModel`] beyond the tables' degree); `decimal_year` only for the
+    /// error report.
+    fn interval(&self, years: f32, decimal_year: f32, degree: Degree) -> Result<Span, IgrfError> {
+        if degree.0 > self.degree {
+            return Err(IgrfError::DegreeAboveModel {
+                degree: degree.0,
+                model_degree: self.degree,
+            });
+        }
         let step = f32::from(self.step_years);
         let span = self.last_year() - self.first_year();
         let out_of_range = IgrfError::DateOutOfRange {
@@ -254,7 +277,12 @@ impl Model {
         } else {
             years - step * k as f32
         };
-        Ok((interval.anchor, interval.delta, from_anchor / step))
+        Ok(Span {
+            anchor: interval.anchor,
+            delta: interval.delta,
+            fraction: from_anchor / step,
+            table_degree: usize::from(self.degree),
+        })
     }
 
     /// The tables of interval `interval` (0 = from `first_year` to `first_year + step`) for
@@ -264,16 +292,17 @@ impl Model {
     /// (`tools/igrf_gen.py`). `None` if any index is out of range.
     pub fn interval_gauss(&self, interval: usize, n: usize, m: usize) -> Option<IntervalGauss> {
         let tables = self.intervals.get(interval)?;
-        if n == 0 || n > N_MAX || m > n {
+        let top = usize::from(self.degree);
+        if n == 0 || n > top || m > n {
             return None;
         }
         // Column order (see tables.rs): m = 0 holds g_1^0..g_N^0, then each order m ≥ 1 holds
-        // (g, h) pairs for n = m..N.
-        let pair = |table: &[f32; N_COEFFS]| -> Option<(f32, f32)> {
+        // (g, h) pairs for n = m..N, N the model's degree.
+        let pair = |table: &[f32]| -> Option<(f32, f32)> {
             if m == 0 {
                 return Some((*table.get(n - 1)?, 0.0));
             }
-            let before: usize = N_MAX + (1..m).map(|k| 2 * (N_MAX + 1 - k)).sum::<usize>();
+            let before: usize = top + (1..m).map(|k| 2 * (top + 1 - k)).sum::<usize>();
             let i = before + 2 * (n - m);
             Some((*table.get(i)?, *table.get(i + 1)?))
         };
@@ -351,6 +380,13 @@ pub enum IgrfError {
         /// The requested degree.
         degree: u8,
     },
+    /// The degree is above the highest degree of the model's tables ([`Model::degree`]).
+    DegreeAboveModel {
+        /// The requested degree.
+        degree: u8,
+        /// The tables' degree.
+        model_degree: u8,
+    },
     /// The [`Igrf`] capacity is smaller than the degree's [`coefficient_count`].
     CapacityTooSmall {
         /// The requested degree.
@@ -382,6 +418,13 @@ impl fmt::Display for IgrfError {
             Self::DegreeOutOfRange { degree } => {
                 write!(f, "degree {degree} is not in 1..=13")
             }
+            Self::DegreeAboveModel {
+                degree,
+                model_degree,
+            } => write!(
+                f,
+                "degree {degree} is above the model's tables (degree {model_degree})"
+            ),
             Self::CapacityTooSmall { degree, capacity } => write!(
                 f,
                 "degree {degree} needs {} coefficients, capacity is {capacity}",
@@ -559,15 +602,15 @@ impl<const COEFFS: usize> Igrf<COEFFS> {
                 capacity: COEFFS,
             })
         } else {
-            model.interval(years, decimal_year)
+            model.interval(years, decimal_year, degree)
         };
         match checked {
-            Ok((anchor, delta, f)) => {
+            Ok(span) => {
                 let field = slot.insert(Self {
                     coeffs: [0.0_f32; COEFFS],
                     degree,
                 });
-                field.fill(anchor, delta, f);
+                field.fill(&span);
                 Ok(field)
             }
             Err(e) => {
@@ -616,23 +659,13 @@ impl<const COEFFS: usize> Igrf<COEFFS> {
                 capacity: COEFFS,
             });
         }
-        let (anchor, delta, f) = model.interval(years, decimal_year)?;
-        Ok(Self::interpolated(anchor, delta, f, degree))
-    }
-
-    /// The coefficients up to `degree` at fraction `f` of the way from the anchor.
-    fn interpolated(
-        anchor: &[f32; N_COEFFS],
-        delta: &[f32; N_COEFFS],
-        f: f32,
-        degree: Degree,
-    ) -> Self {
+        let span = model.interval(years, decimal_year, degree)?;
         let mut field = Self {
             coeffs: [0.0_f32; COEFFS],
             degree,
         };
-        field.fill(anchor, delta, f);
-        field
+        field.fill(&span);
+        Ok(field)
     }
 
     /// Evaluates the coefficients (n ≤ degree) at `years` since the model's first year.
@@ -642,25 +675,26 @@ impl<const COEFFS: usize> Igrf<COEFFS> {
         years: f32,
         decimal_year: f32,
     ) -> Result<(), IgrfError> {
-        let (anchor, delta, f) = model.interval(years, decimal_year)?;
-        self.fill(anchor, delta, f);
+        let span = model.interval(years, decimal_year, self.degree)?;
+        self.fill(&span);
         Ok(())
     }
 
     /// Sets the coefficients (n ≤ degree) to `γ_anchor + f Δγ` (the tables are Schmidt-scaled,
     /// `γ = N g`: one multiplication and one addition per coefficient).
     #[inline(never)]
-    fn fill(&mut self, anchor: &[f32; N_COEFFS], delta: &[f32; N_COEFFS], f: f32) {
-        // Column by column: the truncated column order is the full one without the degrees
+    fn fill(&mut self, span: &Span) {
+        // Column by column: the truncated column order is the tables' one without the degrees
         // above `degree`.
         let degree = usize::from(self.degree.get());
+        let (top, f) = (span.table_degree, span.fraction);
         let mut out = self.coeffs.as_mut_slice();
-        let (mut anchor, mut delta) = (anchor.as_slice(), delta.as_slice());
+        let (mut anchor, mut delta) = (span.anchor, span.delta);
         for m in 0..=degree {
             // g only for m = 0, (g, h) otherwise: twice the terms (a shift, not a multiply).
             let pairs_per_term = usize::from(m > 0);
             let used = (degree + 1 - m.max(1)) << pairs_per_term;
-            let full = (N_MAX + 1 - m.max(1)) << pairs_per_term;
+            let full = (top + 1 - m.max(1)) << pairs_per_term;
             let (Some((s0, rest0)), Some((s1, rest1)), Some((slots, rest))) = (
                 anchor.split_at_checked(full),
                 delta.split_at_checked(full),

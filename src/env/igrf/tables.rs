@@ -28,7 +28,7 @@ pub(super) static BONNET: [f32; N_MAX - 1] = [
     0.9230769, // n=13
 ];
 
-/// Schmidt-scaled Gauss coefficients N g, N h (nT) at 1905.0, column order.
+/// Schmidt-scaled Gauss coefficients N g, N h (nT) at 1905.0, column order, n <= 13.
 static EPOCH_1905: [f32; N_COEFFS] = [
     -31464.0, // g1,0
     -728.0, // g2,0
@@ -136,7 +136,7 @@ static EPOCH_1905: [f32; N_COEFFS] = [
     0.0, 0.0, // g13,13 h13,13
 ];
 
-/// Schmidt-scaled Gauss coefficients N g, N h (nT) at 1915.0, column order.
+/// Schmidt-scaled Gauss coefficients N g, N h (nT) at 1915.0, column order, n <= 13.
 static EPOCH_1915: [f32; N_COEFFS] = [
     -31212.0, // g1,0
     -802.0, // g2,0
@@ -244,7 +244,7 @@ static EPOCH_1915: [f32; N_COEFFS] = [
     0.0, 0.0, // g13,13 h13,13
 ];
 
-/// Schmidt-scaled Gauss coefficients N g, N h (nT) at 1925.0, column order.
+/// Schmidt-scaled Gauss coefficients N g, N h (nT) at 1925.0, column order, n <= 13.
 static EPOCH_1925: [f32; N_COEFFS] = [
     -30926.0, // g1,0
     -893.0, // g2,0
@@ -352,7 +352,7 @@ static EPOCH_1925: [f32; N_COEFFS] = [
     0.0, 0.0, // g13,13 h13,13
 ];
 
-/// Schmidt-scaled Gauss coefficients N g, N h (nT) at 1935.0, column order.
+/// Schmidt-scaled Gauss coefficients N g, N h (nT) at 1935.0, column order, n <= 13.
 static EPOCH_1935: [f32; N_COEFFS] = [
     -30715.0, // g1,0
     -1018.0, // g2,0
@@ -460,7 +460,7 @@ static EPOCH_1935: [f32; N_COEFFS] = [
     0.0, 0.0, // g13,13 h13,13
 ];
 
-/// Schmidt-scaled Gauss coefficients N g, N h (nT) at 1945.0, column order.
+/// Schmidt-scaled Gauss coefficients N g, N h (nT) at 1945.0, column order, n <= 13.
 static EPOCH_1945: [f32; N_COEFFS] = [
     -30594.0, // g1,0
     -1244.0, // g2,0
@@ -568,7 +568,7 @@ static EPOCH_1945: [f32; N_COEFFS] = [
     0.0, 0.0, // g13,13 h13,13
 ];
 
-/// Schmidt-scaled Gauss coefficients N g, N h (nT) at 1955.0, column order.
+/// Schmidt-scaled Gauss coefficients N g, N h (nT) at 1955.0, column order, n <= 13.
 static EPOCH_1955: [f32; N_COEFFS] = [
     -30500.0, // g1,0
     -1440.0, // g2,0
@@ -676,7 +676,7 @@ static EPOCH_1955: [f32; N_COEFFS] = [
     0.0, 0.0, // g13,13 h13,13
 ];
 
-/// Schmidt-scaled Gauss coefficients N g, N h (nT) at 1965.0, column order.
+/// Schmidt-scaled Gauss coefficients N g, N h (nT) at 1965.0, column order, n <= 13.
 static EPOCH_1965: [f32; N_COEFFS] = [
     -30334.0, // g1,0
     -1662.0, // g2,0
@@ -784,7 +784,7 @@ static EPOCH_1965: [f32; N_COEFFS] = [
     0.0, 0.0, // g13,13 h13,13
 ];
 
-/// Schmidt-scaled Gauss coefficients N g, N h (nT) at 1975.0, column order.
+/// Schmidt-scaled Gauss coefficients N g, N h (nT) at 1975.0, column order, n <= 13.
 static EPOCH_1975: [f32; N_COEFFS] = [
     -30100.0, // g1,0
     -1902.0, // g2,0
@@ -892,7 +892,7 @@ static EPOCH_1975: [f32; N_COEFFS] = [
     0.0, 0.0, // g13,13 h13,13
 ];
 
-/// Schmidt-scaled Gauss coefficients N g, N h (nT) at 1985.0, column order.
+/// Schmidt-scaled Gauss coefficients N g, N h (nT) at 1985.0, column order, n <= 13.
 static EPOCH_1985: [f32; N_COEFFS] = [
     -29873.0, // g1,0
     -2072.0, // g2,0
@@ -1000,7 +1000,7 @@ static EPOCH_1985: [f32; N_COEFFS] = [
     0.0, 0.0, // g13,13 h13,13
 ];
 
-/// Schmidt-scaled Gauss coefficients N g, N h (nT) at 1995.0, column order.
+/// Schmidt-scaled Gauss coefficients N g, N h (nT) at 1995.0, column order, n <= 13.
 static EPOCH_1995: [f32; N_COEFFS] = [
     -29692.0, // g1,0
     -2200.0, // g2,0
@@ -1108,7 +1108,7 @@ static EPOCH_1995: [f32; N_COEFFS] = [
     0.0, 0.0, // g13,13 h13,13
 ];
 
-/// Schmidt-scaled Gauss coefficients N g, N h (nT) at 2005.0, column order.
+/// Schmidt-scaled Gauss coefficients N g, N h (nT) at 2005.0, column order, n <= 13.
 static EPOCH_2005: [f32; N_COEFFS] = [
     -29554.63, // g1,0
     -2337.24, // g2,0
@@ -1216,7 +1216,7 @@ static EPOCH_2005: [f32; N_COEFFS] = [
     -1.2675876e-14, -5.774566e-14, // g13,13 h13,13
 ];
 
-/// Schmidt-scaled Gauss coefficients N g, N h (nT) at 2015.0, column order.
+/// Schmidt-scaled Gauss coefficients N g, N h (nT) at 2015.0, column order, n <= 13.
 static EPOCH_2015: [f32; N_COEFFS] = [
     -29441.46, // g1,0
     -2445.88, // g2,0
@@ -1324,7 +1324,7 @@ static EPOCH_2015: [f32; N_COEFFS] = [
     -2.5351752e-14, -4.999929e-14, // g13,13 h13,13
 ];
 
-/// Schmidt-scaled Gauss coefficients N g, N h (nT) at 2025.0, column order.
+/// Schmidt-scaled Gauss coefficients N g, N h (nT) at 2025.0, column order, n <= 13.
 static EPOCH_2025: [f32; N_COEFFS] = [
     -29350.0, // g1,0
     -2556.2, // g2,0
@@ -1432,7 +1432,7 @@ static EPOCH_2025: [f32; N_COEFFS] = [
     -2.8168614e-14, -3.5210767e-14, // g13,13 h13,13
 ];
 
-/// Schmidt-scaled change N Δg, N Δh (nT) from 1905.0 to 1900.0, column order.
+/// Schmidt-scaled change N Δg, N Δh (nT) from 1905.0 to 1900.0, column order, n <= 13.
 static DELTA_1905_1900: [f32; N_COEFFS] = [
     -79.0, // g1,0
     51.0, // g2,0
@@ -1540,7 +1540,7 @@ static DELTA_1905_1900: [f32; N_COEFFS] = [
     0.0, 0.0, // g13,13 h13,13
 ];
 
-/// Schmidt-scaled change N Δg, N Δh (nT) from 1905.0 to 1910.0, column order.
+/// Schmidt-scaled change N Δg, N Δh (nT) from 1905.0 to 1910.0, column order, n <= 13.
 static DELTA_1905_1910: [f32; N_COEFFS] = [
     110.0, // g1,0
     -41.0, // g2,0
@@ -1648,7 +1648,7 @@ static DELTA_1905_1910: [f32; N_COEFFS] = [
     0.0, 0.0, // g13,13 h13,13
 ];
 
-/// Schmidt-scaled change N Δg, N Δh (nT) from 1915.0 to 1910.0, column order.
+/// Schmidt-scaled change N Δg, N Δh (nT) from 1915.0 to 1910.0, column order, n <= 13.
 static DELTA_1915_1910: [f32; N_COEFFS] = [
     -142.0, // g1,0
     33.0, // g2,0
@@ -1756,7 +1756,7 @@ static DELTA_1915_1910: [f32; N_COEFFS] = [
     0.0, 0.0, // g13,13 h13,13
 ];
 
-/// Schmidt-scaled change N Δg, N Δh (nT) from 1915.0 to 1920.0, column order.
+/// Schmidt-scaled change N Δg, N Δh (nT) from 1915.0 to 1920.0, column order, n <= 13.
 static DELTA_1915_1920: [f32; N_COEFFS] = [
     152.0, // g1,0
     -37.0, // g2,0
@@ -1864,7 +1864,7 @@ static DELTA_1915_1920: [f32; N_COEFFS] = [
     0.0, 0.0, // g13,13 h13,13
 ];
 
-/// Schmidt-scaled change N Δg, N Δh (nT) from 1925.0 to 1920.0, column order.
+/// Schmidt-scaled change N Δg, N Δh (nT) from 1925.0 to 1920.0, column order, n <= 13.
 static DELTA_1925_1920: [f32; N_COEFFS] = [
     -134.0, // g1,0
     54.0, // g2,0
@@ -1972,7 +1972,7 @@ static DELTA_1925_1920: [f32; N_COEFFS] = [
     0.0, 0.0, // g13,13 h13,13
 ];
 
-/// Schmidt-scaled change N Δg, N Δh (nT) from 1925.0 to 1930.0, column order.
+/// Schmidt-scaled change N Δg, N Δh (nT) from 1925.0 to 1930.0, column order, n <= 13.
 static DELTA_1925_1930: [f32; N_COEFFS] = [
     121.0, // g1,0
     -58.0, // g2,0
@@ -2080,7 +2080,7 @@ static DELTA_1925_1930: [f32; N_COEFFS] = [
     0.0, 0.0, // g13,13 h13,13
 ];
 
-/// Schmidt-scaled change N Δg, N Δh (nT) from 1935.0 to 1930.0, column order.
+/// Schmidt-scaled change N Δg, N Δh (nT) from 1935.0 to 1930.0, column order, n <= 13.
 static DELTA_1935_1930: [f32; N_COEFFS] = [
     -90.0, // g1,0
     67.0, // g2,0
@@ -2188,7 +2188,7 @@ static DELTA_1935_1930: [f32; N_COEFFS] = [
     0.0, 0.0, // g13,13 h13,13
 ];
 
-/// Schmidt-scaled change N Δg, N Δh (nT) from 1935.0 to 1940.0, column order.
+/// Schmidt-scaled change N Δg, N Δh (nT) from 1935.0 to 1940.0, column order, n <= 13.
 static DELTA_1935_1940: [f32; N_COEFFS] = [
     61.0, // g1,0
     -88.0, // g2,0
@@ -2296,7 +2296,7 @@ static DELTA_1935_1940: [f32; N_COEFFS] = [
     0.0, 0.0, // g13,13 h13,13
 ];
 
-/// Schmidt-scaled change N Δg, N Δh (nT) from 1945.0 to 1940.0, column order.
+/// Schmidt-scaled change N Δg, N Δh (nT) from 1945.0 to 1940.0, column order, n <= 13.
 static DELTA_1945_1940: [f32; N_COEFFS] = [
     -60.0, // g1,0
     138.0, // g2,0
@@ -2404,7 +2404,7 @@ static DELTA_1945_1940: [f32; N_COEFFS] = [
     0.0, 0.0, // g13,13 h13,13
 ];
 
-/// Schmidt-scaled change N Δg, N Δh (nT) from 1945.0 to 1950.0, column order.
+/// Schmidt-scaled change N Δg, N Δh (nT) from 1945.0 to 1950.0, column order, n <= 13.
 static DELTA_1945_1950: [f32; N_COEFFS] = [
     40.0, // g1,0
     -97.0, // g2,0
@@ -2512,7 +2512,7 @@ static DELTA_1945_1950: [f32; N_COEFFS] = [
     0.0, 0.0, // g13,13 h13,13
 ];
 
-/// Schmidt-scaled change N Δg, N Δh (nT) from 1955.0 to 1950.0, column order.
+/// Schmidt-scaled change N Δg, N Δh (nT) from 1955.0 to 1950.0, column order, n <= 13.
 static DELTA_1955_1950: [f32; N_COEFFS] = [
     -54.0, // g1,0
     99.0, // g2,0
@@ -2620,7 +2620,7 @@ static DELTA_1955_1950: [f32; N_COEFFS] = [
     0.0, 0.0, // g13,13 h13,13
 ];
 
-/// Schmidt-scaled change N Δg, N Δh (nT) from 1955.0 to 1960.0, column order.
+/// Schmidt-scaled change N Δg, N Δh (nT) from 1955.0 to 1960.0, column order, n <= 13.
 static DELTA_1955_1960: [f32; N_COEFFS] = [
     79.0, // g1,0
     -115.0, // g2,0
@@ -2728,7 +2728,7 @@ static DELTA_1955_1960: [f32; N_COEFFS] = [
     0.0, 0.0, // g13,13 h13,13
 ];
 
-/// Schmidt-scaled change N Δg, N Δh (nT) from 1965.0 to 1960.0, column order.
+/// Schmidt-scaled change N Δg, N Δh (nT) from 1965.0 to 1960.0, column order, n <= 13.
 static DELTA_1965_1960: [f32; N_COEFFS] = [
     -87.0, // g1,0
     107.0, // g2,0
@@ -2836,7 +2836,7 @@ static DELTA_1965_1960: [f32; N_COEFFS] = [
     0.0, 0.0, // g13,13 h13,13
 ];
 
-/// Schmidt-scaled change N Δg, N Δh (nT) from 1965.0 to 1970.0, column order.
+/// Schmidt-scaled change N Δg, N Δh (nT) from 1965.0 to 1970.0, column order, n <= 13.
 static DELTA_1965_1970: [f32; N_COEFFS] = [
     114.0, // g1,0
     -119.0, // g2,0
@@ -2944,7 +2944,7 @@ static DELTA_1965_1970: [f32; N_COEFFS] = [
     0.0, 0.0, // g13,13 h13,13
 ];
 
-/// Schmidt-scaled change N Δg, N Δh (nT) from 1975.0 to 1970.0, column order.
+/// Schmidt-scaled change N Δg, N Δh (nT) from 1975.0 to 1970.0, column order, n <= 13.
 static DELTA_1975_1970: [f32; N_COEFFS] = [
     -120.0, // g1,0
     121.0, // g2,0
@@ -3052,7 +3052,7 @@ static DELTA_1975_1970: [f32; N_COEFFS] = [
     0.0, 0.0, // g13,13 h13,13
 ];
 
-/// Schmidt-scaled change N Δg, N Δh (nT) from 1975.0 to 1980.0, column order.
+/// Schmidt-scaled change N Δg, N Δh (nT) from 1975.0 to 1980.0, column order, n <= 13.
 static DELTA_1975_1980: [f32; N_COEFFS] = [
     108.0, // g1,0
     -95.0, // g2,0
@@ -3160,7 +3160,7 @@ static DELTA_1975_1980: [f32; N_COEFFS] = [
     0.0, 0.0, // g13,13 h13,13
 ];
 
-/// Schmidt-scaled change N Δg, N Δh (nT) from 1985.0 to 1980.0, column order.
+/// Schmidt-scaled change N Δg, N Δh (nT) from 1985.0 to 1980.0, column order, n <= 13.
 static DELTA_1985_1980: [f32; N_COEFFS] = [
     -119.0, // g1,0
     75.0, // g2,0
@@ -3268,7 +3268,7 @@ static DELTA_1985_1980: [f32; N_COEFFS] = [
     0.0, 0.0, // g13,13 h13,13
 ];
 
-/// Schmidt-scaled change N Δg, N Δh (nT) from 1985.0 to 1990.0, column order.
+/// Schmidt-scaled change N Δg, N Δh (nT) from 1985.0 to 1990.0, column order, n <= 13.
 static DELTA_1985_1990: [f32; N_COEFFS] = [
     98.0, // g1,0
     -59.0, // g2,0
@@ -3376,7 +3376,7 @@ static DELTA_1985_1990: [f32; N_COEFFS] = [
     0.0, 0.0, // g13,13 h13,13
 ];
 
-/// Schmidt-scaled change N Δg, N Δh (nT) from 1995.0 to 1990.0, column order.
+/// Schmidt-scaled change N Δg, N Δh (nT) from 1995.0 to 1990.0, column order, n <= 13.
 static DELTA_1995_1990: [f32; N_COEFFS] = [
     -83.0, // g1,0
     69.0, // g2,0
@@ -3484,7 +3484,7 @@ static DELTA_1995_1990: [f32; N_COEFFS] = [
     0.0, 0.0, // g13,13 h13,13
 ];
 
-/// Schmidt-scaled change N Δg, N Δh (nT) from 1995.0 to 2000.0, column order.
+/// Schmidt-scaled change N Δg, N Δh (nT) from 1995.0 to 2000.0, column order, n <= 13.
 static DELTA_1995_2000: [f32; N_COEFFS] = [
     72.6, // g1,0
     -67.7, // g2,0
@@ -3592,7 +3592,7 @@ static DELTA_1995_2000: [f32; N_COEFFS] = [
     7.0421536e-15, -6.337938e-14, // g13,13 h13,13
 ];
 
-/// Schmidt-scaled change N Δg, N Δh (nT) from 2005.0 to 2000.0, column order.
+/// Schmidt-scaled change N Δg, N Δh (nT) from 2005.0 to 2000.0, column order, n <= 13.
 static DELTA_2005_2000: [f32; N_COEFFS] = [
     -64.77, // g1,0
     69.54, // g2,0
@@ -3700,7 +3700,7 @@ static DELTA_2005_2000: [f32; N_COEFFS] = [
     1.971803e-14, -5.633723e-15, // g13,13 h13,13
 ];
 
-/// Schmidt-scaled change N Δg, N Δh (nT) from 2005.0 to 2010.0, column order.
+/// Schmidt-scaled change N Δg, N Δh (nT) from 2005.0 to 2010.0, column order, n <= 13.
 static DELTA_2005_2010: [f32; N_COEFFS] = [
     58.06, // g1,0
     -58.82, // g2,0
@@ -3808,7 +3808,7 @@ static DELTA_2005_2010: [f32; N_COEFFS] = [
     -5.633723e-15, 2.112646e-15, // g13,13 h13,13
 ];
 
-/// Schmidt-scaled change N Δg, N Δh (nT) from 2015.0 to 2010.0, column order.
+/// Schmidt-scaled change N Δg, N Δh (nT) from 2015.0 to 2010.0, column order, n <= 13.
 static DELTA_2015_2010: [f32; N_COEFFS] = [
     -55.11, // g1,0
     49.82, // g2,0
@@ -3916,7 +3916,7 @@ static DELTA_2015_2010: [f32; N_COEFFS] = [
     7.0421536e-15, -5.633723e-15, // g13,13 h13,13
 ];
 
-/// Schmidt-scaled change N Δg, N Δh (nT) from 2015.0 to 2020.0, column order.
+/// Schmidt-scaled change N Δg, N Δh (nT) from 2015.0 to 2020.0, column order, n <= 13.
 static DELTA_2015_2020: [f32; N_COEFFS] = [
     38.05, // g1,0
     -53.9, // g2,0
@@ -4024,7 +4024,7 @@ static DELTA_2015_2020: [f32; N_COEFFS] = [
     -2.8168614e-15, 7.746369e-15, // g13,13 h13,13
 ];
 
-/// Schmidt-scaled change N Δg, N Δh (nT) from 2025.0 to 2020.0, column order.
+/// Schmidt-scaled change N Δg, N Δh (nT) from 2025.0 to 2020.0, column order, n <= 13.
 static DELTA_2025_2020: [f32; N_COEFFS] = [
     -53.41, // g1,0
     56.42, // g2,0
@@ -4132,7 +4132,7 @@ static DELTA_2025_2020: [f32; N_COEFFS] = [
     0.0, -7.0421536e-15, // g13,13 h13,13
 ];
 
-/// Schmidt-scaled change N Δg, N Δh (nT) from 2025.0 to 2030.0, column order.
+/// Schmidt-scaled change N Δg, N Δh (nT) from 2025.0 to 2030.0, column order, n <= 13.
 static DELTA_2025_2030: [f32; N_COEFFS] = [
     63.0, // g1,0
     -56.0, // g2,0
@@ -4240,13 +4240,158 @@ static DELTA_2025_2030: [f32; N_COEFFS] = [
     0.0, 0.0, // g13,13 h13,13
 ];
 
+/// Schmidt-scaled Gauss coefficients N g, N h (nT) at 2025.0, column order, n <= 8.
+static EPOCH_2025_N8: [f32; 80] = [
+    -29350.0, // g1,0
+    -2556.2, // g2,0
+    1360.9, // g3,0
+    894.7, // g4,0
+    -232.9, // g5,0
+    64.3, // g6,0
+    79.6, // g7,0
+    23.1, // g8,0
+    -1410.3, 4545.5, // g1,1 h1,1
+    1703.7029, -1809.1848, // g2,1 h2,1
+    -981.51056, -23.229328, // g3,1 h3,1
+    252.85573, 88.10106, // g4,1 h4,1
+    95.27539, 11.69641, // g5,1 h5,1
+    13.922301, -4.015209, // g6,1 h6,1
+    -14.532734, -9.241231, // g7,1 h7,1
+    1.8166667, 1.2, // g8,1 h8,1
+    475.9387, -235.03929, // g2,2 h2,2
+    160.57388, 30.674028, // g3,2 h3,2
+    4.159086, -9.98777, // g4,2 h4,2
+    9.134424, 10.7349, // g5,2 h5,2
+    2.6464014, 0.57965505, // g6,2 h6,2
+    -0.22631158, -0.37032804, // g7,2 h7,2
+    -0.34860834, -0.25099802, // g8,2 h8,2
+    23.896278, -28.966463, // g3,3 h3,3
+    -5.599646, 4.223141, // g4,3 h4,3
+    -1.3814851, -1.2241133, // g5,3 h5,3
+    -0.6653382, 0.28120172, // g6,3 h6,3
+    0.21567202, -0.0036369648, // g7,3 h7,3
+    0.0049040825, 0.028198473, // g8,3 h8,3
+    0.08451542, -2.6439242, // g4,4 h4,4
+    -0.33313164, 0.100714214, // g5,4 h5,4
+    -0.042940963, -0.0627841, // g6,4 h6,4
+    0.00866303, 0.012884887, // g7,4 h7,4
+    -0.006900946, -0.0030706045, // g8,4 h8,4
+    0.015516, 0.078842066, // g5,5 h5,5
+    0.0033352117, 0.0024398528, // g6,5 h6,5
+    0.00022845545, -0.00067622814, // g7,5 h7,5
+    0.000741886, 0.0005575119, // g8,5 h8,5
+    -0.003928711, 0.0047041145, // g6,6 h6,6
+    -0.00020072103, -0.00044983014, // g7,6 h7,6
+    0.0001009281, 4.7415883e-06, // g8,6 h8,6
+    6.849311e-05, -1.0537401e-05, // g7,7 h7,7
+    -2.07766e-05, -6.4308524e-06, // g8,7 h8,7
+    3.091756e-07, 1.2057848e-06, // g8,8 h8,8
+];
+
+/// Schmidt-scaled change N Δg, N Δh (nT) from 2025.0 to 2020.0, column order, n <= 8.
+static DELTA_2025_2020_N8: [f32; 80] = [
+    -53.41, // g1,0
+    56.42, // g2,0
+    2.1, // g3,0
+    8.12, // g4,0
+    -1.52, // g5,0
+    1.67, // g6,0
+    0.94, // g7,0
+    0.56, // g8,0
+    -41.07, 107.85, // g1,1 h1,1
+    17.932499, 81.91446, // g2,1 h2,1
+    9.55301, -10.230702, // g3,1 h3,1
+    3.1211681, 1.1067972, // g4,1 h4,1
+    -1.4820616, 0.57320154, // g5,1 h5,1
+    0.38406348, -0.17893867, // g6,1 h6,1
+    0.051025204, -0.4913538, // g7,1 h7,1
+    -0.19333333, 0.205, // g8,1 h8,1
+    8.126205, 22.972767, // g2,2 h2,2
+    -0.9992297, 0.5422177, // g3,2 h3,2
+    2.2643914, -1.8261222, // g4,2 h4,2
+    0.032204702, -0.56797385, // g5,2 h5,2
+    -0.12904225, 0.28361693, // g6,2 h6,2
+    0.014658818, -0.0630072, // g7,2 h7,2
+    0.00019920476, -0.052390855, // g8,2 h8,2
+    3.805274, 0.37314877, // g3,3 h3,3
+    -0.56514394, -0.24402584, // g4,3 h4,3
+    -0.020219283, 0.01464155, // g5,3 h5,3
+    -0.03375571, 0.022197109, // g6,3 h6,3
+    -0.01036535, 0.012220202, // g7,3 h7,3
+    -0.0061055827, 0.0032612148, // g8,3 h8,3
+    0.24960223, 0.1767781, // g4,4 h4,4
+    -0.021739246, -0.025378104, // g5,4 h5,4
+    0.0050815223, -0.004829546, // g6,4 h6,4
+    0.0, 3.2897584e-05, // g7,4 h7,4
+    0.00023108673, -0.00065210776, // g8,4 h8,4
+    -0.005137355, -0.0052412897, // g5,5 h5,5
+    -0.00029099162, -0.00043424903, // g6,5 h6,5
+    0.0003472523, 0.00047610115, // g7,5 h7,5
+    -7.11157e-05, 9.833282e-05, // g8,5 h8,5
+    -0.00025846783, -0.00030757673, // g6,6 h6,6
+    7.150687e-05, -3.7455975e-05, // g7,6 h7,6
+    -8.467122e-06, 1.9779198e-05, // g8,6 h8,6
+    -2.1697466e-05, 1.4369183e-06, // g7,7 h7,7
+    2.597075e-07, -2.102394e-06, // g8,7 h8,7
+    -4.142953e-07, -3.091756e-07, // g8,8 h8,8
+];
+
+/// Schmidt-scaled change N Δg, N Δh (nT) from 2025.0 to 2030.0, column order, n <= 8.
+static DELTA_2025_2030_N8: [f32; 80] = [
+    63.0, // g1,0
+    -56.0, // g2,0
+    -7.5, // g3,0
+    -8.5, // g4,0
+    3.0, // g5,0
+    -1.0, // g6,0
+    -0.5, // g7,0
+    -0.5, // g8,0
+    50.0, -107.5, // g1,1 h1,1
+    -15.299782, -78.80831, // g2,1 h2,1
+    -8.9814625, 7.7567177, // g3,1 h3,1
+    -3.6366193, -2.0554805, // g4,1 h4,1
+    1.6782928, -0.6454972, // g5,1 h5,1
+    -0.32732683, 0.32732683, // g6,1 h6,1
+    -0.09449112, 0.5669467, // g7,1 h7,1
+    0.16666667, -0.25, // g8,1 h8,1
+    -11.980018, -16.02147, // g2,2 h2,2
+    0.2581989, -0.12909944, // g3,2 h3,2
+    -2.1615324, 1.5279797, // g4,2 h4,2
+    0.0, 0.5123475, // g5,2 h5,2
+    0.13801311, -0.27602622, // g6,2 h6,2
+    -0.012858612, 0.064293064, // g7,2 h7,2
+    0.0, 0.039840955, // g8,2 h8,2
+    -4.110961, -1.0277402, // g3,3 h3,3
+    0.5378529, 0.15936382, // g4,3 h4,3
+    0.034860834, 0.024900597, // g5,3 h5,3
+    0.034503277, -0.011501092, // g6,3 h6,3
+    0.009092412, -0.012729377, // g7,3 h7,3
+    0.0049040825, -0.0036780618, // g8,3 h8,3
+    -0.23946038, -0.14438052, // g4,4 h4,4
+    0.026997983, 0.019955032, // g5,4 h5,4
+    -0.0041996054, 0.0041996054, // g6,4 h6,4
+    -0.00027414653, 0.0, // g7,4 h7,4
+    -0.00015827858, 0.0006331143, // g8,4 h8,4
+    0.0037119617, 0.007052727, // g5,5 h5,5
+    0.00044767943, 0.00078343897, // g6,5 h6,5
+    -0.00036552871, -0.0004112198, // g7,5 h7,5
+    6.584787e-05, -0.00010974645, // g8,5 h8,5
+    0.0002907763, 0.0002907763, // g6,6 h6,6
+    -7.168608e-05, 4.48038e-05, // g7,6 h7,6
+    3.386849e-06, -2.0321093e-05, // g8,6 h8,6
+    2.1553775e-05, -7.1845916e-06, // g7,7 h7,7
+    0.0, 1.8550536e-06, // g8,7 h8,7
+    4.637634e-07, 3.091756e-07, // g8,8 h8,8
+];
+
 /// The whole model: every epoch of the file (for the host, the tests and mission analysis).
 ///
-/// IGRF 14: epochs 1900.0 to 2030.0 every 5 years (39 tables of 195 f32, 30420 bytes of flash, plus 48 bytes of constants shared by all models).
+/// IGRF 14: epochs 1900.0 to 2030.0 every 5 years, degree 13 (39 tables of 195 f32, 30420 bytes of flash, plus 48 bytes of constants shared by all models).
 pub static FULL: Model = Model {
     name: "IGRF-14",
     first_year: 1900,
     step_years: 5,
+    degree: 13,
     intervals: &[
         Interval { anchor: &EPOCH_1905, delta: &DELTA_1905_1900, from_end: true },
         Interval { anchor: &EPOCH_1905, delta: &DELTA_1905_1910, from_end: false },
@@ -4277,16 +4422,31 @@ pub static FULL: Model = Model {
     ],
 };
 
-/// The flight default: the last definitive model, the current model and its secular-variation prediction.
+/// The last definitive model, the current model and its secular-variation prediction, at full degree.
 ///
-/// IGRF 14: epochs 2020.0 to 2030.0 every 5 years (3 tables of 195 f32, 2340 bytes of flash, plus 48 bytes of constants shared by all models).
+/// IGRF 14: epochs 2020.0 to 2030.0 every 5 years, degree 13 (3 tables of 195 f32, 2340 bytes of flash, plus 48 bytes of constants shared by all models).
 pub static RECENT: Model = Model {
     name: "IGRF-14",
     first_year: 2020,
     step_years: 5,
+    degree: 13,
     intervals: &[
         Interval { anchor: &EPOCH_2025, delta: &DELTA_2025_2020, from_end: true },
         Interval { anchor: &EPOCH_2025, delta: &DELTA_2025_2030, from_end: false },
+    ],
+};
+
+/// The flight tables: the epochs of [`RECENT`] truncated at degree 8 (the flight image carries only what it evaluates; issue #17).
+///
+/// IGRF 14: epochs 2020.0 to 2030.0 every 5 years, degree 8 (3 tables of 80 f32, 960 bytes of flash, plus 48 bytes of constants shared by all models).
+pub static FLIGHT: Model = Model {
+    name: "IGRF-14",
+    first_year: 2020,
+    step_years: 5,
+    degree: 8,
+    intervals: &[
+        Interval { anchor: &EPOCH_2025_N8, delta: &DELTA_2025_2020_N8, from_end: true },
+        Interval { anchor: &EPOCH_2025_N8, delta: &DELTA_2025_2030_N8, from_end: false },
     ],
 };
 
