@@ -104,14 +104,7 @@ mod status {
 
 /// The uplink argument `i` (0 beyond the buffer).
 fn arg(i: usize) -> u32 {
-    // SAFETY: single-threaded firmware; volatile: written from outside the program. The element
-    // is read through a raw pointer after a bounds check, without a reference to the static.
-    unsafe {
-        if i >= ELEMENT_WORDS {
-            return 0;
-        }
-        core::ptr::read_volatile((&raw const UPLINK_ARGS as *const u32).add(i))
-    }
+    crate::tiles::element(&raw const UPLINK_ARGS, i).unwrap_or(0)
 }
 
 /// The quaternion of uplink arguments 0–3, normalised; `None` if not finite or zero.
@@ -188,8 +181,11 @@ pub fn take_uplink(acs: &mut FlightLoop, clock: &mut Epoch<Utc>, attitude: Optio
 /// one in use, which is kept if any word is bad.
 #[inline(never)]
 fn take_elements(acs: &mut FlightLoop) -> u16 {
-    // SAFETY: as in `arg`.
-    let words = unsafe { core::ptr::read_volatile(&raw const UPLINK_ARGS) };
+    // word by word (a volatile read of the whole array is unrolled into 58 moves)
+    let mut words = [0u32; ELEMENT_WORDS];
+    for (i, w) in words.iter_mut().enumerate() {
+        *w = arg(i);
+    }
     match Sgp4::from_words(&words) {
         Ok(orbit) => {
             acs.set_orbit(orbit);

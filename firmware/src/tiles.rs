@@ -54,6 +54,32 @@ fn bit(mask: u32, i: usize) -> bool {
     mask & 1u32.checked_shl(i as u32).unwrap_or(0) != 0
 }
 
+/// Element `i` of a mailbox array, `None` beyond its end; one volatile read of that element
+/// only (a volatile read of the whole array is unrolled into a move per word).
+pub(crate) fn element<T: Copy, const L: usize>(mailbox: *const [T; L], i: usize) -> Option<T> {
+    if i >= L {
+        return None;
+    }
+    // SAFETY: `mailbox` is one of this module's statics (valid, aligned, never referenced:
+    // single-threaded firmware, no interrupt touches the mailboxes), `i < L`; volatile: written
+    // from outside the program.
+    Some(unsafe { core::ptr::read_volatile((mailbox as *const T).add(i)) })
+}
+
+/// Writes element `i` of a mailbox array; `Err(DeviceAbsent)` beyond its end.
+fn set_element<T, const L: usize>(
+    mailbox: *mut [T; L],
+    i: usize,
+    value: T,
+) -> Result<(), ErrorKind> {
+    if i >= L {
+        return Err(ErrorKind::DeviceAbsent);
+    }
+    // SAFETY: as in `element`.
+    unsafe { core::ptr::write_volatile((mailbox as *mut T).add(i), value) };
+    Ok(())
+}
+
 /// The read error of device bit `i` of [`TILE_READ_ERRORS`], if set.
 fn read_error(i: usize) -> Result<(), ErrorKind> {
     // SAFETY: single-threaded firmware, no interrupt touches the mailboxes; volatile: written
@@ -79,56 +105,30 @@ pub struct MailboxBus;
 impl TileBus for MailboxBus {
     fn read_sun(&mut self, tile: usize) -> Result<Option<[i16; 2]>, ErrorKind> {
         read_error(tile)?;
+        let angles = element(&raw const TILE_SUN, tile).ok_or(ErrorKind::DeviceAbsent)?;
         // SAFETY: as in `read_error`.
-        let (all, seen) = unsafe {
-            (
-                core::ptr::read_volatile(&raw const TILE_SUN),
-                core::ptr::read_volatile(&raw const TILE_SUN_SEEN),
-            )
-        };
-        let angles = all.get(tile).copied().ok_or(ErrorKind::DeviceAbsent)?;
+        let seen = unsafe { core::ptr::read_volatile(&raw const TILE_SUN_SEEN) };
         Ok(bit(u32::from(seen), tile).then_some(angles))
     }
     fn read_magnetometer(&mut self, tile: usize) -> Result<[i16; 2], ErrorKind> {
         read_error(8 + tile)?;
-        // SAFETY: as in `read_error`.
-        let all = unsafe { core::ptr::read_volatile(&raw const TILE_MAG) };
-        all.get(tile).copied().ok_or(ErrorKind::DeviceAbsent)
+        element(&raw const TILE_MAG, tile).ok_or(ErrorKind::DeviceAbsent)
     }
     fn read_gyro(&mut self, tile: usize) -> Result<i16, ErrorKind> {
         read_error(16 + tile)?;
-        // SAFETY: as in `read_error`.
-        let all = unsafe { core::ptr::read_volatile(&raw const TILE_GYRO) };
-        all.get(tile).copied().ok_or(ErrorKind::DeviceAbsent)
+        element(&raw const TILE_GYRO, tile).ok_or(ErrorKind::DeviceAbsent)
     }
     fn set_wheel_momentum(&mut self, tile: usize, h_nms: f32) -> Result<(), ErrorKind> {
         if refuses(tile) {
             return Err(ErrorKind::OutOfRange);
         }
-        // SAFETY: as in `read_error`; the element is written through a raw pointer, without a
-        // reference to the `static mut`.
-        unsafe {
-            let all = &raw mut CMD_WHEEL_NMS;
-            if tile >= TILES {
-                return Err(ErrorKind::DeviceAbsent);
-            }
-            core::ptr::write_volatile((all as *mut f32).add(tile), h_nms);
-        }
-        Ok(())
+        set_element(&raw mut CMD_WHEEL_NMS, tile, h_nms)
     }
     fn set_dipole(&mut self, coil: usize, m_am2: f32) -> Result<(), ErrorKind> {
         if refuses(8 + coil) {
             return Err(ErrorKind::OutOfRange);
         }
-        // SAFETY: as in `set_wheel_momentum`.
-        unsafe {
-            let all = &raw mut CMD_DIPOLE_AM2;
-            if coil >= COILS {
-                return Err(ErrorKind::DeviceAbsent);
-            }
-            core::ptr::write_volatile((all as *mut f32).add(coil), m_am2);
-        }
-        Ok(())
+        set_element(&raw mut CMD_DIPOLE_AM2, coil, m_am2)
     }
 }
 
