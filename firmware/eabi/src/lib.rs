@@ -13,6 +13,7 @@
 //! |---|---|---|
 //! | integer | `mpyi mpyl mpyll divi divu remi remu divli divul remli remul divlli divull remlli remull slll srll sral` | [`int`] (assembly) |
 //! | f32 | `addf subf mpyf divf cmpf fixfli fixful fixflli fixfull fltlif fltulf fltllif fltullf`, `__unordsf2`, `acs_sqrtf` | [`f32`] (assembly; 64-bit conversions via `compiler-builtins`) |
+//! | memory | `memcpy memmove memset` (byte loops, smaller than `compiler-builtins`' ones) | [`mem`] (assembly) |
 //! | f64 | `addd subd mpyd divd cmpd cvtfd cvtdf fixdli fixdul fixdlli fixdull fltlid fltuld fltllid fltulld` | [`f64`] (wrappers around `compiler-builtins`) |
 //!
 //! Calling conventions (verified on the disassembly of LLVM's calls, see README):
@@ -37,3 +38,5 @@ pub mod f32;
 pub mod f64;
 #[cfg(target_arch = "msp430")]
 pub mod int;
+#[cfg(target_arch = "msp430")]
+pub mod mem;

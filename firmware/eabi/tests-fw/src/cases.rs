@@ -303,6 +303,7 @@ pub const OPS: &[&str] = &[
     "divd", "cmpd", "fixdli", "fixdul", "fixdlli", "fixdull", "fltlid", "fltuld", "fltllid",
     "fltulld", "mpyi", "divi", "remi", "divu", "remu", "mpyl", "mpyl16", "divli", "remli", "divul",
     "remul", "mpyll", "mpyll32", "divlli", "remlli", "divull", "remull", "slll", "srll", "sral",
+    "memcpy", "memmove", "memset",
 ];
 
 /// Number of an operation by name.
@@ -421,6 +422,10 @@ pub fn case(op: u16, r: &mut Rng) -> ([u32; 4], (u32, u32)) {
             };
             ([a, b, 0, 0], (res, 0))
         }
+        50..=52 => {
+            let w = [r.next(), r.next(), r.next(), r.next()];
+            (w, mem_case(op, &w))
+        }
         _ => {
             let a = i64_bits(r);
             let b = i64_bits(r);
@@ -438,4 +443,49 @@ pub fn case(op: u16, r: &mut Rng) -> ([u32; 4], (u32, u32)) {
             )
         }
     }
+}
+
+/// `memcpy` (50), `memmove` (51) or `memset` (52) on a 16-byte buffer holding the input words,
+/// with length, offsets and fill byte taken from the inputs (lengths 0..=16, overlaps both
+/// ways for `memmove`): the buffer folded into two words. The length is not a constant, so on
+/// the MSP430 the copies are calls of the helpers.
+fn mem_case(op: u16, w: &[u32; 4]) -> (u32, u32) {
+    let mut buf = [0u8; 16];
+    for (chunk, word) in buf.chunks_exact_mut(4).zip(w.iter()) {
+        chunk.copy_from_slice(&word.to_le_bytes());
+    }
+    let sel = mix(w[0], w[3]);
+    // in u32, then cast: usize is 16 bits on the MSP430
+    let len = sel % 17;
+    let room = 16 - len;
+    let dst = ((sel >> 8) % (room + 1)) as usize;
+    let src = ((sel >> 16) % (room + 1)) as usize;
+    let len = len as usize;
+    let len = core::hint::black_box(len);
+    match op {
+        50 => {
+            let mut other = buf;
+            other.reverse();
+            if let (Some(to), Some(from)) = (buf.get_mut(dst..dst + len), other.get(src..src + len))
+            {
+                to.copy_from_slice(from);
+            }
+        }
+        51 => buf.copy_within(src..src + len, dst),
+        _ => {
+            if let Some(to) = buf.get_mut(dst..dst + len) {
+                to.fill((sel >> 24) as u8);
+            }
+        }
+    }
+    let mut h = (0u32, 0u32);
+    for (i, chunk) in buf.chunks_exact(4).enumerate() {
+        let v = u32::from_le_bytes([chunk[0], chunk[1], chunk[2], chunk[3]]);
+        if i < 2 {
+            h.0 = mix(h.0, v);
+        } else {
+            h.1 = mix(h.1, v);
+        }
+    }
+    h
 }
