@@ -279,9 +279,7 @@ fn run_step_laws<S: Sink>(s: &mut S) {
 fn run_step<S: Sink>(s: &mut S) {
     use crate::flight;
     let mut slot = None;
-    if let Some(orbit) = flight::flight_orbit() {
-        flight::init_loop(&mut slot, orbit);
-    }
+    flight::init_loop(&mut slot);
     let (Some(acs), Some(mut clock)) = (slot.as_mut(), flight::reset_clock()) else {
         s.out(f32::NAN);
         return;

@@ -67,24 +67,24 @@ pub fn reset_clock() -> Option<Epoch<Utc>> {
 /// One control period.
 pub const PERIOD: TimeSpan = TimeSpan::from_whole_seconds(CONTROL_PERIOD_S as i32);
 
-/// Builds the loop over the flight configuration and `orbit` in `slot` (in place: the loop is
-/// not returned by value), or leaves `None` there if a part of it is invalid.
+/// Builds the loop over the flight configuration and the element set at reset
+/// ([`flight_orbit`]) in `slot`, or leaves `None` there if a part of it is invalid. In place
+/// and out of line: the loop is not returned by value, and the element set's temporaries live
+/// in this frame only while the loop is built (not under the steps).
 #[inline(never)]
-pub fn init_loop(slot: &mut Option<FlightLoop>, orbit: Sgp4) {
-    *slot = FlightLoop::new(&CONFIG, orbit).ok();
+pub fn init_loop(slot: &mut Option<FlightLoop>) {
+    *slot = flight_orbit().and_then(|orbit| FlightLoop::new(&CONFIG, orbit).ok());
 }
 
 /// SGP4 on the flight element set initialised on the ground: the board checks and reads the
 /// words (`firmware/bench-host` checks them against `Sgp4::new` on the host).
 #[cfg(not(feature = "onboard-init"))]
-#[inline(never)]
 pub fn flight_orbit() -> Option<Sgp4> {
     Sgp4::from_words(&crate::flight_elements::FLIGHT_ELEMENT_WORDS).ok()
 }
 
 /// SGP4 initialised on board from the flight TLE (feature `onboard-init`, for larger parts).
 #[cfg(feature = "onboard-init")]
-#[inline(never)]
 pub fn flight_orbit() -> Option<Sgp4> {
     Sgp4::new(
         &crate::elements::flight_tle()?,
@@ -181,12 +181,15 @@ pub fn take_uplink(acs: &mut FlightLoop, clock: &mut Epoch<Utc>, attitude: Optio
 /// one in use, which is kept if any word is bad.
 #[inline(never)]
 fn take_elements(acs: &mut FlightLoop) -> u16 {
-    // word by word (a volatile read of the whole array is unrolled into 58 moves)
-    let mut words = [0u32; ELEMENT_WORDS];
-    for (i, w) in words.iter_mut().enumerate() {
-        *w = arg(i);
-    }
-    match Sgp4::from_words(&words) {
+    // Read in place (a copy would take 232 B of stack). The ground writes the mailbox only
+    // while the core waits for the next period, never while this reference lives; `black_box`
+    // hides the pointer's origin, so the compiler cannot fold the reads to the static's initial
+    // value (nothing in the program writes it).
+    let mailbox = core::hint::black_box(&raw const UPLINK_ARGS);
+    // SAFETY: `mailbox` points to the static, valid and aligned; no write to it while the
+    // shared reference lives (single-threaded, no interrupt touches it).
+    let words = unsafe { &*mailbox };
+    match Sgp4::from_words(words) {
         Ok(orbit) => {
             acs.set_orbit(orbit);
             status::ACCEPTED

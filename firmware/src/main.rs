@@ -10,23 +10,19 @@
 use acs_firmware::{flight, tiles};
 
 /// Entry point, called by the reset handler (`acs_firmware::rt`): coils off, then the loop.
-///
-/// SGP4 is set up first, in its own frames: they are gone before [`run`] puts the loop's
-/// state on the stack, so start-up and the steps do not add up.
 #[no_mangle]
 pub extern "C" fn main() -> ! {
     tiles::coils_off();
-    run(flight::flight_orbit())
+    run()
 }
 
-/// The loop over the flight configuration and `orbit`, built in place (its state lives in this
-/// frame); coils off and a halt if it cannot be built.
+/// The loop over the flight configuration and the element set at reset, built in place (its
+/// state lives in this frame; the element set's start-up temporaries in a callee's frame, gone
+/// before the first step); coils off and a halt if it cannot be built.
 #[inline(never)]
-fn run(orbit: Option<acs::orbit::sgp4::Sgp4>) -> ! {
+fn run() -> ! {
     let mut slot = None;
-    if let Some(orbit) = orbit {
-        flight::init_loop(&mut slot, orbit);
-    }
+    flight::init_loop(&mut slot);
     let (Some(acs), Some(mut clock)) = (slot.as_mut(), flight::reset_clock()) else {
         acs_firmware::safe_state();
         acs_firmware::fw_halt()

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Static worst-case stack depth of an MSP430 image, from its disassembly.
 
-usage: stack_depth.py ELF [ROOT ...]   (default root: main)
+usage: stack_depth.py ELF [ROOT ...] [--callees FN ...]   (default root: main)
+       --callees: also print the depth through each direct callee of FN (where to look next)
 
 For every function: its frame = 2 B of return address + 2 B per `push` + `n` of `sub #n, r1`
 (and `add #-n, r1`) in the function body; then the deepest path of the direct call graph
@@ -14,8 +15,13 @@ import re
 import subprocess
 import sys
 
-elf = sys.argv[1]
-roots = sys.argv[2:] or ["main"]
+args = sys.argv[1:]
+expand = []
+if "--callees" in args:
+    i = args.index("--callees")
+    args, expand = args[:i], args[i + 1:]
+elf = args[0]
+roots = args[1:] or ["main"]
 dis = subprocess.run(["llvm-objdump", "-d", "--no-show-raw-insn", "-C", elf],
                      capture_output=True, text=True, check=True).stdout
 syms = {}
@@ -78,6 +84,12 @@ for r in roots:
     print(f"{r}: worst-case stack {d} B")
     for f in chain:
         print(f"  {frame.get(f, 0):5d}  {f[:110]}")
+for f in expand:
+    matches = [g for g in frame if f in g]
+    for g in matches[:3]:
+        print(f"{g[:110]}: frame {frame[g]} B; through each callee:")
+        for c in sorted(calls.get(g, ()), key=lambda c: -depth(c, [g])[0]):
+            print(f"  {depth(c, [g])[0]:5d}  {c[:110]}")
 for f, c in indirect.items():
     warnings.append(f"indirect call in {f[:80]}: {c[0]}")
 for w in sorted(set(warnings)):
