@@ -1,6 +1,7 @@
-//! Chooses the memory map: the top-level `memory.x` (MSP430FG439) or, with feature `large-map`,
-//! `memory-large.x`, or with feature `size-map` the measurement-only `memory-size.x`; copies it
-//! to OUT_DIR as `memory.x`, where `link.x` includes it.
+//! Chooses the memory map: the top-level `memory.x` (MSP430FG439) or, with feature `fg4619-map`,
+//! `memory-fg4619.x` (MSP430FG4619 / F2619), with feature `large-map` `memory-large.x`, or with
+//! feature `size-map` the measurement-only `memory-size.x`; copies it to OUT_DIR as `memory.x`,
+//! where `link.x` includes it.
 use std::{env, fs, path::PathBuf};
 
 fn main() {
@@ -8,6 +9,8 @@ fn main() {
     let out = PathBuf::from(env::var_os("OUT_DIR").unwrap_or_default());
     let map = if env::var_os("CARGO_FEATURE_SIZE_MAP").is_some() {
         manifest.join("memory-size.x")
+    } else if env::var_os("CARGO_FEATURE_FG4619_MAP").is_some() {
+        manifest.join("memory-fg4619.x")
     } else if env::var_os("CARGO_FEATURE_LARGE_MAP").is_some() {
         manifest.join("memory-large.x")
     } else {
@@ -22,5 +25,6 @@ fn main() {
     println!("cargo:rerun-if-changed=link.x");
     println!("cargo:rerun-if-changed=memory-large.x");
     println!("cargo:rerun-if-changed=memory-size.x");
+    println!("cargo:rerun-if-changed=memory-fg4619.x");
     println!("cargo:rerun-if-changed=../memory.x");
 }
