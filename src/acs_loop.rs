@@ -231,9 +231,12 @@ pub struct StepReport {
     pub faults: Faults,
 }
 
+/// A slew in progress: what its execution needs of the plan (the rotations' durations, rounded
+/// to whole control periods, and body momenta, in execution order), the target, the start.
 #[derive(Copy, Clone, Debug, PartialEq)]
 struct SlewProgress {
-    plan: SlewPlan,
+    /// `(duration_s, h_body)` of each rotation.
+    steps: [(f32, Vec3); 3],
     target: Quaternion,
     started: Epoch<Utc>,
     /// Wheel momentum (body) before the slew: the plan's momenta are added to it.
@@ -320,11 +323,57 @@ fn cached_allocation<const N: usize>(
     }
 }
 
-/// Per-tile readings of one step.
+/// Per-tile readings of one step, raw as the bus delivered them (the HAL's formats), with a bit
+/// per tile for each device that gave one (`sun`: the sensor sees the Sun): 12 B a tile instead
+/// of 32 B of converted options, and the conversions happen in the phase that uses them (on the
+/// MSP430 the readings live under every phase of the step).
 struct Readings<const N: usize> {
-    sun: [Option<crate::tiles::SunAngles>; N],
-    mag: [Option<Vec2>; N],
-    gyro: [Option<f32>; N],
+    sun: [[i16; 2]; N],
+    mag: [[i16; 2]; N],
+    gyro: [i16; N],
+    sun_seen: u32,
+    mag_read: u32,
+    gyro_read: u32,
+}
+
+/// Bit `i` of `mask` (false beyond 31).
+fn bit(mask: u32, i: usize) -> bool {
+    mask & 1u32.checked_shl(i as u32).unwrap_or(0) != 0
+}
+
+impl<const N: usize> Readings<N> {
+    /// The Sun angles of the tiles that see the Sun, rad.
+    fn sun_rad(&self) -> [Option<crate::tiles::SunAngles>; N] {
+        let mut out = [None; N];
+        for (i, (o, [a, b])) in out.iter_mut().zip(self.sun.iter()).enumerate() {
+            if bit(self.sun_seen, i) {
+                *o = Some(RawSunAngles { a: *a, b: *b }.to_rad());
+            }
+        }
+        out
+    }
+
+    /// The magnetometer readings, nT.
+    fn mag_nt(&self) -> [Option<Vec2>; N] {
+        let mut out = [None; N];
+        for (i, (o, [x, y])) in out.iter_mut().zip(self.mag.iter()).enumerate() {
+            if bit(self.mag_read, i) {
+                *o = Some(RawMagnetometer { x: *x, y: *y }.to_nt());
+            }
+        }
+        out
+    }
+
+    /// The gyro readings, rad/s.
+    fn gyro_radps(&self) -> [Option<f32>; N] {
+        let mut out = [None; N];
+        for (i, (o, w)) in out.iter_mut().zip(self.gyro.iter()).enumerate() {
+            if bit(self.gyro_read, i) {
+                *o = Some(RawGyro(*w).to_radps());
+            }
+        }
+        out
+    }
 }
 
 /// The models' outputs of one step (phase 2).
@@ -472,39 +521,53 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
                 self.mode = Mode::Tracking;
             }
             Command::Slew { target, within_s } => {
-                let a = attitude.ok_or(AcsError::CannotSlew)?.to_dcm();
-                let m = manoeuvre_matrix(&a, &target, &self.config.axes);
-                let angles = decompose(&m, Branch::Shortest).map_err(|_| AcsError::CannotSlew)?;
-                let mut p = plan(
-                    &self.config.axes,
-                    &angles,
-                    &self.config.slew_limits,
-                    within_s,
-                )
-                .map_err(|_| AcsError::CannotSlew)?;
-                // whole control periods, same angle: L·t constant
-                let period = self.config.control_period_s;
-                for s in p.steps.iter_mut() {
-                    if s.duration_s > 0.0 {
-                        let ticks = (s.duration_s / period - 1e-4).max(0.0) as u32 + 1;
-                        let rounded = ticks as f32 * period;
-                        let k = s.duration_s / rounded;
-                        s.h_body *= k;
-                        s.omega_body_radps *= k;
-                        s.duration_s = rounded;
-                    }
-                }
-                self.slew = Some(SlewProgress {
-                    plan: p,
-                    target: target.to_quaternion(),
-                    started: now,
-                    h_base: self.wheels_body(),
-                });
-                self.target = Some(target.to_quaternion());
+                let attitude = attitude.ok_or(AcsError::CannotSlew)?;
+                let progress = self.plan_slew(attitude, &target, within_s, now)?;
+                self.target = Some(progress.target);
+                self.slew = Some(progress);
                 self.mode = Mode::Slew;
             }
         }
         Ok(())
+    }
+
+    /// The thesis's open-loop plan from `attitude` to `target` within `within_s`, each rotation
+    /// rounded up to whole control periods with its momentum scaled to keep the angle (out of
+    /// line: the planner's temporaries stay off the step's stack).
+    #[inline(never)]
+    fn plan_slew(
+        &self,
+        attitude: &Quaternion,
+        target: &Dcm,
+        within_s: f32,
+        now: Epoch<Utc>,
+    ) -> Result<SlewProgress, AcsError> {
+        let m = manoeuvre_matrix(&attitude.to_dcm(), target, &self.config.axes);
+        let angles = decompose(&m, Branch::Shortest).map_err(|_| AcsError::CannotSlew)?;
+        let plan: SlewPlan = plan(
+            &self.config.axes,
+            &angles,
+            &self.config.slew_limits,
+            within_s,
+        )
+        .map_err(|_| AcsError::CannotSlew)?;
+        // whole control periods, same angle: L·t constant
+        let period = self.config.control_period_s;
+        let mut steps = [(0.0f32, Vec3::zeros()); 3];
+        for ((duration, h), s) in steps.iter_mut().zip(plan.steps.iter()) {
+            if s.duration_s > 0.0 {
+                let ticks = (s.duration_s / period - 1e-4).max(0.0) as u32 + 1;
+                let rounded = ticks as f32 * period;
+                *h = s.h_body * (s.duration_s / rounded);
+                *duration = rounded;
+            }
+        }
+        Ok(SlewProgress {
+            steps,
+            target: target.to_quaternion(),
+            started: now,
+            h_base: self.wheels_body(),
+        })
     }
 
     /// Total commanded wheel momentum in body axes, kg·m²/s.
@@ -531,22 +594,34 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
     #[inline(never)]
     fn read_tiles<B: TileBus>(&mut self, bus: &mut B, faults: &mut Faults) -> Readings<N> {
         let mut r = Readings {
-            sun: [None; N],
-            mag: [None; N],
-            gyro: [None; N],
+            sun: [[0; 2]; N],
+            mag: [[0; 2]; N],
+            gyro: [0; N],
+            sun_seen: 0,
+            mag_read: 0,
+            gyro_read: 0,
         };
         let config = self.config;
-        for (i, tile) in config.tiles.iter().enumerate() {
+        for (i, (tile, (sun, (mag, gyro)))) in config
+            .tiles
+            .iter()
+            .zip(
+                r.sun
+                    .iter_mut()
+                    .zip(r.mag.iter_mut().zip(r.gyro.iter_mut())),
+            )
+            .enumerate()
+        {
             if !self.is_working(i) {
                 continue;
             }
+            let here = 1u32.checked_shl(i as u32).unwrap_or(0);
             let mut failed = false;
             if tile.equipment.sun_sensor {
                 match bus.read_sun(i) {
-                    Ok(Some([a, b])) => {
-                        if let Some(s) = r.sun.get_mut(i) {
-                            *s = Some(RawSunAngles { a, b }.to_rad());
-                        }
+                    Ok(Some(angles)) => {
+                        *sun = angles;
+                        r.sun_seen |= here;
                     }
                     Ok(None) => {}
                     Err(_) => failed = true,
@@ -554,10 +629,9 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
             }
             if tile.equipment.magnetometer {
                 match bus.read_magnetometer(i) {
-                    Ok([x, y]) => {
-                        if let Some(m) = r.mag.get_mut(i) {
-                            *m = Some(RawMagnetometer { x, y }.to_nt());
-                        }
+                    Ok(xy) => {
+                        *mag = xy;
+                        r.mag_read |= here;
                     }
                     Err(_) => failed = true,
                 }
@@ -565,9 +639,8 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
             if tile.equipment.gyro {
                 match bus.read_gyro(i) {
                     Ok(w) => {
-                        if let Some(g) = r.gyro.get_mut(i) {
-                            *g = Some(RawGyro(w).to_radps());
-                        }
+                        *gyro = w;
+                        r.gyro_read |= here;
                     }
                     Err(_) => failed = true,
                 }
@@ -578,16 +651,10 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
                     *count = count.saturating_add(1);
                     if *count >= FAILURES_TO_MARK_FAILED {
                         // out of service from this step on: its readings of this step too
-                        self.failed |= 1u32.checked_shl(i as u32).unwrap_or(0);
-                        if let Some(x) = r.sun.get_mut(i) {
-                            *x = None;
-                        }
-                        if let Some(x) = r.mag.get_mut(i) {
-                            *x = None;
-                        }
-                        if let Some(x) = r.gyro.get_mut(i) {
-                            *x = None;
-                        }
+                        self.failed |= here;
+                        r.sun_seen &= !here;
+                        r.mag_read &= !here;
+                        r.gyro_read &= !here;
                     }
                 } else {
                     *count = 0;
@@ -602,6 +669,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
     /// The phases are separate functions kept out of line, so that their temporaries do not
     /// share one stack frame (on the MSP430 the step's peak stack is the deepest phase, not the
     /// sum of them).
+    #[cfg_attr(target_arch = "msp430", inline(never))]
     pub fn step<B: TileBus>(&mut self, bus: &mut B, now: Epoch<Utc>, dt_s: f32) -> StepReport {
         let mut faults = self.safe(bus);
         let readings = self.read_tiles(bus, &mut faults);
@@ -663,16 +731,8 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         dt_s: f32,
         faults: &mut Faults,
     ) -> Determined {
-        let n = self.config.tiles.len();
-        let tiles = self.config.tiles.as_slice();
-        let b_body_nt = readings
-            .mag
-            .get(..n)
-            .and_then(|m| magnetic_field_body_cached(&mut self.mag_solver, tiles, m).ok());
-        let omega = readings
-            .gyro
-            .get(..n)
-            .and_then(|g| angular_rate_body_cached(&mut self.gyro_solver, tiles, g).ok());
+        let b_body_nt = self.field_body(readings);
+        let omega = self.rate_body(readings);
         faults.field = b_body_nt.is_none();
         faults.rate = omega.is_none();
         let in_umbra = models
@@ -681,27 +741,24 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         let sun_body = if in_umbra {
             None
         } else {
-            readings
-                .sun
-                .get(..n)
-                .and_then(|s| sun_direction_body(tiles, s).ok())
+            self.sun_body(readings)
         };
         let measured = match (sun_body, b_body_nt, &models.sun, models.b_teme_nt) {
             (Some(s_b), Some(b_b), Some(s_r), Some(b_r)) => {
                 let (w_sun, w_mag) = self.config.weights;
-                let obs = [
-                    Observation {
-                        body: s_b,
-                        reference: s_r.direction,
-                        weight: w_sun,
-                    },
-                    Observation {
-                        body: b_b,
-                        reference: b_r,
-                        weight: w_mag,
-                    },
-                ];
-                wahba_svd::solve(&obs).ok().map(|s| s.quaternion)
+                let sun = Observation {
+                    body: s_b,
+                    reference: s_r.direction,
+                    weight: w_sun,
+                };
+                let field = Observation {
+                    body: b_b,
+                    reference: b_r,
+                    weight: w_mag,
+                };
+                wahba_svd::solve_pair(&sun, &field)
+                    .ok()
+                    .map(|s| s.quaternion)
             }
             _ => None,
         };
@@ -723,6 +780,33 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
             attitude,
             dt,
         }
+    }
+
+    /// The body field from the magnetometers (least squares, cached operator), nT. Out of line,
+    /// as [`Self::rate_body`] and [`Self::sun_body`]: each converts its readings in its own frame.
+    #[cfg_attr(target_arch = "msp430", inline(never))]
+    fn field_body(&mut self, readings: &Readings<N>) -> Option<Vec3> {
+        let tiles = self.config.tiles.as_slice();
+        let mag = readings.mag_nt();
+        let mag = mag.get(..tiles.len())?;
+        magnetic_field_body_cached(&mut self.mag_solver, tiles, mag).ok()
+    }
+
+    /// The body rate from the gyros (least squares, cached operator), rad/s.
+    #[cfg_attr(target_arch = "msp430", inline(never))]
+    fn rate_body(&mut self, readings: &Readings<N>) -> Option<Vec3> {
+        let tiles = self.config.tiles.as_slice();
+        let gyro = readings.gyro_radps();
+        let gyro = gyro.get(..tiles.len())?;
+        angular_rate_body_cached(&mut self.gyro_solver, tiles, gyro).ok()
+    }
+
+    /// The Sun direction in body axes from the lit tiles' sensors (unit).
+    #[cfg_attr(target_arch = "msp430", inline(never))]
+    fn sun_body(&self, readings: &Readings<N>) -> Option<Vec3> {
+        let tiles = self.config.tiles.as_slice();
+        let sun = readings.sun_rad();
+        sun_direction_body(tiles, sun.get(..tiles.len())?).ok()
     }
 
     /// Step phase 4a: mode transitions on the rate and on the validity of the attitude.
@@ -794,19 +878,19 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
                     let mut t0 = 0.0f32;
                     let mut h = p.h_base;
                     let mut done = true;
-                    for s in p.plan.steps.iter() {
-                        if t < t0 + s.duration_s {
+                    for (duration_s, h_body) in p.steps.iter() {
+                        if t < t0 + duration_s {
                             // rotating: the body holds the step's momentum
-                            h = p.h_base - s.h_body;
+                            h = p.h_base - h_body;
                             done = false;
                             break;
                         }
-                        if t < t0 + s.duration_s + self.config.slew_pause_s {
+                        if t < t0 + duration_s + self.config.slew_pause_s {
                             // stopping before the next axis
                             done = false;
                             break;
                         }
-                        t0 += s.duration_s + self.config.slew_pause_s;
+                        t0 += duration_s + self.config.slew_pause_s;
                     }
                     if done {
                         self.mode = Mode::Tracking;

@@ -627,6 +627,39 @@ mod wahba_json {
         (max, rms)
     }
 
+    /// `wahba_svd::solve_pair` (the flight loop's two-observation entry) is `solve` bit for bit,
+    /// on every problem's first two observations (2–6 in the file, noise 0–0.01 rad) and on
+    /// degenerate pairs (parallel, zero, not finite): the same solution or the same error.
+    #[test]
+    fn solve_pair_is_solve_of_two() {
+        let mut pairs: Vec<[Observation; 2]> =
+            problems().iter().map(|p| [p.obs[0], p.obs[1]]).collect();
+        let o = |b: [f32; 3], r: [f32; 3], w: f32| Observation {
+            body: Vec3::from(b),
+            reference: Vec3::from(r),
+            weight: w,
+        };
+        pairs.push([
+            o([1., 0., 0.], [0., 1., 0.], 1.),
+            o([2., 0., 0.], [0., 3., 0.], 1.),
+        ]);
+        pairs.push([
+            o([0., 0., 0.], [0., 1., 0.], 1.),
+            o([1., 0., 0.], [0., 0., 1.], 1.),
+        ]);
+        pairs.push([
+            o([f32::NAN, 0., 0.], [0., 1., 0.], 1.),
+            o([1., 0., 0.], [0., 0., 1.], 1.),
+        ]);
+        pairs.push([
+            o([1., 0., 0.], [0., 1., 0.], f32::MAX),
+            o([0., 1., 0.], [0., 0., 1.], f32::MAX),
+        ]);
+        for [a, b] in &pairs {
+            assert_eq!(wahba_svd::solve_pair(a, b), wahba_svd::solve(&[*a, *b]));
+        }
+    }
+
     /// SVD and QUEST within 0.001° of the f64 optimal attitude on all 200 problems; every
     /// result a proper rotation.
     #[test]

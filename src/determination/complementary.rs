@@ -55,6 +55,7 @@ pub struct Estimate {
 
 /// One update of the estimate (see the [module docs](self)): `None` when there is no estimate
 /// (no measurement yet, a prediction older than `max_propagation_s`, or a non-finite result).
+#[cfg_attr(target_arch = "msp430", inline(never))]
 pub fn update(
     config: &FilterConfig,
     estimate: Option<Estimate>,

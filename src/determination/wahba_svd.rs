@@ -66,7 +66,7 @@
 //! ```
 
 use super::{attitude_profile, refine_units, solution, DeterminationError, Observation, Solution};
-use super::{Unit, Units};
+use super::{unit, Unit, Units};
 use crate::attitude::Dcm;
 use crate::fmath;
 use crate::linalg::svd::{nearest_rotation, SvdError};
@@ -86,6 +86,23 @@ pub fn solve(observations: &[Observation]) -> Result<Solution, DeterminationErro
     }
     let raw = profile_svd(&units)?;
     Ok(refine_units(&raw, &units))
+}
+
+/// [`solve`] of exactly two observations (the flight loop's Sun and field), bit for bit, without
+/// the general path's room for many observations (on the MSP430 that room is stack).
+/// Convention: [`crate::attitude`].
+pub fn solve_pair(
+    first: &Observation,
+    second: &Observation,
+) -> Result<Solution, DeterminationError> {
+    let u1 = unit(0, first)?;
+    let u2 = unit(1, second)?;
+    // Σaᵢ as [`Units`] sums it (0 + a₁ + a₂ = a₁ + a₂ exactly)
+    let sum_w = u1.weight + u2.weight;
+    if !sum_w.is_finite() {
+        return Err(DeterminationError::NonFinite { index: 0 });
+    }
+    two_observations(&u1, &u2, sum_w)
 }
 
 /// The optimal attitude for `observations` (at least 2, not all parallel): the solution of
