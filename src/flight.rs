@@ -3,8 +3,9 @@
 //! The MSP430 firmware (`firmware/`) runs [`FlightLoop`] over [`CONFIG`], and the host
 //! simulator's scenarios `detumble`, `sun-safe`, `tracking`, `failed-tile` and `slew`
 //! (`acs::host::sim::scenarios`) fly the same constant through the same loop, their truth's
-//! spacecraft built from it, so what `acs sim` measures is what flies. Everything here is `const`: on the target [`CONFIG`] is a
-//! `static` in flash and only the loop's run-time state takes RAM.
+//! spacecraft built from it, so what `acs sim` measures is what flies. Everything here is
+//! `const`: on the target [`CONFIG`] is a `static` in flash and only the loop's run-time state
+//! takes RAM.
 //!
 //! | item | value | source |
 //! |---|---|---|
@@ -22,9 +23,10 @@
 //! Against seed 004's worst-case drag torque on a 500 km orbit (1.2e-6 N·m) and the smallest
 //! moment, 0.010 kg·m², 0.25 rad/s leaves 0.11° and 0.5 rad/s 0.028° (the error issue #8's
 //! 3U, 0.042 kg·m², had at 0.25 rad/s). 0.5 rad/s is still 12.6 control periods per natural
-//! period. Measured (`tracking` scenario, `cargo test --release --test closed_loop`): the
-//! control part of the pointing error (filtered attitude against the target) after settling
-//! falls from 0.141° to 0.095° at worst, and the pointing error from 0.222° to 0.174°.
+//! period. Measured in the `tracking` scenario (`cargo test --release --test closed_loop`; the
+//! worst pointing error from 600 s after settling, seed 5 and the mean over seeds 1–24), both
+//! with the weights below: 0.212° → 0.170°, mean 0.217° → 0.184°; the control part (filtered
+//! attitude against the target) 0.141° → 0.104°.
 //!
 //! **Wahba weights.** `σ⁻²` of each observation's direction: the Sun from the tiles' sensors,
 //! σ 1 mrad per angle (the simulated tiles; seed 004 §2.7 measured ±0.5 mrad on its pinhole
@@ -33,10 +35,10 @@
 //! 2–5 mrad) and the degree-8 truncation (≤ 105 nT, 0.13° on the `tracking` orbit). The
 //! rotation about the Sun line is fixed by the field whatever the weights; what they decide is
 //! how far a field error tilts the Sun axis, about half of it with equal weights and 1/77 of
-//! it here. The simulator's truth field is IGRF itself, so it shows little of this (pointing
-//! error 0.1767° → 0.1741° in `tracking`, 12-seed mean 0.188° → 0.183°); in flight it keeps a
-//! 30′ field-model error out of the Sun-pointing axes. A side effect: the solver refuses Sun
-//! and field directions closer than ≈ 5° instead of ≈ 1.1°
+//! it here. The simulator's truth field is IGRF itself, so it shows little of this (`tracking`
+//! at 0.5 rad/s, equal weights → these: 0.177° → 0.170°, mean over seeds 1–24 0.190° →
+//! 0.184°); in flight it keeps a 30′ field-model error out of the Sun-pointing axes. A side
+//! effect: the solver refuses Sun and field directions closer than ≈ 5° instead of ≈ 1.1°
 //! ([`crate::determination::wahba_svd::MIN_SINGULAR_RATIO`] on the weighted profile), where a
 //! 30′ field error would turn the attitude about the Sun line by more than 5°; the filter
 //! propagates with the gyros through such gaps.
