@@ -1,9 +1,11 @@
 //! The flight configuration: the one satellite the firmware flies, defined once.
 //!
 //! The MSP430 firmware (`firmware/`) runs [`FlightLoop`] over [`CONFIG`], and the host
-//! simulator's `flight` scenario and processor-in-the-loop runs fly the same constant, so what
-//! `acs sim` measures is what flies. Everything here is `const`: on the target [`CONFIG`] is a
-//! `static` in flash and only the loop's run-time state takes RAM.
+//! simulator's scenarios `detumble`, `sun-safe`, `tracking`, `failed-tile` and `slew`
+//! (`acs::host::sim::scenarios`) fly the same constant through the same loop, their truth's
+//! spacecraft built from it, so what `acs sim` measures is what flies. Everything here is
+//! `const`: on the target [`CONFIG`] is a `static` in flash and only the loop's run-time state
+//! takes RAM.
 //!
 //! | item | value | source |
 //! |---|---|---|
@@ -13,6 +15,33 @@
 //! | coils | three, along body x, y, z, ±0.2 A·m² | seed 002 §8 (coil sizing) |
 //! | field model | IGRF-14 degree 8, 2020–2030 ([`crate::env::igrf::FLIGHT`]: only the tables it evaluates) | issue #17 product decision |
 //! | control period | 1 s | seed 000 §1.5 |
+//! | tracking | `ω_n` = [`TRACKING_BANDWIDTH_RADPS`] = 0.5 rad/s, `ζ` = 0.9 | below |
+//! | Wahba weights | `σ⁻²`: Sun 1 mrad, field direction 30′ ([`SUN_WEIGHT`], [`FIELD_WEIGHT`]) | below |
+//!
+//! **Tracking bandwidth.** The PD law's steady error under a constant disturbance `τ` is
+//! `τ / (I ω_n²)` per axis ([`crate::control::tracking`]: `K_p = 2 ω_n² I`, `q_e ≈ θ/2`).
+//! Against seed 004's worst-case drag torque on a 500 km orbit (1.2e-6 N·m) and the smallest
+//! moment, 0.010 kg·m², 0.25 rad/s leaves 0.11° and 0.5 rad/s 0.028° (the error issue #8's
+//! 3U, 0.042 kg·m², had at 0.25 rad/s). 0.5 rad/s is still 12.6 control periods per natural
+//! period. Measured in the `tracking` scenario (`cargo test --release --test closed_loop`; the
+//! worst pointing error from 600 s after settling, seed 5 and the mean over seeds 1–24), both
+//! with the weights below: 0.212° → 0.170°, mean 0.217° → 0.184°; the control part (filtered
+//! attitude against the target) 0.141° → 0.104°.
+//!
+//! **Wahba weights.** `σ⁻²` of each observation's direction: the Sun from the tiles' sensors,
+//! σ 1 mrad per angle (the simulated tiles; seed 004 §2.7 measured ±0.5 mrad on its pinhole
+//! sensor); the field, σ 30′ = 8.7 mrad, the accuracy of IGRF itself in declination and
+//! inclination (seed 000 §3.1), which dominates the magnetometers (100 nT in 22 000–47 000 nT,
+//! 2–5 mrad) and the degree-8 truncation (≤ 105 nT, 0.13° on the `tracking` orbit). The
+//! rotation about the Sun line is fixed by the field whatever the weights; what they decide is
+//! how far a field error tilts the Sun axis, about half of it with equal weights and 1/77 of
+//! it here. The simulator's truth field is IGRF itself, so it shows little of this (`tracking`
+//! at 0.5 rad/s, equal weights → these: 0.177° → 0.170°, mean over seeds 1–24 0.190° →
+//! 0.184°); in flight it keeps a 30′ field-model error out of the Sun-pointing axes. A side
+//! effect: the solver refuses Sun and field directions closer than ≈ 5° instead of ≈ 1.1°
+//! ([`crate::determination::wahba_svd::MIN_SINGULAR_RATIO`] on the weighted profile), where a
+//! 30′ field error would turn the attitude about the Sun line by more than 5°; the filter
+//! propagates with the gyros through such gaps.
 //!
 //! Attitudes follow [`crate::attitude`]: `v_body = A · v_ref`, reference TEME of date.
 
@@ -54,6 +83,21 @@ pub const COIL_LIMIT_AM2: f32 = 0.2;
 /// The control period, s.
 pub const CONTROL_PERIOD_S: f32 = 1.0;
 
+/// Natural frequency of the tracking law, rad/s (damping 0.9; see the [module docs](self)).
+pub const TRACKING_BANDWIDTH_RADPS: f32 = 0.5;
+
+/// 1σ direction error of the Sun observation, rad.
+pub const SUN_SIGMA_RAD: f32 = 1.0e-3;
+
+/// 1σ direction error of the field observation, rad: IGRF's 30′ (seed 000 §3.1).
+pub const FIELD_SIGMA_RAD: f32 = 30.0 / 60.0 * core::f32::consts::PI / 180.0;
+
+/// Wahba weight of the Sun observation, `σ⁻²` (rad⁻²): 1e6.
+pub const SUN_WEIGHT: f32 = 1.0 / (SUN_SIGMA_RAD * SUN_SIGMA_RAD);
+
+/// Wahba weight of the field observation, `σ⁻²` (rad⁻²): 1.31e4.
+pub const FIELD_WEIGHT: f32 = 1.0 / (FIELD_SIGMA_RAD * FIELD_SIGMA_RAD);
+
 /// The principal axes of a diagonal inertia tensor: `E = I`, the moments in body-axis order
 /// (what [`crate::control::principal_axes::principal_axes`] returns for it; a test checks it),
 /// without its eigen-decomposition on board.
@@ -81,7 +125,7 @@ pub static CONFIG: AcsConfig<TILES> = {
     let i_max = INERTIA_DIAGONAL_KGM2[2];
     AcsConfig {
         tiles: heapless::Vec::from_array(crate::tiles::CUBE_THESIS),
-        tracking: TrackingGains::from_bandwidth(&axes.inertia_body, 0.25, 0.9),
+        tracking: TrackingGains::from_bandwidth(&axes.inertia_body, TRACKING_BANDWIDTH_RADPS, 0.9),
         axes,
         coils: heapless::Vec::from_array([
             coil(1.0, 0.0, 0.0),
@@ -112,7 +156,7 @@ pub static CONFIG: AcsConfig<TILES> = {
         detumble_exit_radps: 0.008_7,
         igrf_model: &FLIGHT,
         igrf_degree: IGRF_DEGREE,
-        weights: (1.0, 1.0),
+        weights: (SUN_WEIGHT, FIELD_WEIGHT),
         filter_gain: 0.1,
         max_propagation_s: 120.0,
     }

@@ -5,7 +5,6 @@ use std::collections::HashMap;
 
 use super::CliError;
 use crate::attitude::{Dcm, Euler321};
-use crate::control::principal_axes::principal_axes;
 use crate::control::slew::{decompose, manoeuvre_matrix, Branch};
 use crate::determination::least_squares::magnetic_field_body;
 use crate::determination::sun_sensor::sun_direction_body;
@@ -130,7 +129,7 @@ pub fn run(_args: &Args) -> Result<(), CliError> {
 
     // 4. determination from simulated tiles (ideal sensors)
     let mut sim = Simulator::new(sc.sim.clone(), sc.initial.0, sc.initial.1).map_err(compute)?;
-    let tiles = sc.flight.tiles.clone();
+    let tiles = sc.flight.config().tiles.clone();
     let mut sun_readings = Vec::new();
     let mut mag_readings = Vec::new();
     for i in 0..tiles.len() {
@@ -177,7 +176,7 @@ pub fn run(_args: &Args) -> Result<(), CliError> {
     );
 
     // 5. slew plan
-    let axes = principal_axes(&scenarios::thesis_inertia()).map_err(compute)?;
+    let axes = sc.flight.config().axes;
     let a_d = Dcm::from_matrix_unchecked(Mat3::new(1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, -1.0, 0.0));
     let a_true = Dcm::from_euler_321(&Euler321 {
         phi_rad: 0.0,
@@ -231,6 +230,6 @@ pub fn run(_args: &Args) -> Result<(), CliError> {
             get(key)
         );
     }
-    println!("\nMore scenarios: `acs sim detumble|thesis-slew|thesis-slew-noisy|sun-safe|tracking|failed-tile --out DIR`.");
+    println!("\nMore scenarios: `acs sim detumble|thesis-slew|thesis-slew-noisy|sun-safe|tracking|failed-tile|slew --out DIR`.");
     Ok(())
 }

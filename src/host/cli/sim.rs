@@ -9,7 +9,7 @@ use crate::host::sim::{plan_flight, plot, scenarios};
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// Built-in scenario: detumble, thesis-slew, thesis-slew-noisy, sun-safe, tracking,
-    /// failed-tile; or plan-flight / plan-flight-wheels (a ground plan flown open loop,
+    /// failed-tile, slew; or plan-flight / plan-flight-wheels (a ground plan flown open loop,
     /// [`plan_flight`]: seed 001's manoeuvre with magnetorquers alone, or with three wheels).
     scenario: String,
     /// Output folder for CSV and SVG files (default: `acs-sim-<scenario>`).

@@ -646,9 +646,9 @@ pub struct Sample {
 
 /// Runs the loop against the simulator for `duration_s` at `dt_s`, applying `commands` (time
 /// in s from the start) and measuring the pointing error against `target(t)`.
-pub fn run(
+pub fn run<const N: usize, const F: usize>(
     sim: &mut Simulator,
-    acs: &mut AcsLoop<'_>,
+    acs: &mut AcsLoop<'_, N, F>,
     duration_s: f64,
     dt_s: f64,
     commands: &[(f64, Command)],
