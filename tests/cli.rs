@@ -10,7 +10,15 @@ mod common;
 use std::process::{Command, Output};
 
 /// The subcommands of cli.md.
-const SUBCOMMANDS: [&str; 6] = ["propagate", "sun", "igrf", "attitude", "demo", "sim"];
+const SUBCOMMANDS: [&str; 7] = [
+    "propagate",
+    "sun",
+    "igrf",
+    "attitude",
+    "demo",
+    "sim",
+    "elements",
+];
 
 fn acs(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_acs"))

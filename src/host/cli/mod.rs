@@ -3,6 +3,10 @@
 //! Exit codes: 0 success, 2 invalid input (the message names the line, column or field),
 //! 3 failure of the computation (decayed orbit, model out of range, degenerate geometry) or a
 //! subcommand that is not built yet.
+//!
+//! Subcommands: `propagate`, `sun`, `eclipses`, `igrf`, `attitude`, `demo`, `sim`, `plan`, and
+//! `elements` ([`elements`]: a TLE as the 58 checked uplink words of SGP4 initialised on the
+//! ground, and the check of words read back, naming the first bad word).
 
 use std::fmt;
 use std::process::ExitCode;
@@ -12,6 +16,7 @@ use clap::{Parser, Subcommand};
 mod attitude;
 mod demo;
 mod eclipses;
+pub mod elements;
 mod igrf;
 mod plan;
 mod propagate;
@@ -75,6 +80,14 @@ enum Command {
     Sim(sim::Args),
     /// Plan a magnetorquer (+ wheel) slew from a JSON description (seed 001).
     Plan(plan::Args),
+    /// SGP4 initialised on the ground: a TLE as the 58 checked uplink words (hex or JSON), or
+    /// `--check` of words read back (exit 2 naming the first bad word).
+    #[command(
+        after_help = "Examples:\n  acs elements --tle dtusat.tle > dtusat.words\n  \
+                      acs elements --check dtusat.words\n  \
+                      acs elements --tle dtusat.tle --format json | acs elements --check -"
+    )]
+    Elements(elements::Args),
 }
 
 /// An epoch as ISO 8601 UTC to the millisecond (`2009-06-16T00:00:00.000Z`).
@@ -115,6 +128,7 @@ pub fn main() -> ExitCode {
         Command::Demo(a) => demo::run(&a),
         Command::Sim(a) => sim::run(&a),
         Command::Plan(a) => plan::run(&a),
+        Command::Elements(a) => elements::run(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

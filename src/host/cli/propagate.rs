@@ -70,22 +70,44 @@ fn row_count(start: f64, stop: f64, step: f64) -> Result<u64, CliError> {
     Ok(count as u64)
 }
 
-/// Runs `acs propagate`.
-pub fn run(args: &Args) -> Result<(), CliError> {
-    let path = args.tle.display();
+/// Reads the one element set of a TLE file ([`Tle::parse_text`], checksums verified): exit 2
+/// naming the file and the parser's [`crate::tle::TleError`] (line, column, field).
+pub(super) fn read_tle(path: &std::path::Path) -> Result<Tle, CliError> {
+    let name = path.display();
     let text =
-        std::fs::read_to_string(&args.tle).map_err(|e| CliError::Input(format!("{path}: {e}")))?;
-    let tle = Tle::parse_text(&text).map_err(|e| CliError::Input(format!("{path}: {e}")))?;
-    let count = row_count(args.start, args.stop, args.step)?;
-    let gravity = match args.gravity.as_str() {
+        std::fs::read_to_string(path).map_err(|e| CliError::Input(format!("{name}: {e}")))?;
+    Tle::parse_text(&text).map_err(|e| CliError::Input(format!("{name}: {e}")))
+}
+
+/// The `--gravity` value (`wgs72` or `wgs84`, checked by clap) as a [`Gravity`].
+pub(super) fn gravity(name: &str) -> Gravity {
+    match name {
         "wgs84" => Gravity::Wgs84,
         _ => Gravity::Wgs72,
-    };
-    let j2000 = args.frame == "j2000";
-    let sgp4 = Sgp4::new(&tle, gravity).map_err(|e| match e {
+    }
+}
+
+/// SGP4 initialised for the element set of `path`: exit 2 for an element out of range
+/// ([`Sgp4Error::Element`]), 3 when SGP4 refuses the set (deep space, sub-orbital, …).
+pub(super) fn init_sgp4(
+    tle: &Tle,
+    gravity: Gravity,
+    path: &std::path::Path,
+) -> Result<Sgp4, CliError> {
+    let path = path.display();
+    Sgp4::new(tle, gravity).map_err(|e| match e {
         Sgp4Error::Element { .. } => CliError::Input(format!("{path}: {e}")),
         _ => CliError::Compute(format!("{path}: {e}")),
-    })?;
+    })
+}
+
+/// Runs `acs propagate`.
+pub fn run(args: &Args) -> Result<(), CliError> {
+    let tle = read_tle(&args.tle)?;
+    let count = row_count(args.start, args.stop, args.step)?;
+    let gravity = gravity(&args.gravity);
+    let j2000 = args.frame == "j2000";
+    let sgp4 = init_sgp4(&tle, gravity, &args.tle)?;
 
     let frame = if j2000 {
         CoordinateSystem::J2000
