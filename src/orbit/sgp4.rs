@@ -914,9 +914,11 @@ pub const ELEMENT_WORDS: usize = 58;
 /// Format tag of [`Sgp4::to_words`] (word 0): "S4", layout version 1.
 const WORDS_TAG: u32 = 0x5334_0001;
 
-/// Checksum of words `0..ELEMENT_WORDS − 1`: each word rotated in (a corrupted or truncated
-/// uplink is refused; the link layer's CRC is the real protection).
-fn words_checksum(words: &[u32]) -> u32 {
+/// Checksum of words `0..ELEMENT_WORDS − 1` of [`Sgp4::to_words`] (the last word): each word
+/// rotated in by 5 bits, `c ← rotl(c, 5) ⊕ w` from `0x0acc5a7e` (a corrupted or truncated
+/// uplink is refused; the link layer's CRC is the real protection). A change δ of word k
+/// changes it by δ rotated left by 5·(56 − k), which lets the ground locate a single bad word.
+pub fn words_checksum(words: &[u32]) -> u32 {
     words
         .iter()
         .fold(0x0acc_5a7e_u32, |c, w| c.rotate_left(5) ^ *w)

@@ -215,13 +215,10 @@ fn word_label(k: usize) -> String {
     }
 }
 
-/// The checksum of words 0–56 as [`Sgp4::to_words`] computes it (a copy of the flight code's
-/// private `words_checksum`, checked against every reference set by `tests/cli_elements.rs`):
-/// each word rotated in by 5 bits, so a change δ of word k changes it by δ rotated left by
-/// 5·(56 − k).
+/// The checksum of words 0–56 ([`crate::orbit::sgp4::words_checksum`], as [`Sgp4::to_words`]
+/// computes it).
 pub fn checksum(body: &[u32]) -> u32 {
-    body.iter()
-        .fold(0x0acc_5a7e_u32, |c, w| c.rotate_left(5) ^ *w)
+    crate::orbit::sgp4::words_checksum(body)
 }
 
 /// Sets word `k` to the one value that makes the checksum of `words` right.
