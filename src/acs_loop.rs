@@ -396,6 +396,7 @@ struct Determined {
 
 impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
     /// A loop in `Detumble` for the given configuration and orbit.
+    #[cfg_attr(target_arch = "msp430", optimize(size))]
     pub fn new(config: &'c AcsConfig<N>, orbit: Sgp4) -> Result<Self, AcsError> {
         let gain_ok = config.filter_gain > 0.0 && config.filter_gain <= 1.0;
         let finite = gain_ok
@@ -503,6 +504,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
 
     /// Accepts a ground command. A slew is planned from the last determined attitude
     /// (`attitude`, reference → body), so it needs one.
+    #[cfg_attr(target_arch = "msp430", optimize(size))]
     pub fn command(
         &mut self,
         command: Command,
@@ -535,6 +537,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
     /// rounded up to whole control periods with its momentum scaled to keep the angle (out of
     /// line: the planner's temporaries stay off the step's stack).
     #[inline(never)]
+    #[cfg_attr(target_arch = "msp430", optimize(size))]
     fn plan_slew(
         &self,
         attitude: &Quaternion,

@@ -25,6 +25,10 @@
     clippy::unimplemented
 )]
 #![forbid(unsafe_code)]
+// On the MSP430 (nightly only: the target is tier 3), code that runs rarely (commands, uplinks,
+// start-up, hourly refreshes) is optimised for size rather than speed: flash is the part's
+// scarcest resource and these paths do not count in the step's cycle budget.
+#![cfg_attr(target_arch = "msp430", feature(optimize_attribute))]
 
 pub mod acs_loop;
 pub mod attitude;

@@ -129,6 +129,7 @@ impl fmt::Display for SlewError {
 
 /// The manoeuvre matrix `M_abc = E · A_d · Aᵀ · Eᵀ` (eqs. 10.7 and 10.9): the commanded
 /// principal axes relative to the current ones. `a` and `a_d` follow [`crate::attitude`].
+#[cfg_attr(target_arch = "msp430", optimize(size))]
 pub fn manoeuvre_matrix(a: &Dcm, a_d: &Dcm, axes: &PrincipalAxes) -> Mat3 {
     let a_uvw = a_d.matrix() * a.matrix().transpose();
     axes.e * a_uvw * axes.e.transpose()
@@ -136,6 +137,7 @@ pub fn manoeuvre_matrix(a: &Dcm, a_d: &Dcm, axes: &PrincipalAxes) -> Mat3 {
 
 /// Decomposes a rotation `m_abc` into `A1(Φ) A2(θ) A3(Ψ)` by quaternion factorisation
 /// (eqs. 10.10–10.24, note 000 §3.10 step 2) on the chosen [`Branch`].
+#[cfg_attr(target_arch = "msp430", optimize(size))]
 pub fn decompose(m_abc: &Mat3, branch: Branch) -> Result<AxisAngles, SlewError> {
     if m_abc.iter().any(|x| !x.is_finite()) {
         return Err(SlewError::NotFinite);
@@ -188,6 +190,7 @@ fn wrap_pi(x: f32) -> f32 {
 
 /// Steps 3–5 of the factorisation for a given Φ: `q'''' = q ⊗ q'*`, then Ψ and θ from
 /// `2·atan` of a component ratio (the thesis's form, eqs. 10.17–10.21), so Ψ, θ ∈ (−π, π].
+#[cfg_attr(target_arch = "msp430", optimize(size))]
 fn factor_given_phi(q: &Quaternion, phi: f32) -> AxisAngles {
     let (s1, c1) = fmath::sincos(0.5 * phi);
     let q_prime = Quaternion {
@@ -212,6 +215,7 @@ fn factor_given_phi(q: &Quaternion, phi: f32) -> AxisAngles {
 
 /// `atan(num/den)` from whichever of two proportional `(num, den)` pairs is larger (eq. 10.21),
 /// ±π/2 when the denominator is zero: never a division by a small number, never NaN.
+#[cfg_attr(target_arch = "msp430", optimize(size))]
 fn half_angle(pair_a: (f32, f32), pair_b: (f32, f32)) -> f32 {
     let size = |(n, d): (f32, f32)| fmath::abs(n) + fmath::abs(d);
     let (num, den) = if size(pair_a) >= size(pair_b) {
@@ -285,6 +289,7 @@ impl SlewPlan {
 /// The step that rotates by `angle_rad` about principal axis `axis` (0 = A, 1 = B, 2 = C) in
 /// `duration_s` (eqs. 10.27–10.29): `ω_abc` along the axis, `ω_uvw = Eᵀ ω_abc`,
 /// `h_body = I ω_uvw`. A zero duration gives a null step.
+#[cfg_attr(target_arch = "msp430", optimize(size))]
 pub fn step_for(axes: &PrincipalAxes, axis: u8, angle_rad: f32, duration_s: f32) -> SlewStep {
     let rate = if duration_s > 0.0 {
         angle_rad / duration_s
@@ -318,6 +323,7 @@ pub fn step_for(axes: &PrincipalAxes, axis: u8, angle_rad: f32, duration_s: f32)
 /// A null rotation (|angle| ≤ [`NULL_ANGLE_RAD`]) takes no time and no momentum (a decision:
 /// the thesis would report it as below `l_min`; the f32 decomposition of a rotation about one
 /// principal axis leaves ~1e-8 rad on the other two, which must not make the slew fail).
+#[cfg_attr(target_arch = "msp430", optimize(size))]
 pub fn plan(
     axes: &PrincipalAxes,
     angles: &AxisAngles,
@@ -375,6 +381,7 @@ pub fn plan(
 pub const NULL_ANGLE_RAD: f32 = 1e-5;
 
 /// Durations `[t_A, t_B, t_C]` with momentum fraction `fraction` of `l_max` per wheel.
+#[cfg_attr(target_arch = "msp430", optimize(size))]
 fn durations(
     axes: &PrincipalAxes,
     angles: &AxisAngles,

@@ -1081,6 +1081,7 @@ impl Sgp4 {
     /// [`Sgp4Error::Words`] with the first bad word. Propagation from it is bit for bit that of
     /// the element set that wrote it.
     #[cfg_attr(target_arch = "msp430", inline(never))]
+    #[cfg_attr(target_arch = "msp430", optimize(size))]
     pub fn from_words(words: &[u32; ELEMENT_WORDS]) -> Result<Self, Sgp4Error> {
         let (body, last) = words.split_at(ELEMENT_WORDS - 1);
         if last.first() != Some(&words_checksum(body)) {
