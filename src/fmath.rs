@@ -20,9 +20,10 @@
 //!   `firmware/tools/fmath_coeffs.py` (Lawson's algorithm in f64, coefficients rounded to f32).
 //!   They agree with S. L. Moshier's Cephes single-precision sets (`sinf.c`, `atanf.c`,
 //!   `asinf.c`, Cephes Math Library 2.2, 1992) to the printed digits.
-//! - **sqrt**: exact bit-by-bit integer square root of the mantissa (fdlibm `e_sqrtf.c`, Sun
-//!   Microsystems 1993): correctly rounded (round to nearest even), 25 shift-and-subtract steps on
-//!   32-bit integers, no multiplication.
+//! - **sqrt**: exact digit-by-digit integer square root of the significand on 16-bit words (a
+//!   16-bit integer square root for the top 8 root bits, then fdlibm's `e_sqrtf.c` recurrence,
+//!   Sun Microsystems 1993, for the 17 others): correctly rounded (round to nearest even), no
+//!   multiplication, no 64-bit operation.
 //!
 //! ## Measured accuracy (host, against f64 `std` functions)
 //! Reproduce: `cargo test --release --test fmath -- --nocapture` (dense sampling: every 997th f32
@@ -39,7 +40,7 @@
 //! | [`atan`] | all f32 | 2.30 ulp | exhaustive |
 //! | [`atan2`] | y/x over 80 decades, all signs | 2.30 ulp | 2.8·10⁶ samples |
 //! | [`asin`], [`acos`] | −1..=1 | 2.44 ulp, 1.19 ulp | exhaustive |
-//! | [`sqrt`] | all f32 | correctly rounded (bit-identical to IEEE `sqrt`) | exhaustive |
+//! | [`sqrt`] | all 2³² bit patterns | correctly rounded (bit-identical to IEEE `sqrt`) | exhaustive |
 //! | [`wrap_two_pi`] | \|x\| ≤ 411 774 | 4.2·10⁻⁷ absolute | 10⁶ samples |
 //!
 //! NaN tests are written `!(limit >= x)`, never `!(x <= limit)`: on the MSP430 the EABI comparison
@@ -401,60 +402,124 @@ pub fn acos(x: f32) -> f32 {
 /// Square root, correctly rounded (round to nearest even: bit-identical to IEEE-754 `sqrt`);
 /// `sqrt(−0) = −0`, `sqrt(+∞) = +∞`, NaN for negative input or NaN.
 ///
-/// Exact bit-by-bit integer method (fdlibm `e_sqrtf.c`): the 24-bit mantissa, shifted so that the
-/// exponent is even, yields 25 root bits by shift-and-subtract and the remainder decides the
-/// rounding. 32-bit integer additions and shifts only. Verified (`tests/fmath.rs`): bit-identical
-/// to the host's `f32::sqrt` on every f32 (ignored exhaustive test) and on a dense sample.
+/// Exact digit-by-digit integer method on the bits of `x` (module docs), written on 16-bit words
+/// for the MSP430, whose compiled 32-bit shifts and carries cost 10–15 instructions each: the
+/// root `q` (25 bits: 24 of the result and the rounding bit) of the radicand `N = X₀·2²⁴`,
+/// `X₀ = M·2ᵏ ∈ [2²⁴, 2²⁶)` (`M` the 24-bit significand, `k ∈ {1, 2}` making the exponent even),
+/// is found in two phases:
+/// 1. the top 8 bits, `q₁ = ⌊√(X₀ >> 10)⌋`, by the classic shift-and-subtract square root of a
+///    16-bit integer (16-bit words only; its first step always succeeds and is skipped);
+/// 2. the 17 others by fdlibm's recurrence (`e_sqrtf.c`, Sun Microsystems 1993) from its state
+///    after 8 bits: with `s = 2q`, the remainder `X = (N − q²)/r` of root bit `r` is compared with
+///    `t = s + r`; if `X ≥ t` then `X −= t`, `s += 2r`; `X` doubles and `r` halves. `X < 2²⁸`
+///    and `t` are word pairs; `X − t` is tested by the sign of its high word.
+///
+/// No square root of an f32 lies halfway between two f32 (`q` odd would give `q²` odd, but `N`
+/// is even), so rounding to nearest is `(q + 1) >> 1`: no remainder test. Subnormal input is
+/// normalised first. No multiplication, no 64-bit operation.
+///
+/// Verified (`tests/fmath.rs`): bit-identical to the host's `f32::sqrt` on every one of the
+/// 2³² bit patterns (NaN results compared as NaN; ignored exhaustive test), and on a dense
+/// sample (every 127th pattern, all subnormals, special values) in the default suite.
+/// MSP430 (`firmware/msp430-bench`, group `core`): about 1 050 cycles, no multiplication.
 #[cfg_attr(target_arch = "msp430", inline(never))]
 #[cfg_attr(not(target_arch = "msp430"), inline)]
 pub fn sqrt(x: f32) -> f32 {
     let bits = x.to_bits();
-    if bits >= 0x7f80_0000 {
-        // +∞, NaN, or sign bit set
+    let hi = (bits >> 16) as u16;
+    let lo = bits as u16;
+    if hi >= 0x7f80 {
+        // +∞, NaN, or the sign bit set
         return if bits == 0x7f80_0000 || bits == 0x8000_0000 {
             x
         } else {
             f32::NAN
         };
     }
-    if bits == 0 {
+    if hi | lo == 0 {
         return x;
     }
-    let mut e = (bits >> 23) as i32;
-    let mut m = bits & 0x007f_ffff;
+    // biased exponent `e`, significand `M = (mh, ml)` with its leading bit (bit 7 of `mh`)
+    let mut e = (hi >> 7) as i16;
+    let mut mh = hi & 0x7f;
+    let mut ml = lo;
     if e == 0 {
         // subnormal: normalise (at most 23 steps)
-        while m & 0x0080_0000 == 0 {
-            m <<= 1;
+        e = 1;
+        while mh & 0x80 == 0 {
+            (mh, ml) = double_words(mh, ml);
             e -= 1;
         }
-        e += 1;
+    } else {
+        mh |= 0x80;
     }
-    m |= 0x0080_0000;
-    e -= 127;
-    if e & 1 != 0 {
-        m <<= 1;
-    }
-    e >>= 1;
-    m <<= 1;
-    let mut q: u32 = 0;
-    let mut s: u32 = 0;
-    let mut r: u32 = 0x0100_0000;
-    while r != 0 {
-        let t = s + r;
-        if t <= m {
-            s = t + r;
-            m -= t;
-            q += r;
+    // X₀ = M·2ᵏ, k = 2 for an odd unbiased exponent (even `e`), else 1: xt = X₀ >> 10 (16 bits),
+    // xb = X₀ & 0x3ff
+    let m8 = (mh << 8) | (ml >> 8);
+    let (xt, xb) = if e & 1 == 0 {
+        (m8, (ml << 2) & 0x3ff)
+    } else {
+        (m8 >> 1, (ml << 1) & 0x3ff)
+    };
+    // phase 1: res = q₁ = ⌊√xt⌋ ∈ [128, 256), n = xt − q₁² ≤ 2q₁; xt ≥ 2¹⁴, so the first step
+    // (bit 2¹⁴) always succeeds
+    let mut n = xt - 0x4000;
+    let mut res: u16 = 0x4000;
+    let mut one: u16 = 0x1000;
+    while one != 0 {
+        let t = res + one;
+        if n >= t {
+            n -= t;
+            res = (res >> 1) + one;
+        } else {
+            res >>= 1;
         }
-        m <<= 1;
+        one >>= 2;
+    }
+    // phase 2 from fdlibm's state at r = 2¹⁶: s = q₁·2¹⁸, X = n·2¹⁸ + xb·2⁸ (as word pairs)
+    let mut sh = res << 2;
+    let mut sl: u16 = 0;
+    let mut xh = (n << 2) | (xb >> 8);
+    let mut xl = xb << 8;
+    // r = 2¹⁶: t = (sh + 1, 0)
+    let th = sh + 1;
+    if xh >= th {
+        xh -= th;
+        sh = th + 1;
+    }
+    (xh, xl) = double_words(xh, xl);
+    // r = 2¹⁵ … 1: t = (sh, sl | r) (the bits of s lie above r); s += 2r
+    let mut r: u16 = 0x8000;
+    loop {
+        let tl = sl | r;
+        let dh = xh.wrapping_sub(sh).wrapping_sub(u16::from(xl < tl));
+        if (dh as i16) >= 0 {
+            xh = dh;
+            xl = xl.wrapping_sub(tl);
+            if r == 0x8000 {
+                sh += 1;
+            } else {
+                sl |= r << 1;
+            }
+        }
+        if r == 1 {
+            break;
+        }
+        (xh, xl) = double_words(xh, xl);
         r >>= 1;
     }
-    if m != 0 {
-        q += q & 1;
-    }
-    let out = ((q >> 1) + 0x3f00_0000).wrapping_add((e as u32) << 23);
-    f32::from_bits(out)
+    // q = s/2 ∈ [2²⁴, 2²⁵); rounded: (q + 1) >> 1 = (s + 2) >> 2, its leading bit adding 1 to
+    // the exponent field (e − 127)/2 + 126 = (e + 125)/2, rounded down (`e` may be ≤ 0 here)
+    let s = (u32::from(sh) << 16) | u32::from(sl);
+    let m = (s + 2) >> 2;
+    let ef = ((e + 125) >> 1) as u32;
+    f32::from_bits(m + (ef << 23))
+}
+
+/// `(h, l)`, a 32-bit integer as two 16-bit words, doubled (`(h << 1 | l >> 15, l << 1)`).
+#[inline(always)]
+fn double_words(h: u16, l: u16) -> (u16, u16) {
+    (h.wrapping_add(h).wrapping_add(l >> 15), l.wrapping_add(l))
 }
 
 /// Floor (`libm::floorf`, bit manipulation, exact).
