@@ -486,6 +486,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
 
     /// Marks a tile failed (ground command or fault detection); its devices are no longer used
     /// and its wheel is stopped at the next step.
+    #[cfg_attr(target_arch = "msp430", optimize(size))]
     pub fn mark_failed(&mut self, tile: usize) {
         if tile < self.config.tiles.len() {
             self.failed |= 1u32.checked_shl(tile as u32).unwrap_or(0);
@@ -495,6 +496,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
     /// Returns a tile to service (ground command, e.g. after a power cycle of a tile marked
     /// failed): its devices are used again from the next step, its bus-failure count restarts,
     /// and the cached allocators and least-squares operators are rebuilt for the new set.
+    #[cfg_attr(target_arch = "msp430", optimize(size))]
     pub fn restore(&mut self, tile: usize) {
         self.failed &= !1u32.checked_shl(tile as u32).unwrap_or(0);
         if let Some(count) = self.failures.get_mut(tile) {
@@ -981,6 +983,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
     /// Recomputes the cached IGRF coefficients in place if they are older than
     /// [`FIELD_REFRESH_S`] or from another date (a jump in time), or missing; `None` after an
     /// error (a date outside the model).
+    #[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
     fn refresh_field(&mut self, now: &Epoch<Utc>) {
         let fresh = self.field.is_some()
             && self.field_time.is_some_and(|t| {

@@ -72,6 +72,7 @@ pub const PERIOD: TimeSpan = TimeSpan::from_whole_seconds(CONTROL_PERIOD_S as i3
 /// and out of line: the loop is not returned by value, and the element set's temporaries live
 /// in this frame only while the loop is built (not under the steps).
 #[inline(never)]
+#[optimize(size)]
 pub fn init_loop(slot: &mut Option<FlightLoop>) {
     *slot = flight_orbit().and_then(|orbit| FlightLoop::new(&CONFIG, orbit).ok());
 }
@@ -120,6 +121,7 @@ fn arg_quaternion() -> Option<Quaternion> {
 /// Takes a pending uplink command, if any, and applies it to the loop or the clock
 /// (`attitude`: the last filtered attitude, which a slew is planned from).
 #[inline(never)]
+#[optimize(size)]
 pub fn take_uplink(acs: &mut FlightLoop, clock: &mut Epoch<Utc>, attitude: Option<&Quaternion>) {
     // SAFETY: as in `arg`.
     let kind = unsafe { core::ptr::read_volatile(&raw const UPLINK_KIND) };
@@ -180,6 +182,7 @@ pub fn take_uplink(acs: &mut FlightLoop, clock: &mut Epoch<Utc>, attitude: Optio
 /// An uplinked element set: checked completely (`Sgp4::from_words`) before it replaces the
 /// one in use, which is kept if any word is bad.
 #[inline(never)]
+#[optimize(size)]
 fn take_elements(acs: &mut FlightLoop) -> u16 {
     // Read in place (a copy would take 232 B of stack). The ground writes the mailbox only
     // while the core waits for the next period, never while this reference lives; `black_box`

@@ -12,6 +12,7 @@
 //! driven by `firmware/msp430-bench` in `mspdebug`'s simulator).
 #![no_std]
 #![feature(asm_experimental_arch)]
+#![feature(optimize_attribute)]
 
 pub mod elements;
 pub mod flight;
