@@ -3,10 +3,12 @@
 
 use std::collections::HashMap;
 
+mod common;
+
 use acs::attitude::Dcm;
 use acs::control::principal_axes::{principal_axes, PrincipalAxes, PrincipalAxesError};
 use acs::control::slew::{decompose, manoeuvre_matrix, plan, step_for, Branch, SlewLimits};
-use acs::control::wheels::{allocate, body_vector, Allocator, Wheel, WheelError};
+use acs::control::wheels::{allocate, body_vector, Allocator, Wheel, WheelError, RANK_TOLERANCE};
 use acs::linalg::{Mat3, Vec3};
 
 fn data() -> HashMap<String, Vec<f64>> {
@@ -501,4 +503,210 @@ fn single_axis_slew_is_planned() {
     assert_eq!(p.steps[0].duration_s, 0.0);
     assert_eq!(p.steps[1].duration_s, 0.0);
     assert!(p.steps[2].duration_s > 0.0);
+}
+
+/// Worst errors of the allocator against f64, by rank of the working set.
+#[derive(Default)]
+struct AllocatorErrors {
+    /// Subsets checked, by rank.
+    count: [usize; 4],
+    /// `(W Wᵀ)⁺`: max-entry error relative to the largest entry.
+    operator: [f64; 4],
+    /// Wheel commands: `|h − h₆₄|/(|L|·‖W⁺‖)`.
+    wheel: [f64; 4],
+    /// `|unrealised − unrealised₆₄|/|L|`.
+    unrealised: [f64; 4],
+    /// The part of `h` in the null space of `W` (zero for the minimum-norm solution):
+    /// `|h − W⁺W h|/(|L|·‖W⁺‖)`.
+    null_part: [f64; 4],
+    /// The largest threshold at which a working set would have one rank more than its exact
+    /// one (`common::critical_tol`: its f32 rounding noise), and the smallest one at which it
+    /// would have one rank less.
+    noise: f64,
+    margin: f64,
+}
+
+/// Checks `Allocator::new` and `allocate` against the f64 minimum-norm allocation for each
+/// working set `masks` of the wheels with axes `axes` (`has_wheel[i]`: slot `i` has one).
+fn allocator_against_f64<const N: usize>(
+    axes: [Vec3; N],
+    has_wheel: [bool; N],
+    masks: &[u32],
+    seed: &mut u64,
+    errors: &mut AllocatorErrors,
+) {
+    let mut uniform = || {
+        *seed ^= *seed << 13;
+        *seed ^= *seed >> 7;
+        *seed ^= *seed << 17;
+        (*seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    };
+    for &mask in masks {
+        let working: [bool; N] = core::array::from_fn(|i| has_wheel[i] && mask & (1 << i) != 0);
+        if !working.iter().any(|w| *w) {
+            continue;
+        }
+        // limits far above the commands: no saturation
+        let wheels: [Wheel; N] = core::array::from_fn(|i| Wheel {
+            axis_body: axes[i],
+            limit: 1.0,
+            working: working[i],
+        });
+        let allocator = Allocator::new(&wheels).unwrap();
+        // f64: W (3×N, zero columns for idle slots), G = W Wᵀ, G⁺
+        let w64 = nalgebra::SMatrix::<f64, 3, N>::from_fn(|r, c| {
+            if working[c] {
+                f64::from(axes[c][r])
+            } else {
+                0.0
+            }
+        });
+        let g64 = w64 * w64.transpose();
+        let (p64, rank) = common::pinv_sym64(&g64);
+        assert_eq!(allocator.rank(), rank, "mask {mask:b}");
+        let r = usize::from(rank);
+        let mut gram32 = acs::linalg::SymMat3::zeros();
+        for (a, w) in axes.iter().zip(working) {
+            if w {
+                gram32.add_outer(a);
+            }
+        }
+        if rank < 3 {
+            errors.noise = errors.noise.max(common::critical_tol(&gram32, rank + 1));
+        }
+        errors.margin = errors.margin.min(common::critical_tol(&gram32, rank));
+        errors.count[r] += 1;
+        let p32 = allocator.pseudoinverse().to_mat3().map(f64::from);
+        errors.operator[r] = errors.operator[r].max((p32 - p64).amax() / p64.amax());
+        // ‖W⁺‖ = √‖G⁺‖₂
+        let w_pinv_norm = common::eigenvalues_sym64(&p64)[0].sqrt();
+        for _ in 0..4 {
+            let l64 = nalgebra::Vector3::new(uniform(), uniform(), uniform()) * 1e-3;
+            let l = l64.map(|x| x as f32);
+            let l64 = l.map(f64::from);
+            let a = allocator.allocate(&wheels, &l).unwrap();
+            assert_eq!(a.scale, 1.0);
+            assert_eq!(a, allocate(&wheels, &l).unwrap());
+            let h64 = -(w64.transpose() * (p64 * l64));
+            let u64 = l64 - g64 * (p64 * l64);
+            let h32 = nalgebra::SVector::<f64, N>::from_fn(|i, _| f64::from(a.wheel[i]));
+            let scale = l64.norm() * w_pinv_norm;
+            errors.wheel[r] = errors.wheel[r].max((h32 - h64).norm() / scale);
+            let u32_ = a.unrealised.map(f64::from);
+            errors.unrealised[r] = errors.unrealised[r].max((u32_ - u64).norm() / l64.norm());
+            let range_part = w64.transpose() * (p64 * (w64 * h32));
+            errors.null_part[r] = errors.null_part[r].max((h32 - range_part).norm() / scale);
+            for (h, w) in a.wheel.iter().zip(working) {
+                if !w {
+                    assert_eq!(*h, 0.0);
+                }
+            }
+        }
+    }
+}
+
+/// The allocator's closed-form `(W Wᵀ)⁺` (`linalg::pseudoinverse`) against the f64
+/// minimum-norm allocation of the same f32 axes, on every preset of `acs::tiles` with every
+/// non-empty working set of wheels (rank 3, 2 and 1: failed wheels), and the flight
+/// configuration's coils: the rank is the f64 one, and the operator, the wheel commands, the
+/// unrealised part and the null-space part of the commands (the minimum-norm property) stay
+/// within the bounds of the `control::wheels` module docs.
+#[test]
+fn allocator_against_f64_on_every_wheel_subset() {
+    let mut errors = AllocatorErrors {
+        margin: 1.0,
+        ..Default::default()
+    };
+    let mut seed = 0x9E37_79B9_7F4A_7C15u64;
+    fn axes<const N: usize>(tiles: &[acs::tiles::Tile]) -> ([Vec3; N], [bool; N]) {
+        (
+            core::array::from_fn(|i| tiles[i].normal_body()),
+            core::array::from_fn(|i| tiles[i].has_working_wheel()),
+        )
+    }
+    let t = acs::tiles::cube_thesis();
+    let (a, w) = axes::<6>(&t);
+    allocator_against_f64(a, w, &common::tile_subsets(&t), &mut seed, &mut errors);
+    let t = acs::tiles::cube_4_per_face();
+    let (a, w) = axes::<24>(&t);
+    allocator_against_f64(a, w, &common::tile_subsets(&t), &mut seed, &mut errors);
+    let t = acs::tiles::hexagonal_prism();
+    let (a, w) = axes::<8>(&t);
+    allocator_against_f64(a, w, &common::tile_subsets(&t), &mut seed, &mut errors);
+    let t = acs::tiles::octagonal_prism();
+    let (a, w) = axes::<10>(&t);
+    allocator_against_f64(a, w, &common::tile_subsets(&t), &mut seed, &mut errors);
+    let coils = &acs::flight::CONFIG.coils;
+    let coil_axes: [Vec3; 3] = core::array::from_fn(|i| coils[i].axis_body);
+    allocator_against_f64(
+        coil_axes,
+        [true; 3],
+        &[1, 2, 3, 4, 5, 6, 7],
+        &mut seed,
+        &mut errors,
+    );
+    // a set of the 4-per-face cube stands for every set with the same count per face
+    // (`common::tile_subsets`): the operator is bit-identical
+    let t = acs::tiles::cube_4_per_face();
+    let (a, _) = axes::<24>(&t);
+    let build = |mask: u32| {
+        let wheels: [Wheel; 24] = core::array::from_fn(|i| Wheel {
+            axis_body: a[i],
+            limit: 1.0,
+            working: mask & (1 << i) != 0,
+        });
+        let alloc = Allocator::new(&wheels).unwrap();
+        (*alloc.pseudoinverse(), alloc.rank())
+    };
+    for (any, canonical) in [
+        (
+            0b1010_0000_0110_0001_0100_1000u32,
+            0b0011_0000_0011_0001_0001_0001u32,
+        ),
+        (
+            0b1111_1000_0100_0010_0001_0110,
+            0b1111_0001_0001_0001_0001_0011,
+        ),
+    ] {
+        assert_eq!(build(any), build(canonical));
+    }
+    for r in 1..=3 {
+        println!(
+            "allocator vs f64, rank {r}: {} working sets; (W Wᵀ)⁺ {:.2e}, wheels {:.2e}, \
+             unrealised {:.2e}, null-space part {:.2e}",
+            errors.count[r],
+            errors.operator[r],
+            errors.wheel[r],
+            errors.unrealised[r],
+            errors.null_part[r]
+        );
+    }
+    println!(
+        "allocator: rank decided the same for any threshold in [{:.1e}, {:.1e}]",
+        errors.noise, errors.margin
+    );
+    assert!(
+        errors.noise < RANK_TOLERANCE as f64 / 10.0 && errors.margin > RANK_TOLERANCE as f64 * 10.0
+    );
+    assert_eq!(errors.count[0], 0);
+    assert!(errors.count[1] > 0 && errors.count[2] > 0 && errors.count[3] > 0);
+    // the bounds of the `control::wheels` module docs, by rank 1, 2, 3
+    for (what, measured, bound) in [
+        ("operator", errors.operator, [1.2e-7, 2.4e-7, 2.3e-7]),
+        ("wheels", errors.wheel, [1.3e-7, 2.5e-7, 2.2e-7]),
+        ("unrealised", errors.unrealised, [1.4e-7, 4.9e-7, 3.8e-7]),
+        (
+            "null-space part",
+            errors.null_part,
+            [3.6e-8, 4.8e-8, 6.0e-8],
+        ),
+    ] {
+        for r in 1..=3 {
+            assert!(
+                measured[r] <= bound[r - 1],
+                "{what} rank {r}: {:e}",
+                measured[r]
+            );
+        }
+    }
 }

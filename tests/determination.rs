@@ -7,6 +7,8 @@
 use std::collections::HashMap;
 use std::path::PathBuf;
 
+mod common;
+
 use acs::attitude::{Dcm, Quaternion};
 use acs::determination::{
     least_squares, quest, sun_sensor, thesis, triad, wahba_svd, DeterminationError, Observation,
@@ -1008,4 +1010,132 @@ fn cached_least_squares_follow_a_failure() {
         least_squares::angular_rate_body_cached(&mut cache, &cube, &g),
         Err(DeterminationError::NonFinite { index: 2 })
     );
+}
+
+/// Worst errors of the cached tile operator against f64 for one kind of sensor.
+#[derive(Default, Debug)]
+struct TileOperatorErrors {
+    /// Observable and refused sets checked.
+    observable: usize,
+    refused: usize,
+    /// `(HᵀH)⁻¹`: max-entry error relative to the largest entry.
+    operator: f64,
+    /// The solution: `|x − x₆₄|/|x₆₄|` (x₆₄ the f64 least squares of the same f32 readings).
+    solution: f64,
+    /// The smallest `λ₃/λ₁` of `HᵀH` among the observable sets (f64).
+    min_ratio: f64,
+    /// The largest threshold at which a refused set would have one rank more
+    /// (`common::critical_tol`: its f32 rounding noise), and the smallest one at which an
+    /// observable set would be refused.
+    noise: f64,
+    margin: f64,
+}
+
+/// The flight loop's cached tile operator (`TileSolver`: `HᵀH` accumulated, inverted in closed
+/// form) against the f64 least squares of the same f32 rows and readings, on every preset of
+/// `acs::tiles` with every subset of tiles giving a reading (`common::tile_subsets`), for the
+/// magnetometers and the gyros: rank-deficient sets are refused as `NotObservable` with the
+/// f64 rank and leave no operator; the others stay within the bounds of the
+/// `determination::least_squares` module docs.
+#[test]
+fn tile_operator_against_f64_on_every_tile_subset() {
+    let mut rng = Rng(11);
+    let mut field = TileOperatorErrors {
+        min_ratio: 1.0,
+        margin: 1.0,
+        ..Default::default()
+    };
+    let mut rate = TileOperatorErrors {
+        min_ratio: 1.0,
+        margin: 1.0,
+        ..Default::default()
+    };
+    for (name, set) in [
+        ("cube", tiles::cube_thesis()),
+        ("cube 4/face", tiles::cube_4_per_face()),
+        ("hexagon", tiles::hexagonal_prism()),
+        ("octagon", tiles::octagonal_prism()),
+    ] {
+        for mask in common::tile_subsets(&set) {
+            let inside = |i: usize| mask & (1 << i) != 0;
+            for (is_field, errors) in [(true, &mut field), (false, &mut rate)] {
+                let truth = rng.unit() * if is_field { 40_000.0 } else { 0.3 };
+                // rows and readings (f32) of the tiles in the subset with the sensor
+                let mut rows: Vec<nalgebra::Vector3<f64>> = Vec::new();
+                let mut gram32 = acs::linalg::SymMat3::zeros();
+                let mut values: Vec<f64> = Vec::new();
+                let mut mags: Vec<Option<Vec2>> = vec![None; set.len()];
+                let mut gyros: Vec<Option<f32>> = vec![None; set.len()];
+                for (i, t) in set.iter().enumerate().filter(|(i, _)| inside(*i)) {
+                    let v = tile_f64(t) * truth;
+                    if is_field && t.has_working_magnetometer() {
+                        let m = Vec2::new(v.x as f32, v.y as f32);
+                        mags[i] = Some(m);
+                        rows.push(t.x_body().map(f64::from));
+                        rows.push(t.y_body().map(f64::from));
+                        gram32.add_outer(&t.x_body());
+                        gram32.add_outer(&t.y_body());
+                        values.extend([f64::from(m.x), f64::from(m.y)]);
+                    } else if !is_field && t.has_working_gyro() {
+                        gyros[i] = Some(v.z as f32);
+                        rows.push(t.normal_body().map(f64::from));
+                        gram32.add_outer(&t.normal_body());
+                        values.push(f64::from(v.z as f32));
+                    }
+                }
+                let gram = rows
+                    .iter()
+                    .fold(nalgebra::Matrix3::zeros(), |g, r| g + r * r.transpose());
+                let rhs = rows
+                    .iter()
+                    .zip(&values)
+                    .fold(nalgebra::Vector3::zeros(), |a, (r, y)| a + r * *y);
+                let (inverse64, rank) = common::pinv_sym64(&gram);
+                let mut cache = None;
+                let x = if is_field {
+                    least_squares::magnetic_field_body_cached(&mut cache, &set, &mags)
+                } else {
+                    least_squares::angular_rate_body_cached(&mut cache, &set, &gyros)
+                };
+                if rank < 3 {
+                    assert_eq!(
+                        x,
+                        Err(DeterminationError::NotObservable { rank }),
+                        "{name} {mask:b}"
+                    );
+                    assert_eq!(cache, None);
+                    errors.refused += 1;
+                    errors.noise = errors.noise.max(common::critical_tol(&gram32, rank + 1));
+                    continue;
+                }
+                let x = x.unwrap().map(f64::from);
+                let op = cache.unwrap().inverse_gram().to_mat3().map(f64::from);
+                errors.observable += 1;
+                errors.operator = errors
+                    .operator
+                    .max((op - inverse64).amax() / inverse64.amax());
+                let x64 = inverse64 * rhs;
+                errors.solution = errors.solution.max((x - x64).norm() / x64.norm());
+                let l = common::eigenvalues_sym64(&gram);
+                errors.min_ratio = errors.min_ratio.min(l[2] / l[0]);
+                errors.margin = errors.margin.min(common::critical_tol(&gram32, 3));
+            }
+        }
+    }
+    for (what, e) in [("field", &field), ("rate", &rate)] {
+        println!(
+            "cached tile operator vs f64, {what}: {} observable sets, {} refused; (HᵀH)⁻¹ {:.2e}, \
+             solution {:.2e}; smallest λ₃/λ₁ of an observable set {:.3}; rank decided the same \
+             for any threshold in [{:.1e}, {:.1e}]",
+            e.observable, e.refused, e.operator, e.solution, e.min_ratio, e.noise, e.margin
+        );
+    }
+    // the bounds of the `determination::least_squares` module docs
+    for (e, operator, solution) in [(&field, 2.2e-7, 3.1e-7), (&rate, 2.3e-7, 3.1e-7)] {
+        assert!(e.observable > 0 && e.refused > 0);
+        let tol = f64::from(least_squares::GRAM_REL_TOL);
+        assert!(e.noise < tol / 10.0 && e.margin > tol * 10.0, "{e:?}");
+        assert!(e.operator <= operator, "{e:?}");
+        assert!(e.solution <= solution, "{e:?}");
+    }
 }

@@ -69,10 +69,9 @@ pub fn run<S: Sink>(s: &mut S) {
 #[inline(always)]
 fn run_step_parts<S: Sink>(s: &mut S) {
     use acs::control::wheels::{Allocator, Wheel};
-    use acs::determination::least_squares::{angular_rate_body_cached, magnetic_field_body_cached};
     use acs::determination::sun_sensor::sun_direction_body;
     use acs::env::eclipse::conical;
-    use acs::linalg::{Vec2, Vec3};
+    use acs::linalg::Vec3;
     use acs::tiles::{SunAngles, CUBE_THESIS};
     use acs::time::{Epoch, Utc};
 
@@ -82,37 +81,7 @@ fn run_step_parts<S: Sink>(s: &mut S) {
         s.out(v.z);
     };
     let tiles = &CUBE_THESIS;
-    let mags: [Option<Vec2>; 6] = [
-        None,
-        Some(Vec2::new(s.input(21_000.0), s.input(-18_000.0))),
-        Some(Vec2::new(s.input(-9_000.0), s.input(32_000.0))),
-        Some(Vec2::new(s.input(15_000.0), s.input(24_000.0))),
-        Some(Vec2::new(s.input(-26_000.0), s.input(7_000.0))),
-        Some(Vec2::new(s.input(3_000.0), s.input(-31_000.0))),
-    ];
-    let mut cache = None;
-    let _ = magnetic_field_body_cached(&mut cache, tiles, &mags);
-    s.begin("step: magnetometer least squares (cached, 5 tiles)");
-    let b = magnetic_field_body_cached(&mut cache, tiles, &mags);
-    let b = core::hint::black_box(b).unwrap_or_default();
-    s.end();
-    out3(s, &b);
-
-    let rates: [Option<f32>; 6] = [
-        None,
-        Some(s.input(0.002_5)),
-        Some(s.input(-0.001_8)),
-        Some(s.input(0.003_1)),
-        Some(s.input(-0.001_2)),
-        Some(s.input(0.000_9)),
-    ];
-    let mut cache = None;
-    let _ = angular_rate_body_cached(&mut cache, tiles, &rates);
-    s.begin("step: gyro least squares (cached, 5 tiles)");
-    let w = angular_rate_body_cached(&mut cache, tiles, &rates);
-    let w = core::hint::black_box(w).unwrap_or_default();
-    s.end();
-    out3(s, &w);
+    step_least_squares(s);
 
     let angles = |s: &mut S, a: f32, b: f32| {
         Some(SunAngles {
@@ -156,6 +125,7 @@ fn run_step_parts<S: Sink>(s: &mut S) {
         };
     }
     let h = Vec3::new(s.input(2.0e-4), s.input(-1.5e-4), s.input(3.0e-4));
+    step_allocator_built(s, &wheels, &h);
     let alloc = Allocator::new(&wheels).ok();
     s.begin("step: wheel allocation (cached, 5 wheels)");
     let a = alloc.as_ref().and_then(|a| a.allocate(&wheels, &h).ok());
@@ -166,6 +136,87 @@ fn run_step_parts<S: Sink>(s: &mut S) {
     }
 
     run_step_laws(s);
+}
+
+/// The tile least squares of a step, the operator built (first step, or a change of the set of
+/// tiles) and cached (own frame: its locals do not stay on the stack under the later cases).
+#[inline(never)]
+fn step_least_squares<S: Sink>(s: &mut S) {
+    use acs::determination::least_squares::{angular_rate_body_cached, magnetic_field_body_cached};
+    use acs::linalg::{Vec2, Vec3};
+    use acs::tiles::CUBE_THESIS;
+
+    let out3 = |s: &mut S, v: &Vec3| {
+        s.out(v.x);
+        s.out(v.y);
+        s.out(v.z);
+    };
+    let tiles = &CUBE_THESIS;
+    let mags: [Option<Vec2>; 6] = [
+        None,
+        Some(Vec2::new(s.input(21_000.0), s.input(-18_000.0))),
+        Some(Vec2::new(s.input(-9_000.0), s.input(32_000.0))),
+        Some(Vec2::new(s.input(15_000.0), s.input(24_000.0))),
+        Some(Vec2::new(s.input(-26_000.0), s.input(7_000.0))),
+        Some(Vec2::new(s.input(3_000.0), s.input(-31_000.0))),
+    ];
+    let mut cache = None;
+    s.begin("step: magnetometer least squares (operator built, 5 tiles)");
+    let b = magnetic_field_body_cached(&mut cache, tiles, &mags);
+    let b = core::hint::black_box(b).unwrap_or_default();
+    s.end();
+    out3(s, &b);
+    s.begin("step: magnetometer least squares (cached, 5 tiles)");
+    let b = magnetic_field_body_cached(&mut cache, tiles, &mags);
+    let b = core::hint::black_box(b).unwrap_or_default();
+    s.end();
+    out3(s, &b);
+
+    let rates: [Option<f32>; 6] = [
+        None,
+        Some(s.input(0.002_5)),
+        Some(s.input(-0.001_8)),
+        Some(s.input(0.003_1)),
+        Some(s.input(-0.001_2)),
+        Some(s.input(0.000_9)),
+    ];
+    let mut cache = None;
+    s.begin("step: gyro least squares (operator built, 5 tiles)");
+    let w = angular_rate_body_cached(&mut cache, tiles, &rates);
+    let w = core::hint::black_box(w).unwrap_or_default();
+    s.end();
+    out3(s, &w);
+    s.begin("step: gyro least squares (cached, 5 tiles)");
+    let w = angular_rate_body_cached(&mut cache, tiles, &rates);
+    let w = core::hint::black_box(w).unwrap_or_default();
+    s.end();
+    out3(s, &w);
+}
+
+/// The allocator of `wheels` built from opaque axes (constant ones could be folded into the
+/// closed-form pseudoinverse), then applied to `h` (own frame, as [`step_least_squares`]).
+#[inline(never)]
+fn step_allocator_built<S: Sink>(
+    s: &mut S,
+    wheels: &[acs::control::wheels::Wheel; 6],
+    h: &acs::linalg::Vec3,
+) {
+    use acs::control::wheels::Allocator;
+    use acs::linalg::Vec3;
+
+    let mut opaque = *wheels;
+    for w in opaque.iter_mut() {
+        let a = w.axis_body;
+        w.axis_body = Vec3::new(s.input(a.x), s.input(a.y), s.input(a.z));
+    }
+    s.begin("step: wheel allocator built (5 wheels)");
+    let built = Allocator::new(&opaque).ok();
+    let built = core::hint::black_box(built);
+    s.end();
+    let a = built.as_ref().and_then(|a| a.allocate(&opaque, h).ok());
+    for x in a.map_or([f32::NAN; 6], |a| a.wheel) {
+        s.out(x);
+    }
 }
 
 /// The rest of a step's parts (the laws, the filter, the coils), as `AcsLoop::step` calls them
@@ -579,11 +630,12 @@ pub fn run_flight<S: Sink>(s: &mut S) {
             limit: 0.005,
             working: true,
         };
+        // opaque axes: constant ones would let the closed-form pseudoinverse be folded
         let ws = [
-            wheel(1.0, 0.0, 0.0),
-            wheel(0.0, 1.0, 0.0),
-            wheel(0.0, 0.0, 1.0),
-            wheel(0.577, 0.577, 0.577),
+            wheel(s.input(1.0), s.input(0.0), s.input(0.0)),
+            wheel(s.input(0.0), s.input(1.0), s.input(0.0)),
+            wheel(s.input(0.0), s.input(0.0), s.input(1.0)),
+            wheel(s.input(0.577), s.input(0.577), s.input(0.577)),
         ];
         let l = Vec3::new(s.input(0.001), s.input(-0.002), s.input(0.0005));
         s.begin("wheel allocation");

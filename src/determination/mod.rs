@@ -69,7 +69,9 @@ pub enum DeterminationError {
     },
     /// The working tiles do not span the space: the least-squares matrix has rank `rank` < 3.
     NotObservable {
-        /// Numerical rank (relative threshold [`least_squares::RANK_REL_TOL`]).
+        /// Numerical rank (relative threshold [`least_squares::RANK_REL_TOL`] on the singular
+        /// values, or [`least_squares::GRAM_REL_TOL`] on the eigenvalues of the Gram matrix
+        /// for the cached operator).
         rank: u8,
     },
     /// The readings do not have one entry per tile.

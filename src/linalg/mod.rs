@@ -15,6 +15,7 @@ pub type Vec3d = nalgebra::Vector3<f64>;
 pub type Mat3d = nalgebra::Matrix3<f64>;
 
 pub mod lsq;
+pub mod pseudoinverse;
 pub mod svd;
 
 // Small 3-vector kernels, out of line on the MSP430. nalgebra's operators are generic and
@@ -104,9 +105,33 @@ pub(crate) fn mat_vec(m: &Mat3, v: &Vec3) -> Vec3 {
 pub struct SymMat3([f32; 6]);
 
 impl SymMat3 {
+    /// The zero matrix.
+    pub const fn zeros() -> Self {
+        Self([0.0; 6])
+    }
+
     /// The upper triangle of `m` (the lower one is assumed equal).
     pub fn from_upper(m: &Mat3) -> Self {
         Self([m.m11, m.m12, m.m13, m.m22, m.m23, m.m33])
+    }
+
+    /// The full symmetric matrix.
+    pub fn to_mat3(&self) -> Mat3 {
+        let [a, b, c, d, e, f] = self.0;
+        Mat3::new(a, b, c, b, d, e, c, e, f)
+    }
+
+    /// `M ← M + a aᵀ` (a Gram matrix `Σ a aᵀ` is accumulated row by row; entry `(i, j)` adds
+    /// `aᵢ·aⱼ`, as nalgebra's `a * a.transpose()` does).
+    #[cfg_attr(target_arch = "msp430", inline(never))]
+    pub fn add_outer(&mut self, a: &Vec3) {
+        let [m11, m12, m13, m22, m23, m33] = &mut self.0;
+        *m11 += a.x * a.x;
+        *m12 += a.x * a.y;
+        *m13 += a.x * a.z;
+        *m22 += a.y * a.y;
+        *m23 += a.y * a.z;
+        *m33 += a.z * a.z;
     }
 
     /// `M·v` (row i: `(m_i1·v₁ + m_i2·v₂) + m_i3·v₃`).

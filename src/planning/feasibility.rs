@@ -10,7 +10,8 @@
 //! `∫|τ_lost|² dt`) and the largest shortfall of the delivered torque.
 //!
 //! Attitudes follow [`crate::attitude`]. Cost: `steps + 1` spline samples and allocations, each
-//! a few hundred flops plus one 3×3 eigen-decomposition per sample when wheels are present.
+//! a few hundred flops plus one closed-form 3×3 pseudoinverse ([`crate::linalg::pseudoinverse`])
+//! per sample when wheels are present.
 
 use crate::control::wheels::Wheel;
 use crate::linalg::{Mat3, Vec3};

@@ -148,3 +148,84 @@ impl fmt::Display for Stats {
         )
     }
 }
+
+/// Subsets of `tiles` (bit `i` set: tile `i` in the subset) that stand for every subset: tiles
+/// equal to their predecessor (same orientation and equipment: the 4-per-face cube's faces)
+/// enter the least squares and the allocators only through how many of a run are in a subset,
+/// so the first `k` tiles of each run (`k` = 0..=run length) represent all the others: the
+/// Gram matrices are accumulated by the same operations in the same order. Without such runs,
+/// every one of the `2ⁿ` subsets (n ≤ 20).
+pub fn tile_subsets(tiles: &[acs::tiles::Tile]) -> Vec<u32> {
+    // runs of equal consecutive tiles: (first index, length)
+    let mut runs: Vec<(usize, usize)> = Vec::new();
+    for (i, t) in tiles.iter().enumerate() {
+        match runs.last_mut() {
+            Some((start, len))
+                if tiles[*start].body_to_tile == t.body_to_tile
+                    && tiles[*start].equipment == t.equipment =>
+            {
+                *len += 1
+            }
+            _ => runs.push((i, 1)),
+        }
+    }
+    assert!(runs.len() <= 20 && tiles.len() <= 32);
+    let mut masks = vec![0u32];
+    for (start, len) in runs {
+        masks = masks
+            .iter()
+            .flat_map(|m| (0..=len).map(move |k| m | (((1u32 << k) - 1) << start)))
+            .collect();
+    }
+    masks
+}
+
+/// The f64 pseudoinverse and rank of the symmetric `m` (eigenvalues below 1e-9·λ_max dropped:
+/// the f32 rounding of a rank-deficient geometry leaves ratios of ~1e-14).
+pub fn pinv_sym64(m: &nalgebra::Matrix3<f64>) -> (nalgebra::Matrix3<f64>, u8) {
+    let e = m.symmetric_eigen();
+    let lmax = e.eigenvalues.amax();
+    let mut p = nalgebra::Matrix3::zeros();
+    let mut rank = 0;
+    for k in 0..3 {
+        if e.eigenvalues[k] > 1e-9 * lmax {
+            let v = e.eigenvectors.column(k);
+            p += v * v.transpose() / e.eigenvalues[k];
+            rank += 1;
+        }
+    }
+    (p, rank)
+}
+
+/// The eigenvalues of the symmetric `m`, largest first.
+pub fn eigenvalues_sym64(m: &nalgebra::Matrix3<f64>) -> [f64; 3] {
+    let e = m.symmetric_eigen().eigenvalues;
+    let mut l = [e[0], e[1], e[2]];
+    l.sort_by(|a, b| b.total_cmp(a));
+    l
+}
+
+/// The noise margin of a rank decision of `acs::linalg::pseudoinverse`: the largest relative
+/// threshold τ (to within 1 %, searched over 1e-30..1) at which the f32 Gram matrix `g` still
+/// has rank ≥ `rank`, or 0 if it has a lower rank at every τ ≥ 1e-30. For a set whose exact
+/// rank is `rank − 1` this is how far its rounding noise reaches; the callers' τ must be above it.
+pub fn critical_tol(g: &acs::linalg::SymMat3, rank: u8) -> f64 {
+    use acs::linalg::pseudoinverse::symmetric_pseudoinverse;
+    let has = |tol: f64| symmetric_pseudoinverse(g, tol as f32).unwrap().rank >= rank;
+    let (mut lo, mut hi) = (-30.0f64, 0.0f64);
+    if !has(10f64.powf(lo)) {
+        return 0.0;
+    }
+    if has(1.0) {
+        return 1.0;
+    }
+    while hi - lo > 0.004 {
+        let mid = 0.5 * (lo + hi);
+        if has(10f64.powf(mid)) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    10f64.powf(lo)
+}
