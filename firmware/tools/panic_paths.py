@@ -38,5 +38,5 @@ for line in dis.splitlines():
         callers.add((fn, panics[int(m.group(2)) & 0xFFFF]))
 print("PANIC PATHS: %s" % ", ".join(sorted(set(panics.values()) | set(undefined))))
 for caller, target in sorted(callers):
-    print("  %s -> %s" % (caller[:120], target))
+    print("  %s -> %s" % (caller[:400], target))
 sys.exit(1)

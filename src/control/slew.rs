@@ -39,7 +39,7 @@ use core::fmt;
 use crate::attitude::{Dcm, Quaternion};
 use crate::control::principal_axes::PrincipalAxes;
 use crate::fmath;
-use crate::linalg::{Mat3, Vec3};
+use crate::linalg::{mat_mul, mat_vec, transpose, Mat3, Vec3};
 
 /// Which solution of `tan Φ = −2A/B` to take.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -131,8 +131,8 @@ impl fmt::Display for SlewError {
 /// principal axes relative to the current ones. `a` and `a_d` follow [`crate::attitude`].
 #[cfg_attr(target_arch = "msp430", optimize(size))]
 pub fn manoeuvre_matrix(a: &Dcm, a_d: &Dcm, axes: &PrincipalAxes) -> Mat3 {
-    let a_uvw = a_d.matrix() * a.matrix().transpose();
-    axes.e * a_uvw * axes.e.transpose()
+    let a_uvw = mat_mul(a_d.matrix(), &transpose(a.matrix()));
+    mat_mul(&mat_mul(&axes.e, &a_uvw), &transpose(&axes.e))
 }
 
 /// Decomposes a rotation `m_abc` into `A1(Φ) A2(θ) A3(Ψ)` by quaternion factorisation
@@ -301,8 +301,8 @@ pub fn step_for(axes: &PrincipalAxes, axis: u8, angle_rad: f32, duration_s: f32)
         1 => Vec3::new(0.0, rate, 0.0),
         _ => Vec3::new(0.0, 0.0, rate),
     };
-    let omega_body_radps = axes.e.transpose() * omega_abc;
-    let h_body = axes.inertia_body * omega_body_radps;
+    let omega_body_radps = mat_vec(&transpose(&axes.e), &omega_abc);
+    let h_body = mat_vec(&axes.inertia_body, &omega_body_radps);
     SlewStep {
         axis,
         angle_rad,

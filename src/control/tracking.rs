@@ -27,7 +27,7 @@
 use core::fmt;
 
 use crate::attitude::Quaternion;
-use crate::linalg::{Mat3, Vec3};
+use crate::linalg::{mat_vec, Mat3, Vec3};
 
 /// Gains of the law, per body axis.
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -139,6 +139,6 @@ pub fn tracking_torque(
     let e = attitude_error(q, q_target);
     let e_vec = Vec3::new(e.q1, e.q2, e.q3);
     let omega_e = omega_body_radps - e.to_dcm().to_body(omega_target_radps);
-    let gyroscopic = omega_body_radps.cross(&(inertia_body * omega_body_radps + h_wheels));
+    let gyroscopic = omega_body_radps.cross(&(mat_vec(inertia_body, omega_body_radps) + h_wheels));
     Ok(-gains.kp_nm.component_mul(&e_vec) - gains.kd_nms.component_mul(&omega_e) + gyroscopic)
 }

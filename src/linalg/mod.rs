@@ -98,6 +98,25 @@ pub(crate) fn mat_vec(m: &Mat3, v: &Vec3) -> Vec3 {
     )
 }
 
+/// `mᵀ` (nalgebra's `m.transpose()`), without indexing.
+#[cfg_attr(target_arch = "msp430", inline(never))]
+pub(crate) fn transpose(m: &Mat3) -> Mat3 {
+    Mat3::new(
+        m.m11, m.m21, m.m31, m.m12, m.m22, m.m32, m.m13, m.m23, m.m33,
+    )
+}
+
+/// `a·b` (nalgebra's `a * b`: entry (i, j) is `(a_i1·b_1j + a_i2·b_2j) + a_i3·b_3j`, column by
+/// column). Out of line and without indexing: nalgebra's product, once not inlined (at
+/// `opt-level = "z"`), keeps a bounds check and so a panic path.
+#[cfg_attr(target_arch = "msp430", inline(never))]
+pub(crate) fn mat_mul(a: &Mat3, b: &Mat3) -> Mat3 {
+    let c1 = mat_vec(a, &Vec3::new(b.m11, b.m21, b.m31));
+    let c2 = mat_vec(a, &Vec3::new(b.m12, b.m22, b.m32));
+    let c3 = mat_vec(a, &Vec3::new(b.m13, b.m23, b.m33));
+    Mat3::new(c1.x, c2.x, c3.x, c1.y, c2.y, c3.y, c1.z, c2.z, c3.z)
+}
+
 /// A symmetric 3×3 matrix stored as its upper triangle `(m11, m12, m13, m22, m23, m33)`: the
 /// cached operators of the flight loop (`(W Wᵀ)⁺`, `(HᵀH)⁻¹`) in 24 B of RAM instead of 36.
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -196,6 +215,17 @@ mod tests {
             let abc = Vec3::new(x, y, z);
             assert_eq!(bits(&lin3(&a, &b, &c, x, y, z)), bits(&(m * abc)));
             assert_eq!(bits(&mat_vec(&m, &abc)), bits(&(m * abc)));
+            assert_eq!(
+                bits(&mat_vec(&transpose(&m), &abc)),
+                bits(&(m.transpose() * abc))
+            );
+            let n = Mat3::from_columns(&[c, a, b]) * x;
+            let mbits = |m: &Mat3| m.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(mbits(&mat_mul(&m, &n)), mbits(&(m * n)));
+            assert_eq!(
+                mbits(&mat_mul(&m, &transpose(&n))),
+                mbits(&(m * n.transpose()))
+            );
             let s = SymMat3::from_upper(&(m + m.transpose()));
             let full = Mat3::new(
                 s.0[0], s.0[1], s.0[2], s.0[1], s.0[3], s.0[4], s.0[2], s.0[4], s.0[5],
