@@ -947,6 +947,7 @@ impl WordReader<'_> {
         }
     }
     /// The next word as a finite f32 (else marked bad).
+    #[cfg_attr(target_arch = "msp430", inline(never))]
     fn f32(&mut self) -> f32 {
         let index = self.index;
         let x = f32::from_bits(self.word());
@@ -960,6 +961,7 @@ impl WordReader<'_> {
         let lo = self.word();
         ((u64::from(hi) << 32) | u64::from(lo)) as i64
     }
+    #[cfg_attr(target_arch = "msp430", inline(never))]
     fn phase(&mut self) -> Phase {
         let at_epoch = self.i64();
         let rate_fx = self.i64();
@@ -1100,79 +1102,74 @@ impl Sgp4 {
         let (day, second, nano) = (r.word() as i32, r.word(), r.word());
         let epoch = crate::time::Epoch::from_parts(day, second, nano)
             .map_err(|_| Sgp4Error::Words { index: 1 })?;
-        let (radius_km, xke, j2, ao_km, v_scale_kmps) =
-            (r.f32(), r.f32(), r.f32(), r.f32(), r.f32());
-        let phase_index = r.index;
-        let (mean_anomaly, arg_perigee, node, arg_latitude) =
-            (r.phase(), r.phase(), r.phase(), r.phase());
-        let mut c = [0.0f32; 15];
-        for x in c.iter_mut() {
-            *x = r.f32();
-        }
-        let [no, ao, ecco, bstar, cosio, sinio, con41, x1mth2, x7thm1, cc1, cc4, nodecf, t2cof, xlcof, aycof] =
-            c;
+        // Each field read straight into the result, in the words' order (struct expressions
+        // evaluate their fields as written): no intermediate copies (on the MSP430, 2 B of
+        // code per word moved).
+        let phase_index = r.index + 5;
+        let mut orbit = Self {
+            epoch,
+            radius_km: r.f32(),
+            xke: r.f32(),
+            j2: r.f32(),
+            ao_km: r.f32(),
+            v_scale_kmps: r.f32(),
+            mean_anomaly: r.phase(),
+            arg_perigee: r.phase(),
+            node: r.phase(),
+            arg_latitude: r.phase(),
+            no: r.f32(),
+            ao: r.f32(),
+            ecco: r.f32(),
+            bstar: r.f32(),
+            cosio: r.f32(),
+            sinio: r.f32(),
+            con41: r.f32(),
+            x1mth2: r.f32(),
+            x7thm1: r.f32(),
+            cc1: r.f32(),
+            cc4: r.f32(),
+            nodecf: r.f32(),
+            t2cof: r.f32(),
+            xlcof: r.f32(),
+            aycof: r.f32(),
+            full_drag: None,
+        };
         let flag_index = r.index;
         let flag = r.word();
-        let mut d = [0.0f32; 12];
-        for x in d.iter_mut() {
-            *x = r.f32();
-        }
-        let [d2, d3, d4, t3cof, t4cof, t5cof, cc5, omgcof, xmcof, eta, delmo, sinmao] = d;
+        let drag = FullDrag {
+            d2: r.f32(),
+            d3: r.f32(),
+            d4: r.f32(),
+            t3cof: r.f32(),
+            t4cof: r.f32(),
+            t5cof: r.f32(),
+            cc5: r.f32(),
+            omgcof: r.f32(),
+            xmcof: r.f32(),
+            eta: r.f32(),
+            delmo: r.f32(),
+            sinmao: r.f32(),
+        };
         if let Some(index) = r.bad {
             return Err(Sgp4Error::Words { index });
         }
-        let full_drag = match flag {
+        orbit.full_drag = match flag {
             0 => None,
-            1 => Some(FullDrag {
-                d2,
-                d3,
-                d4,
-                t3cof,
-                t4cof,
-                t5cof,
-                cc5,
-                omgcof,
-                xmcof,
-                eta,
-                delmo,
-                sinmao,
-            }),
+            1 => Some(drag),
             _ => return Err(Sgp4Error::Words { index: flag_index }),
         };
-        let phases_ok = [&mean_anomaly, &arg_perigee, &node, &arg_latitude]
-            .iter()
-            .all(|p| p.in_range());
+        let phases_ok = [
+            &orbit.mean_anomaly,
+            &orbit.arg_perigee,
+            &orbit.node,
+            &orbit.arg_latitude,
+        ]
+        .iter()
+        .all(|p| p.in_range());
         if !phases_ok {
             return Err(Sgp4Error::Words { index: phase_index });
         }
-        Ok(Self {
-            epoch,
-            radius_km,
-            xke,
-            j2,
-            ao_km,
-            v_scale_kmps,
-            mean_anomaly,
-            arg_perigee,
-            node,
-            arg_latitude,
-            no,
-            ao,
-            ecco,
-            bstar,
-            cosio,
-            sinio,
-            con41,
-            x1mth2,
-            x7thm1,
-            cc1,
-            cc4,
-            nodecf,
-            t2cof,
-            xlcof,
-            aycof,
-            full_drag,
-        })
+        Ok(orbit)
     }
 }
 
