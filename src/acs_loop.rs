@@ -7,18 +7,21 @@
 //! date; quaternions scalar-first.
 //!
 //! # One step
-//! 1. Magnetorquers off (the magnetometers must not see them, note 002 §8.5), then read every
-//!    working tile: Sun angles (lit or not), magnetometer, gyro. A device that fails
-//!    [`FAILURES_TO_MARK_FAILED`] times in a row has its tile marked failed.
+//! 1. Magnetorquers off (the magnetometers must not see them, note 002 §8.5).
 //! 2. SGP4 position at the step's UTC epoch; precise Sun (TEME); conical eclipse test;
-//!    IGRF field in TEME through GMST (UT1 ≈ UTC), coefficients at the date refreshed every
-//!    [`FIELD_REFRESH_S`].
-//! 3. Body field and rate by least squares over the tiles (operators cached per set of working
+//!    IGRF field in TEME through GMST (UT1 ≈ UTC), its coefficients interpolated to the step's
+//!    date each step (not kept between steps: on the MSP430 that saves `4·F` bytes of RAM,
+//!    320 B at degree 8, for ≈ 40 000 cycles a step).
+//! 3. Read every working tile: Sun angles (lit or not), magnetometer, gyro (after the models,
+//!    so that on the MSP430 the raw readings live only under the determination, and the coils'
+//!    field has the models' time to decay). A device that fails [`FAILURES_TO_MARK_FAILED`]
+//!    times in a row has its tile marked failed.
+//! 4. Body field and rate by least squares over the tiles (operators cached per set of working
 //!    tiles); Sun direction averaged over the lit tiles (only outside the umbra); attitude by
 //!    Wahba's SVD (two-vector closed form) from the Sun and field pairs, filtered with the gyros
 //!    ([`crate::determination::complementary`], which also bridges short gaps, e.g. eclipse
 //!    entry, for at most `max_propagation_s`).
-//! 4. Mode logic (below), the mode's law, wheel momentum and coil dipole commands.
+//! 5. Mode logic (below), the mode's law, wheel momentum and coil dipole commands.
 //!
 //! # Modes and transitions
 //! | mode | law | actuators | leaves when |
@@ -37,12 +40,13 @@
 //! the safe state (coils off, wheel momentum held).
 //!
 //! Memory: the loop borrows its [`AcsConfig`] (the flight firmware keeps it in flash, a
-//! `static`) and holds only its run-time state: the SGP4 elements, the IGRF coefficients at the
-//! date and ≈ 400 B of mode, estimator, commands, tile health and cached operators
-//! (`tests/closed_loop.rs::loop_state_size` prints them on the host; on the MSP430,
-//! `AcsLoop<6, 80>` is ≈ 950 B: README "MSP430 firmware"). No allocation.
+//! `static`) and holds only its run-time state: the SGP4 elements and ≈ 400 B of mode,
+//! estimator, commands, tile health and cached operators (`tests/closed_loop.rs::loop_state_size`
+//! prints them on the host; the flight firmware's `loop_firmware` figures in
+//! `target/msp430/bench.json` are its RAM on the part). No allocation.
 
 use core::fmt;
+use core::marker::PhantomData;
 
 use crate::attitude::{Dcm, Quaternion};
 use crate::control::bdot::{bdot_from_rates, BdotConfig, BdotState};
@@ -59,7 +63,7 @@ use crate::determination::least_squares::{
 use crate::determination::sun_sensor::sun_direction_body;
 use crate::determination::{wahba_svd, Observation};
 use crate::env::eclipse::{conical, Illumination, Shadow};
-use crate::env::igrf::{coefficient_count, Degree, Igrf, Model, FULL_COEFFS};
+use crate::env::igrf::{coefficient_count, Degree, Igrf, IgrfError, Model, FULL_COEFFS};
 use crate::env::sun::{precise, Sun};
 use crate::hal::TileBus;
 use crate::linalg::{Vec2, Vec3};
@@ -74,11 +78,6 @@ pub const FAILURES_TO_MARK_FAILED: u8 = 3;
 pub const INVALID_STEPS_TO_SAFE: u16 = 30;
 /// Maximum number of magnetorquer coils.
 pub const MAX_COILS: usize = 6;
-/// Age (s) after which the cached IGRF coefficients are recomputed for the current date: the
-/// secular variation is at most 165 nT/yr at 400 km, so 600 s costs ≤ 0.003 nT (`tests/igrf.rs`,
-/// `refresh_interval`) and saves the per-date build (39 855 MSP430 cycles at degree 8) on all
-/// but one step in 600.
-pub const FIELD_REFRESH_S: f32 = 600.0;
 
 /// The operating mode.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -231,13 +230,32 @@ pub struct StepReport {
     pub faults: Faults,
 }
 
+impl StepReport {
+    /// A report of nothing measured or commanded yet, in `mode` (the value a caller of
+    /// [`AcsLoop::step_into`] starts from).
+    pub fn empty(mode: Mode) -> Self {
+        Self {
+            mode,
+            measured_attitude: None,
+            attitude: None,
+            omega_body_radps: None,
+            b_body_nt: None,
+            sun_body: None,
+            sun_fraction: None,
+            dipole_body_am2: Vec3::zeros(),
+            h_wheels_body: Vec3::zeros(),
+            faults: Faults::default(),
+        }
+    }
+}
+
 /// A slew in progress: what its execution needs of the plan (the rotations' durations, rounded
-/// to whole control periods, and body momenta, in execution order), the target, the start.
+/// to whole control periods, and body momenta, in execution order) and the start; its target
+/// is the loop's tracking target, set with it.
 #[derive(Copy, Clone, Debug, PartialEq)]
 struct SlewProgress {
     /// `(duration_s, h_body)` of each rotation.
     steps: [(f32, Vec3); 3],
-    target: Quaternion,
     started: Epoch<Utc>,
     /// Wheel momentum (body) before the slew: the plan's momenta are added to it.
     h_base: Vec3,
@@ -245,8 +263,8 @@ struct SlewProgress {
 
 /// The loop's state: mode, estimator memories, commands in force, device health; for at most
 /// `N` ≤ 32 tiles (see [`AcsConfig`]), with room for `F` IGRF coefficients (`F` ≥
-/// [`coefficient_count`] of the configured degree: 80 for degree 8, the default 195 for 13; the
-/// coefficients at the date are kept, `4·F` bytes).
+/// [`coefficient_count`] of the configured degree: 80 for degree 8, the default 195 for 13; they
+/// take `4·F` bytes of stack while the field is evaluated, none in the loop's state).
 ///
 /// The loop borrows its configuration (`'c`): on the MSP430 the flight configuration is a
 /// `static` in flash and only the run-time state below takes RAM. The tiles' run-time health is
@@ -275,9 +293,8 @@ pub struct AcsLoop<'c, const N: usize = MAX_TILES, const F: usize = FULL_COEFFS>
     /// tiles giving a reading changes.
     mag_solver: Option<TileSolver>,
     gyro_solver: Option<TileSolver>,
-    /// IGRF coefficients at `field_time` (refreshed in place, [`FIELD_REFRESH_S`]).
-    field: Option<Igrf<F>>,
-    field_time: Option<Epoch<Utc>>,
+    /// Room for the IGRF coefficients at a date, on the stack of the field evaluation only.
+    field: PhantomData<[f32; F]>,
 }
 
 /// Errors of [`AcsLoop::new`] and [`AcsLoop::command`].
@@ -383,17 +400,6 @@ struct Models {
     b_teme_nt: Option<Vec3>,
 }
 
-/// The determination's outputs of one step (phase 3).
-struct Determined {
-    b_body_nt: Option<Vec3>,
-    omega: Option<Vec3>,
-    sun_body: Option<Vec3>,
-    measured: Option<Quaternion>,
-    attitude: Option<Quaternion>,
-    /// Seconds since the previous step (the measured span, else the caller's `dt_s`).
-    dt: f32,
-}
-
 impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
     /// A loop in `Detumble` for the given configuration and orbit.
     #[cfg_attr(target_arch = "msp430", optimize(size))]
@@ -441,8 +447,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
             coil_allocator: None,
             mag_solver: None,
             gyro_solver: None,
-            field: None,
-            field_time: None,
+            field: PhantomData,
         })
     }
 
@@ -526,9 +531,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
             }
             Command::Slew { target, within_s } => {
                 let attitude = attitude.ok_or(AcsError::CannotSlew)?;
-                let progress = self.plan_slew(attitude, &target, within_s, now)?;
-                self.target = Some(progress.target);
-                self.slew = Some(progress);
+                self.plan_slew(attitude, &target, within_s, now)?;
                 self.mode = Mode::Slew;
             }
         }
@@ -536,17 +539,18 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
     }
 
     /// The thesis's open-loop plan from `attitude` to `target` within `within_s`, each rotation
-    /// rounded up to whole control periods with its momentum scaled to keep the angle (out of
-    /// line: the planner's temporaries stay off the step's stack).
+    /// rounded up to whole control periods with its momentum scaled to keep the angle, written
+    /// into the loop's slew and target (left as they were if the planner refuses; out of line:
+    /// the planner's temporaries stay off the step's stack).
     #[inline(never)]
     #[cfg_attr(target_arch = "msp430", optimize(size))]
     fn plan_slew(
-        &self,
+        &mut self,
         attitude: &Quaternion,
         target: &Dcm,
         within_s: f32,
         now: Epoch<Utc>,
-    ) -> Result<SlewProgress, AcsError> {
+    ) -> Result<(), AcsError> {
         let m = manoeuvre_matrix(&attitude.to_dcm(), target, &self.config.axes);
         let angles = decompose(&m, Branch::Shortest).map_err(|_| AcsError::CannotSlew)?;
         let plan: SlewPlan = plan(
@@ -558,8 +562,13 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         .map_err(|_| AcsError::CannotSlew)?;
         // whole control periods, same angle: L·t constant
         let period = self.config.control_period_s;
-        let mut steps = [(0.0f32, Vec3::zeros()); 3];
-        for ((duration, h), s) in steps.iter_mut().zip(plan.steps.iter()) {
+        let h_base = self.wheels_body();
+        let slew = self.slew.insert(SlewProgress {
+            steps: [(0.0f32, Vec3::zeros()); 3],
+            started: now,
+            h_base,
+        });
+        for ((duration, h), s) in slew.steps.iter_mut().zip(plan.steps.iter()) {
             if s.duration_s > 0.0 {
                 let ticks = (s.duration_s / period - 1e-4).max(0.0) as u32 + 1;
                 let rounded = ticks as f32 * period;
@@ -567,12 +576,8 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
                 *duration = rounded;
             }
         }
-        Ok(SlewProgress {
-            steps,
-            target: target.to_quaternion(),
-            started: now,
-            h_base: self.wheels_body(),
-        })
+        self.target = Some(target.to_quaternion());
+        Ok(())
     }
 
     /// Total commanded wheel momentum in body axes, kg·m²/s.
@@ -595,7 +600,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         faults
     }
 
-    /// Step phase 1: reads every working tile (see the module docs), counting read failures.
+    /// Step phase 3: reads every working tile (see the module docs), counting read failures.
     #[inline(never)]
     fn read_tiles<B: TileBus>(&mut self, bus: &mut B, faults: &mut Faults) -> Readings<N> {
         let mut r = Readings {
@@ -670,32 +675,57 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
     }
 
     /// One control step at UTC epoch `now`, `dt_s` seconds after the previous one.
+    pub fn step<B: TileBus>(&mut self, bus: &mut B, now: Epoch<Utc>, dt_s: f32) -> StepReport {
+        let mut report = StepReport::empty(self.mode);
+        self.step_into(bus, now, dt_s, &mut report);
+        report
+    }
+
+    /// [`AcsLoop::step`] writing its report into `report` (every field is set): on the MSP430 a
+    /// report returned by value is built, then copied (118 B more stack under the step).
     ///
     /// The phases are separate functions kept out of line, so that their temporaries do not
     /// share one stack frame (on the MSP430 the step's peak stack is the deepest phase, not the
     /// sum of them).
     #[cfg_attr(target_arch = "msp430", inline(never))]
-    pub fn step<B: TileBus>(&mut self, bus: &mut B, now: Epoch<Utc>, dt_s: f32) -> StepReport {
+    pub fn step_into<B: TileBus>(
+        &mut self,
+        bus: &mut B,
+        now: Epoch<Utc>,
+        dt_s: f32,
+        report: &mut StepReport,
+    ) {
         let mut faults = self.safe(bus);
-        let readings = self.read_tiles(bus, &mut faults);
-        self.refresh_field(&now);
+        // The models first: the tiles are read after them, so the readings live only under
+        // the determination (and the magnetometers see the coils' field decay meanwhile).
         let models = self.models(&now, &mut faults);
-        let det = self.determine(&readings, &models, &now, dt_s, &mut faults);
-        self.change_mode(&det);
-        let (dipole, h_target) = self.laws(&det, &now);
-        let (dipole, h_wheels) = self.actuate(bus, &det, dipole, h_target, &mut faults);
-        StepReport {
-            mode: self.mode,
-            measured_attitude: det.measured,
-            attitude: det.attitude,
-            omega_body_radps: det.omega,
-            b_body_nt: det.b_body_nt,
-            sun_body: det.sun_body,
-            sun_fraction: models.illumination.map(|i| i.fraction),
-            dipole_body_am2: dipole,
-            h_wheels_body: h_wheels,
-            faults,
-        }
+        // The determination writes its results straight into the report.
+        *report = StepReport::empty(self.mode);
+        report.sun_fraction = models.illumination.map(|i| i.fraction);
+        let dt = self.sense(bus, &models, &now, dt_s, &mut faults, report);
+        self.change_mode(report);
+        let (dipole, h_target) = self.laws(report, dt, &now);
+        let (dipole, h_wheels) = self.actuate(bus, report, dipole, h_target, &mut faults);
+        report.mode = self.mode;
+        report.dipole_body_am2 = dipole;
+        report.h_wheels_body = h_wheels;
+        report.faults = faults;
+    }
+
+    /// Step phases 3 and 4: reads the tiles and determines from their readings (which live in
+    /// this frame only); returns the seconds since the previous step.
+    #[cfg_attr(target_arch = "msp430", inline(never))]
+    fn sense<B: TileBus>(
+        &mut self,
+        bus: &mut B,
+        models: &Models,
+        now: &Epoch<Utc>,
+        dt_s: f32,
+        faults: &mut Faults,
+        report: &mut StepReport,
+    ) -> f32 {
+        let readings = self.read_tiles(bus, faults);
+        self.determine(&readings, models, now, dt_s, faults, report)
     }
 
     /// Step phase 2: orbit, Sun, eclipse and field models at `now`.
@@ -707,17 +737,21 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
             .ok();
         faults.orbit = orbit.is_none();
         let sun = precise::sun(now).ok();
-        let field_model = self.field.as_ref();
         let gmst = now.to_ut1(None).ok().map(|ut1| gmst_rad(&ut1));
-        faults.model = sun.is_none() || field_model.is_none() || gmst.is_none();
         let illumination = match (&orbit, &sun) {
             (Some(o), Some(s)) => conical(&o.r_teme_km, s).ok(),
             _ => None,
         };
-        let b_teme_nt = match (&orbit, &field_model, gmst) {
-            (Some(o), Some(f), Some(g)) => f.teme(&o.r_teme_km, g).ok(),
-            _ => None,
-        };
+        // the field model fails on its own (a date outside its tables) or at the point
+        let field = self.field_teme(now, orbit.as_ref().map(|o| &o.r_teme_km), gmst);
+        let field_model_failed = matches!(
+            field,
+            Err(IgrfError::DateOutOfRange { .. }
+                | IgrfError::DegreeAboveModel { .. }
+                | IgrfError::CapacityTooSmall { .. })
+        );
+        faults.model = sun.is_none() || field_model_failed || gmst.is_none();
+        let b_teme_nt = field.ok().flatten();
         Models {
             sun,
             illumination,
@@ -725,7 +759,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         }
     }
 
-    /// Step phase 3: body field, rate and Sun direction from the tiles, attitude by Wahba's SVD,
+    /// Step phase 4: body field, rate and Sun direction from the tiles, attitude by Wahba's SVD,
     /// filtered.
     #[inline(never)]
     fn determine(
@@ -735,7 +769,8 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         now: &Epoch<Utc>,
         dt_s: f32,
         faults: &mut Faults,
-    ) -> Determined {
+        report: &mut StepReport,
+    ) -> f32 {
         let b_body_nt = self.field_body(readings);
         let omega = self.rate_body(readings);
         faults.field = b_body_nt.is_none();
@@ -750,20 +785,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         };
         let measured = match (sun_body, b_body_nt, &models.sun, models.b_teme_nt) {
             (Some(s_b), Some(b_b), Some(s_r), Some(b_r)) => {
-                let (w_sun, w_mag) = self.config.weights;
-                let sun = Observation {
-                    body: s_b,
-                    reference: s_r.direction,
-                    weight: w_sun,
-                };
-                let field = Observation {
-                    body: b_b,
-                    reference: b_r,
-                    weight: w_mag,
-                };
-                wahba_svd::solve_pair(&sun, &field)
-                    .ok()
-                    .map(|s| s.quaternion)
+                self.measure(&s_b, &s_r.direction, &b_b, &b_r)
             }
             _ => None,
         };
@@ -777,14 +799,38 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         self.estimate = complementary::update(&filter, self.estimate, measured, omega, dt);
         let attitude = self.estimate.map(|e| e.attitude);
         faults.attitude = attitude.is_none();
-        Determined {
-            b_body_nt,
-            omega,
-            sun_body,
-            measured,
-            attitude,
-            dt,
-        }
+        report.b_body_nt = b_body_nt;
+        report.omega_body_radps = omega;
+        report.sun_body = sun_body;
+        report.measured_attitude = measured;
+        report.attitude = attitude;
+        dt
+    }
+
+    /// The attitude measured by Wahba's SVD from the Sun and field pairs (body, reference TEME),
+    /// weighted as configured; out of line (its temporaries off the determination's frame).
+    #[cfg_attr(target_arch = "msp430", inline(never))]
+    fn measure(
+        &self,
+        sun_body: &Vec3,
+        sun_teme: &Vec3,
+        b_body_nt: &Vec3,
+        b_teme_nt: &Vec3,
+    ) -> Option<Quaternion> {
+        let (w_sun, w_mag) = self.config.weights;
+        let sun = Observation {
+            body: *sun_body,
+            reference: *sun_teme,
+            weight: w_sun,
+        };
+        let field = Observation {
+            body: *b_body_nt,
+            reference: *b_teme_nt,
+            weight: w_mag,
+        };
+        wahba_svd::solve_pair(&sun, &field)
+            .ok()
+            .map(|s| s.quaternion)
     }
 
     /// The body field from the magnetometers (least squares, cached operator), nT. Out of line,
@@ -814,9 +860,9 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         sun_direction_body(tiles, sun.get(..tiles.len())?).ok()
     }
 
-    /// Step phase 4a: mode transitions on the rate and on the validity of the attitude.
-    fn change_mode(&mut self, det: &Determined) {
-        let rate = det.omega.map(|w| crate::linalg::norm(&w));
+    /// Step phase 5a: mode transitions on the rate and on the validity of the attitude.
+    fn change_mode(&mut self, det: &StepReport) {
+        let rate = det.omega_body_radps.map(|w| crate::linalg::norm(&w));
         if let Some(r) = rate {
             if r > self.config.detumble_enter_radps && self.mode != Mode::Detumble {
                 self.mode = Mode::Detumble;
@@ -839,11 +885,11 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         }
     }
 
-    /// Step phase 4b: the mode's law. Returns the coil dipole (body, A·m²) and the wheel
+    /// Step phase 5b: the mode's law. Returns the coil dipole (body, A·m²) and the wheel
     /// momentum to hold (body, kg·m²/s; `None`: hold the momentum in force).
     #[inline(never)]
-    fn laws(&mut self, det: &Determined, now: &Epoch<Utc>) -> (Vec3, Option<Vec3>) {
-        let (omega, b_body_nt, dt) = (det.omega, det.b_body_nt, det.dt);
+    fn laws(&mut self, det: &StepReport, dt: f32, now: &Epoch<Utc>) -> (Vec3, Option<Vec3>) {
+        let (omega, b_body_nt) = (det.omega_body_radps, det.b_body_nt);
         let mut dipole = Vec3::zeros();
         let mut torque: Option<Vec3> = None;
         let mut h_target: Option<Vec3> = None;
@@ -898,8 +944,8 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
                         t0 += duration_s + self.config.slew_pause_s;
                     }
                     if done {
+                        // then track the slew's target (set with it, `self.target`)
                         self.mode = Mode::Tracking;
-                        self.target = Some(p.target);
                         self.slew = None;
                     } else {
                         h_target = Some(h);
@@ -938,14 +984,14 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         (dipole, h_target)
     }
 
-    /// Step phase 5: wheel momentum (the target, or the momentum in force re-sent: it stops
+    /// Step phase 5c: wheel momentum (the target, or the momentum in force re-sent: it stops
     /// failed tiles' wheels), momentum dumping through the coils outside detumble, coil dipole.
     /// Returns the dipole commanded and the wheels' total momentum now commanded (body).
     #[inline(never)]
     fn actuate<B: TileBus>(
         &mut self,
         bus: &mut B,
-        det: &Determined,
+        det: &StepReport,
         dipole: Vec3,
         h_target: Option<Vec3>,
         faults: &mut Faults,
@@ -980,28 +1026,26 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
             .any(|(i, t)| self.has_working_wheel(i, t))
     }
 
-    /// Recomputes the cached IGRF coefficients in place if they are older than
-    /// [`FIELD_REFRESH_S`] or from another date (a jump in time), or missing; `None` after an
-    /// error (a date outside the model).
-    #[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
-    fn refresh_field(&mut self, now: &Epoch<Utc>) {
-        let fresh = self.field.is_some()
-            && self.field_time.is_some_and(|t| {
-                let age = span_s(now, &t);
-                age.is_finite() && crate::fmath::abs(age) <= FIELD_REFRESH_S
-            });
-        if fresh {
-            return;
-        }
-        self.field_time = None;
-        let built = Igrf::emplace_epoch(
-            &mut self.field,
+    /// The field in TEME at `r_teme_km` (`None` without a position or GMST) from the
+    /// coefficients of the on-board model at `now`, built on this function's stack (out of
+    /// line: the `4·F` bytes exist only while the field is evaluated).
+    #[cfg_attr(target_arch = "msp430", inline(never))]
+    fn field_teme(
+        &self,
+        now: &Epoch<Utc>,
+        r_teme_km: Option<&Vec3>,
+        gmst: Option<f32>,
+    ) -> Result<Option<Vec3>, IgrfError> {
+        let mut slot: Option<Igrf<F>> = None;
+        let field = Igrf::emplace_epoch(
+            &mut slot,
             self.config.igrf_model,
             now,
             self.config.igrf_degree,
-        );
-        if built.is_ok() {
-            self.field_time = Some(*now);
+        )?;
+        match (r_teme_km, gmst) {
+            (Some(r), Some(g)) => field.teme(r, g).map(Some),
+            _ => Ok(None),
         }
     }
 

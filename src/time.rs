@@ -1238,6 +1238,7 @@ fn gmst_linear(ut1: &Epoch<Ut1>) -> Wide {
 /// (`cargo test --test time gmst -- --nocapture`). The model itself (IAU-82, UT1) is
 /// within ~0.1 mas/yr of the Earth rotation angle definitions in use since 2003; using UTC for
 /// UT1 costs up to 6.6e-5 rad (see [`Epoch::<Utc>::to_ut1`]).
+#[cfg_attr(target_arch = "msp430", inline(never))]
 pub fn gmst_rad(ut1: &Epoch<Ut1>) -> f32 {
     let (whole, fraction) = ut1.days_since_j2000_split();
     let t = (whole + fraction) / 36_525.0;

@@ -28,12 +28,12 @@ fn run() -> ! {
         acs_firmware::fw_halt()
     };
     let mut bus = tiles::MailboxBus;
-    let mut attitude = None;
+    // the last step's report (its attitude is what an uplinked slew is planned from)
+    let mut report = acs::acs_loop::StepReport::empty(acs.mode());
     loop {
         acs_firmware::fw_period_start();
-        flight::take_uplink(acs, &mut clock, attitude.as_ref());
-        let report = acs.step(&mut bus, clock, acs::flight::CONTROL_PERIOD_S);
-        attitude = report.attitude;
+        flight::take_uplink(acs, &mut clock, report.attitude.as_ref());
+        acs.step_into(&mut bus, clock, acs::flight::CONTROL_PERIOD_S, &mut report);
         flight::publish(&report);
         clock = clock.add(flight::PERIOD);
     }

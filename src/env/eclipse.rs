@@ -244,6 +244,7 @@ pub fn cone_geometry(r_teme_km: &Vec3, sun: &Sun) -> Result<ConeGeometry, Eclips
 ///
 /// # Errors
 /// As [`cone_geometry`].
+#[cfg_attr(target_arch = "msp430", inline(never))]
 pub fn conical(r_teme_km: &Vec3, sun: &Sun) -> Result<Illumination, EclipseError> {
     let g = cone_geometry(r_teme_km, sun)?;
     let (a, b, c) = (g.sun_radius_rad, g.earth_radius_rad, g.separation_rad);

@@ -704,6 +704,7 @@ impl Sgp4 {
     /// # Errors
     /// [`Sgp4Error::Eccentricity`], [`Sgp4Error::SemiLatusRectum`], [`Sgp4Error::Decayed`] as
     /// Vallado's `sgp4`; [`Sgp4Error::Diverged`] if the result is not finite.
+    #[cfg_attr(target_arch = "msp430", inline(never))]
     pub fn propagate(&self, since_epoch: TimeSpan) -> Result<TemeState, Sgp4Error> {
         let (whole, frac) = split_span(since_epoch, 60);
         self.propagate_whole_frac(whole, frac)

@@ -476,6 +476,7 @@ fn nutation(node: u16, sun_lon: u16, d: u16, e: u16) -> (f32, f32) {
 /// # Errors
 /// [`SunError::Time`] before 1972 (no leap-second UTC) or for a 23:59:60 that did not exist;
 /// [`SunError::Year`] after 2100.
+#[cfg_attr(target_arch = "msp430", inline(never))]
 pub fn sun(epoch: &Epoch<Utc>) -> Result<Sun, SunError> {
     sun_tt(&epoch.to_tt_extrapolated()?)
 }
