@@ -182,7 +182,7 @@ fn sim_pil_needs_a_flight_image() {
     let missing = std::env::temp_dir().join("acs-cli-no-such-image.elf");
     let out = acs(&[
         "sim",
-        "slew-track",
+        "tracking",
         "--pil",
         "--elf",
         missing.to_str().unwrap(),
@@ -192,7 +192,7 @@ fn sim_pil_needs_a_flight_image() {
     // the host tool itself: an ELF, but 64-bit
     let out = acs(&[
         "sim",
-        "slew-track",
+        "tracking",
         "--pil",
         "--elf",
         env!("CARGO_BIN_EXE_acs"),

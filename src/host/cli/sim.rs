@@ -9,9 +9,8 @@ use crate::host::sim::{pil, plan_flight, plot, scenarios, Sample};
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// Built-in scenario: detumble, thesis-slew, thesis-slew-noisy, sun-safe, tracking,
-    /// failed-tile, slew-track; or plan-flight / plan-flight-wheels (a ground plan flown open
-    /// loop, [`plan_flight`]: seed 001's manoeuvre with magnetorquers alone, or with three
-    /// wheels).
+    /// failed-tile; or plan-flight / plan-flight-wheels (a ground plan flown open loop,
+    /// [`plan_flight`]: seed 001's manoeuvre with magnetorquers alone, or with three wheels).
     scenario: String,
     /// Output folder for CSV and SVG files (default: `acs-sim-<scenario>`, with `--pil`
     /// `acs-sim-<scenario>-pil`).
@@ -34,12 +33,11 @@ pub struct Args {
 
 /// The built-in scenario `name`.
 fn scenario(name: &str) -> Result<scenarios::Scenario, CliError> {
-    match pil::scenario_by_name(name).or_else(|| scenarios::by_name(name)) {
+    match scenarios::by_name(name) {
         Some(s) => s.map_err(|e| CliError::Compute(e.to_string())),
         None => Err(CliError::Input(format!(
-            "scenario `{name}`: not a built-in scenario ({}, {}); scenario files are not supported yet",
-            scenarios::NAMES.join(", "),
-            pil::NAMES.join(", ")
+            "scenario `{name}`: not a built-in scenario ({}); scenario files are not supported yet",
+            scenarios::NAMES.join(", ")
         ))),
     }
 }

@@ -53,17 +53,14 @@ use self::bus::{Commands, Readings, Recorder, COILS};
 use self::elf::{Elf, EM_MSP430};
 use self::mspdebug::{Mspdebug, MspdebugError, Registers};
 use self::uplink::{mode_code, mode_name, Uplink, UplinkMailbox};
-use super::scenarios::{make_tle, mean_motion_rev_per_day, Scenario};
-use super::{angle_between_deg, Disturbances, Sample, SensorNoise, SimConfig, SimError, Simulator};
-use crate::acs_loop::{AcsConfig, Command, StepReport};
-use crate::attitude::{Dcm, Quaternion};
-use crate::flight::{
-    FlightLoop, CONFIG, CONTROL_PERIOD_S, INERTIA_DIAGONAL_KGM2, TILES, WHEEL_LIMIT_NMS,
-};
-use crate::linalg::{Mat3d, Vec3d};
-use crate::orbit::sgp4::{Gravity, Sgp4, ELEMENT_WORDS};
-use crate::tiles::cube_thesis;
-use crate::time::{Calendar, Epoch, TimeSpan, Utc};
+use super::scenarios::Scenario;
+use super::{angle_between_deg, Sample, SimError, Simulator};
+use crate::acs_loop::{Command, StepReport};
+use crate::attitude::Quaternion;
+use crate::flight::{FlightLoop, CONFIG, CONTROL_PERIOD_S, TILES};
+use crate::linalg::Vec3d;
+use crate::orbit::sgp4::{Sgp4, ELEMENT_WORDS};
+use crate::time::{Epoch, TimeSpan, Utc};
 
 /// The image's clock at reset (its `flight::RESET_EPOCH`: 2025-03-20 12:00 UTC), until the
 /// clock uplink sets it.
@@ -828,132 +825,6 @@ pub fn write_summary(path: &Path, summary: &PilSummary) -> Result<(), String> {
     std::fs::write(path, summary.to_json()).map_err(|e| format!("{}: {e}", path.display()))
 }
 
-/// [`CONFIG`] as a host loop's configuration (room for `MAX_TILES` tiles), for `acs sim`
-/// without `--pil`.
-fn host_flight_config() -> Result<AcsConfig, SimError> {
-    let c = &CONFIG;
-    let tiles = heapless::Vec::from_slice(&c.tiles)
-        .map_err(|_| SimError::Model("too many flight tiles".into()))?;
-    Ok(AcsConfig {
-        tiles,
-        axes: c.axes,
-        coils: c.coils.clone(),
-        wheel_limit_nms: c.wheel_limit_nms,
-        bdot: c.bdot,
-        tracking: c.tracking,
-        sun_safe: c.sun_safe,
-        sun_axis_body: c.sun_axis_body,
-        slew_limits: c.slew_limits,
-        control_period_s: c.control_period_s,
-        slew_pause_s: c.slew_pause_s,
-        dumping_gain_per_s: c.dumping_gain_per_s,
-        detumble_enter_radps: c.detumble_enter_radps,
-        detumble_exit_radps: c.detumble_exit_radps,
-        igrf_model: c.igrf_model,
-        igrf_degree: c.igrf_degree,
-        weights: c.weights,
-        filter_gain: c.filter_gain,
-        max_propagation_s: c.max_propagation_s,
-    })
-}
-
-/// The processor-in-the-loop scenario `slew-track` (660 steps): the flight configuration on
-/// the flight orbit (500 km dawn-dusk, no eclipse) from 2025-03-20 12:00 UTC, noisy tiles with
-/// rare read dropouts; it holds its initial attitude (track), slews 60° about body y by the
-/// open-loop plan at 120 s (within 240 s), then tracks the new attitude to the end.
-pub fn slew_track() -> Result<Scenario, SimError> {
-    let tle = make_tle(
-        90101,
-        (25, 79.5),
-        97.4,
-        90.0,
-        0.0,
-        0.0,
-        mean_motion_rev_per_day(500.0),
-    );
-    let hold = Dcm::a3(0.6).then(&Dcm::a1(-0.3));
-    let goal = Dcm::a2(60f32.to_radians()).then(&hold);
-    let [a, b, c] = INERTIA_DIAGONAL_KGM2.map(f64::from);
-    let start = Epoch::from_calendar(Calendar {
-        year: 2025,
-        month: 3,
-        day: 20,
-        hour: 12,
-        minute: 0,
-        second: 0,
-        nano: 0,
-    })
-    .map_err(|e| SimError::Model(e.to_string()))?;
-    let sim = SimConfig {
-        tle,
-        start,
-        inertia: Mat3d::from_diagonal(&Vec3d::new(a, b, c)),
-        tiles: cube_thesis(),
-        coils: CONFIG
-            .coils
-            .iter()
-            .map(|w| (w.axis_body.cast::<f64>(), f64::from(w.limit)))
-            .collect(),
-        wheel_max_h_nms: f64::from(WHEEL_LIMIT_NMS),
-        wheel_max_torque_nm: 1e-4,
-        sun_fov_rad: 80f64.to_radians(),
-        noise: SensorNoise {
-            sun_rad: 1e-3,
-            mag_nt: 100.0,
-            mag_bias_nt: 0.0,
-            gyro_radps: 1e-4,
-            gyro_bias_radps: 0.0,
-            dropout: 0.001,
-        },
-        disturbances: Disturbances::seed004(),
-        failures: vec![],
-        substep_s: 0.1,
-        seed: 17,
-    };
-    let q = |d: &Dcm| {
-        let q = d.to_quaternion();
-        [q.q0, q.q1, q.q2, q.q3].map(f64::from)
-    };
-    let flight = host_flight_config()?;
-    Ok(Scenario {
-        name: "slew-track",
-        description: "the flight configuration: hold, slew 60° by the open-loop plan at 120 s, then track (660 s)",
-        sim,
-        flight,
-        initial: (q(&hold), Vec3d::zeros()),
-        commands: vec![
-            (
-                0.0,
-                Command::Track {
-                    target: hold.to_quaternion(),
-                },
-            ),
-            (
-                120.0,
-                Command::Slew {
-                    target: goal,
-                    within_s: 240.0,
-                },
-            ),
-        ],
-        target: Some(q(&goal)),
-        duration_s: 660.0,
-        dt_s: f64::from(CONTROL_PERIOD_S),
-        gravity: Gravity::Wgs72,
-    })
-}
-
-/// The processor-in-the-loop scenarios by name.
-pub fn scenario_by_name(name: &str) -> Option<Result<Scenario, SimError>> {
-    match name {
-        "slew-track" => Some(slew_track()),
-        _ => None,
-    }
-}
-
-/// Names of the processor-in-the-loop scenarios.
-pub const NAMES: [&str; 1] = ["slew-track"];
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1021,7 +892,7 @@ mod tests {
     #[test]
     fn summary_counts_cycles_per_mode_and_writes_the_json_of_the_contract() {
         let log = [(0, 0, 900), (1, 3, 400), (2, 3, 501), (3, 2, 700)];
-        let s = summarise("slew-track", &log, 0, Some(1800), 56_000);
+        let s = summarise("slew", &log, 0, Some(1800), 56_000);
         assert_eq!(s.steps, 4);
         assert_eq!(s.cycles_max, 900);
         assert_eq!(s.cycles_mean, 625);
@@ -1034,10 +905,10 @@ mod tests {
             ]
         );
         let json = s.to_json();
-        assert!(json.starts_with("{\n  \"scenario\": \"slew-track\",\n  \"steps\": 4,\n  \"mismatches\": 0,\n  \"cycles_max\": 900,\n  \"cycles_mean\": 625,\n"), "{json}");
+        assert!(json.starts_with("{\n  \"scenario\": \"slew\",\n  \"steps\": 4,\n  \"mismatches\": 0,\n  \"cycles_max\": 900,\n  \"cycles_mean\": 625,\n"), "{json}");
         let v: serde_json::Value = serde_json::from_str(&json).unwrap();
         assert_eq!(v["cycles_by_mode"]["Tracking"]["cycles_mean"], 451);
-        assert_eq!(v["scenario"], "slew-track");
+        assert_eq!(v["scenario"], "slew");
         assert_eq!(v["steps"], 4);
         assert_eq!(v["mismatches"], 0);
         assert_eq!(v["cycles_max"], 900);
@@ -1078,14 +949,15 @@ mod tests {
     }
 
     #[test]
-    fn the_pil_scenario_flies_the_flight_configuration_long_enough() {
-        let s = slew_track().unwrap();
-        assert!(s.duration_s / s.dt_s >= 600.0);
-        assert_eq!(s.dt_s, f64::from(CONTROL_PERIOD_S));
-        assert_eq!(s.sim.tiles.len(), TILES);
-        assert!(s
-            .commands
-            .iter()
-            .any(|(_, c)| matches!(c, Command::Slew { .. })));
+    fn a_scenario_not_flying_the_flight_period_is_refused_before_the_simulator_starts() {
+        let thesis = crate::host::sim::scenarios::thesis_slew(false).unwrap();
+        let options = PilOptions {
+            mspdebug: "/nonexistent/mspdebug".into(),
+            ..PilOptions::default()
+        };
+        match run(&thesis, &options, |_| {}) {
+            Err(PilError::Input(m)) => assert!(m.contains("control period 0.1 s"), "{m}"),
+            other => panic!("{other:?}"),
+        }
     }
 }
