@@ -40,6 +40,16 @@
 //! them) and its control period [`CONTROL_PERIOD_S`]; the truth side (inertia, disturbances,
 //! noise) is the scenario's. `mspdebug` must be installed (`apt-get install mspdebug`) and the
 //! image built (`firmware/pil` does both).
+//!
+//! # Relation to `acs sim`
+//! The host side is `acs sim`'s run of the same scenario (same simulator, same random draws,
+//! same loop over [`CONFIG`], the element set through [`Sgp4::from_words`], which propagates
+//! bit for bit as the set that wrote the words) except that ground commands arrive as the
+//! uplink carries them: a slew's target DCM goes up as a quaternion and comes back as
+//! `new_normalize(q).to_dcm()`, not bit for bit the original, so the two runs are the same up to
+//! the first slew command and differ at the noise level after it (`slew`: `run.csv` identical
+//! for steps 0–120, different from the slew command at step 121 on).
+//!
 
 pub mod bus;
 pub mod elf;
