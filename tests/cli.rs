@@ -182,3 +182,29 @@ fn sim_plan_flight_wheels_reports_planned_and_flown_errors() {
     assert!((flown - planned).abs() < 2e-3, "{report}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `acs sim --pil` without a flight image, or with a file that is not an MSP430 image, is
+/// invalid input (exit 2) naming the file; the run itself needs mspdebug (`firmware/pil`).
+#[test]
+fn sim_pil_needs_a_flight_image() {
+    let missing = std::env::temp_dir().join("acs-cli-no-such-image.elf");
+    let out = acs(&[
+        "sim",
+        "tracking",
+        "--pil",
+        "--elf",
+        missing.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2), "{}", text(&out.stderr));
+    assert!(text(&out.stderr).contains("acs-cli-no-such-image.elf"));
+    // the host tool itself: an ELF, but 64-bit
+    let out = acs(&[
+        "sim",
+        "tracking",
+        "--pil",
+        "--elf",
+        env!("CARGO_BIN_EXE_acs"),
+    ]);
+    assert_eq!(out.status.code(), Some(2), "{}", text(&out.stderr));
+    assert!(text(&out.stderr).contains("not a 32-bit little-endian ELF"));
+}

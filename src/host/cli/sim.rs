@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use super::CliError;
-use crate::host::sim::{plan_flight, plot, scenarios};
+use crate::host::sim::{pil, plan_flight, plot, scenarios, Sample};
 
 /// Arguments of `acs sim`.
 #[derive(clap::Args, Debug)]
@@ -12,9 +12,34 @@ pub struct Args {
     /// failed-tile, slew; or plan-flight / plan-flight-wheels (a ground plan flown open loop,
     /// [`plan_flight`]: seed 001's manoeuvre with magnetorquers alone, or with three wheels).
     scenario: String,
-    /// Output folder for CSV and SVG files (default: `acs-sim-<scenario>`).
+    /// Output folder for CSV and SVG files (default: `acs-sim-<scenario>`, with `--pil`
+    /// `acs-sim-<scenario>-pil`).
     #[arg(long)]
     out: Option<PathBuf>,
+    /// Processor in the loop: fly the MSP430 flight image in mspdebug's simulator, in lockstep
+    /// with the host loop, and stop at the first actuator command that differs ([`pil`]).
+    #[arg(long)]
+    pil: bool,
+    /// With `--pil`: the flight image.
+    #[arg(
+        long,
+        default_value = "firmware/target/msp430-none-elf/release/acs-firmware"
+    )]
+    elf: PathBuf,
+    /// With `--pil`: where to write the run's summary.
+    #[arg(long, default_value = "target/msp430/pil.json")]
+    pil_json: PathBuf,
+}
+
+/// The built-in scenario `name`.
+fn scenario(name: &str) -> Result<scenarios::Scenario, CliError> {
+    match scenarios::by_name(name) {
+        Some(s) => s.map_err(|e| CliError::Compute(e.to_string())),
+        None => Err(CliError::Input(format!(
+            "scenario `{name}`: not a built-in scenario ({}); scenario files are not supported yet",
+            scenarios::NAMES.join(", ")
+        ))),
+    }
 }
 
 /// Runs `acs sim`.
@@ -22,16 +47,10 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     if args.scenario == "plan-flight" || args.scenario == "plan-flight-wheels" {
         return plan_flight_run(&args.scenario, args.out.clone());
     }
-    let scenario = match scenarios::by_name(&args.scenario) {
-        Some(s) => s.map_err(|e| CliError::Compute(e.to_string()))?,
-        None => {
-            return Err(CliError::Input(format!(
-                "scenario `{}`: not a built-in scenario ({}); scenario files are not supported yet",
-                args.scenario,
-                scenarios::NAMES.join(", ")
-            )))
-        }
-    };
+    let scenario = scenario(&args.scenario)?;
+    if args.pil {
+        return pil_run(args, &scenario);
+    }
     let samples = scenario
         .run()
         .map_err(|e| CliError::Compute(e.to_string()))?;
@@ -40,6 +59,71 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         .clone()
         .unwrap_or_else(|| PathBuf::from(format!("acs-sim-{}", scenario.name)));
     let files = plot::write_all(&dir, &samples).map_err(CliError::Compute)?;
+    print_summary(&scenario, &samples, &files, &dir)
+}
+
+/// `acs sim SCENARIO --pil`: the run of [`pil::run`], its files, `pil.json` and summary; a
+/// difference between image and host is a failure (exit 3) naming the step, the mode and both
+/// values.
+fn pil_run(args: &Args, scenario: &scenarios::Scenario) -> Result<(), CliError> {
+    let options = pil::PilOptions {
+        elf: args.elf.clone(),
+        ..pil::PilOptions::default()
+    };
+    let steps = (scenario.duration_s / scenario.dt_s).round() as usize;
+    let started = std::time::Instant::now();
+    let run = pil::run(scenario, &options, |k| {
+        if k % 60 == 0 || k == steps {
+            let rate = k as f64 / started.elapsed().as_secs_f64().max(1e-9);
+            eprintln!("pil: step {k}/{steps} ({rate:.1} steps/s)");
+        }
+    })
+    .map_err(|e| match e {
+        pil::PilError::Input(m) => CliError::Input(m),
+        e => CliError::Compute(e.to_string()),
+    })?;
+    let dir = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(format!("acs-sim-{}-pil", scenario.name)));
+    let mut files = plot::write_all(&dir, &run.samples).map_err(CliError::Compute)?;
+    std::fs::write(dir.join("pil-steps.csv"), pil::steps_csv(&run.steps))
+        .map_err(|e| CliError::Compute(format!("{}: {e}", dir.display())))?;
+    files.push("pil-steps.csv".into());
+    pil::write_summary(&args.pil_json, &run.summary).map_err(CliError::Compute)?;
+    print_summary(scenario, &run.samples, &files, &dir)?;
+    let s = &run.summary;
+    println!("pil_steps: {}", s.steps);
+    println!("pil_mismatches: {}", s.mismatches);
+    println!("pil_cycles_max: {}", s.cycles_max);
+    println!("pil_cycles_mean: {}", s.cycles_mean);
+    for (mode, n, max, mean) in &s.cycles_by_mode {
+        println!(
+            "pil_cycles_{}: steps {n}, max {max}, mean {mean}",
+            mode.to_lowercase()
+        );
+    }
+    if let Some(b) = s.stack_bytes {
+        println!("pil_stack_bytes: {b}");
+    }
+    println!("pil_flash_bytes: {}", s.flash_bytes);
+    println!("pil_steps_per_s: {:.1}", run.steps_per_s);
+    println!("pil_json: {}", args.pil_json.display());
+    match run.mismatch {
+        None => Ok(()),
+        Some(m) => Err(CliError::Compute(format!(
+            "the flight image and the host loop differ at {m}"
+        ))),
+    }
+}
+
+/// Prints the summary metrics of a run (and the files written into `dir`).
+fn print_summary(
+    scenario: &scenarios::Scenario,
+    samples: &[Sample],
+    files: &[String],
+    dir: &std::path::Path,
+) -> Result<(), CliError> {
     let last = samples
         .last()
         .ok_or_else(|| CliError::Compute("no samples".into()))?;

@@ -25,6 +25,7 @@
 //! constant bias, int16 quantisation in the units of note 000 §1.3, random dropouts and failures
 //! from a given time. Random numbers come from a seeded generator: runs are reproducible.
 
+pub mod pil;
 pub mod plan_flight;
 pub mod plot;
 pub mod scenarios;

@@ -1,0 +1,973 @@
+//! Processor-in-the-loop simulation: the flight image flies in `mspdebug`'s MSP430 simulator
+//! against the host simulator's truth, in lockstep with the host build of the same loop, and
+//! every actuator command of the image is checked bit for bit against the host's.
+//!
+//! # One control period
+//! The image (`firmware/src/main.rs`) loops: `fw_period_start()`, take the uplink, `step`,
+//! publish the mode and faults, clock += 1 s. The host stops it at `fw_period_start` (a break
+//! point on the symbol) each period and:
+//! 1. steps the host loop ([`FlightLoop`] over [`CONFIG`], the image's loop) on the simulator
+//!    through a [`bus::Recorder`], which records the raw readings in the image's mailbox
+//!    format: the image reads exactly the values the host loop read;
+//! 2. writes them into the image's `TILE_*` mailboxes (`mw` at the symbols' addresses, read
+//!    from the ELF) and the period's ground commands into the uplink mailbox;
+//! 3. runs the image to the next `fw_period_start` and reads back `CMD_WHEEL_NMS`,
+//!    `CMD_DIPOLE_AM2`, `STEP_MODE`, `STEP_FAULTS`, `UPLINK_STATUS` (`md`) and the tracer's
+//!    MCLK cycle count;
+//! 4. compares the commands bit for bit, and the mode, faults and uplink statuses, with the
+//!    host's: the first difference stops the run ([`Mismatch`]);
+//! 5. integrates the f64 truth over the period with the commands (those the loop gave the
+//!    simulator through the recorder, proven equal to the image's by step 4).
+//!
+//! # Ground commands
+//! The scenario's orbit and clock reach the image through the uplink like its commands: at the
+//! first period the element set ([`Sgp4::to_words`] of the scenario's TLE, kind 4) and the
+//! clock (the scenario's start, kind 5), then each ground command at the period the host
+//! simulator's `run` would give it (time ≤ the truth's time). The host loop receives the same
+//! words through [`uplink::UplinkMailbox::take`], the host mirror of the image's decoding.
+//! The image takes one command per period (`take_uplink` before each step); when a period
+//! carries several, the host calls `take_uplink` again for each after the first, as a
+//! debugger does: at its entry it saves the registers, and after it returns it writes the next
+//! command, restores the registers (the call's arguments and return address are still in
+//! place) and runs it again. The cycles of these extra calls are left out of the period's.
+//!
+//! # Cycles
+//! The cycles of a period are the MCLK cycles between two `fw_period_start` stops: uplink,
+//! step and publish, as on the part (with the hardware multiplier, `simio add hwmult`).
+//!
+//! # Requirements
+//! The scenario flies the flight configuration: its tiles are the flight tiles ([`TILES`] of
+//! them) and its control period [`CONTROL_PERIOD_S`]; the truth side (inertia, disturbances,
+//! noise) is the scenario's. `mspdebug` must be installed (`apt-get install mspdebug`) and the
+//! image built (`firmware/pil` does both).
+//!
+//! # Relation to `acs sim`
+//! The host side is `acs sim`'s run of the same scenario (same simulator, same random draws,
+//! same loop over [`CONFIG`], the element set through [`Sgp4::from_words`], which propagates
+//! bit for bit as the set that wrote the words) except that ground commands arrive as the
+//! uplink carries them: a slew's target DCM goes up as a quaternion and comes back as
+//! `new_normalize(q).to_dcm()`, not bit for bit the original, so the two runs are the same up to
+//! the first slew command and differ at the noise level after it (`slew`: `run.csv` identical
+//! for steps 0–120, different from the slew command at step 121 on).
+//!
+
+pub mod bus;
+pub mod elf;
+pub mod mspdebug;
+pub mod uplink;
+
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use self::bus::{Commands, Readings, Recorder, COILS};
+use self::elf::{Elf, EM_MSP430};
+use self::mspdebug::{Mspdebug, MspdebugError, Registers};
+use self::uplink::{mode_code, mode_name, Uplink, UplinkMailbox};
+use super::scenarios::Scenario;
+use super::{angle_between_deg, Sample, SimError, Simulator};
+use crate::acs_loop::{Command, StepReport};
+use crate::attitude::Quaternion;
+use crate::flight::{FlightLoop, CONFIG, CONTROL_PERIOD_S, TILES};
+use crate::linalg::Vec3d;
+use crate::orbit::sgp4::{Sgp4, ELEMENT_WORDS};
+use crate::time::{Epoch, TimeSpan, Utc};
+
+/// The image's clock at reset (its `flight::RESET_EPOCH`: 2025-03-20 12:00 UTC), until the
+/// clock uplink sets it.
+pub const RESET_EPOCH: (i32, u32) = (9_210, 43_200);
+
+/// The mailboxes of the image and their sizes in bytes.
+pub const MAILBOXES: [(&str, usize); 13] = [
+    ("TILE_SUN", 4 * TILES),
+    ("TILE_SUN_SEEN", 2),
+    ("TILE_MAG", 4 * TILES),
+    ("TILE_GYRO", 2 * TILES),
+    ("TILE_READ_ERRORS", 4),
+    ("ACTUATOR_REFUSE", 2),
+    ("CMD_WHEEL_NMS", 4 * TILES),
+    ("CMD_DIPOLE_AM2", 4 * COILS),
+    ("UPLINK_KIND", 2),
+    ("UPLINK_STATUS", 2),
+    ("UPLINK_ARGS", 4 * ELEMENT_WORDS),
+    ("STEP_MODE", 2),
+    ("STEP_FAULTS", 2),
+];
+
+/// The image's stack paint pattern (`firmware/src/rt.rs`).
+const STACK_PAINT: u16 = 0xA55A;
+
+/// Why a processor-in-the-loop run could not be made (a difference between image and host is
+/// not an error: it is the run's result, [`Mismatch`]).
+#[derive(Debug)]
+pub enum PilError {
+    /// The image or the scenario cannot be flown (missing file or symbol, wrong layout,
+    /// a scenario that is not the flight configuration's).
+    Input(String),
+    /// The simulator process failed.
+    Mspdebug(MspdebugError),
+    /// The image did something the protocol does not expect (halted, stopped elsewhere,
+    /// left a command untaken).
+    Image(String),
+    /// The host simulator failed.
+    Sim(SimError),
+    /// A step's readings do not fit the mailboxes.
+    Record(bus::RecordError),
+}
+
+impl std::fmt::Display for PilError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Input(m) => f.write_str(m),
+            Self::Mspdebug(e) => write!(f, "{e}"),
+            Self::Image(m) => write!(f, "flight image: {m}"),
+            Self::Sim(e) => write!(f, "simulator: {e}"),
+            Self::Record(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+impl From<MspdebugError> for PilError {
+    fn from(e: MspdebugError) -> Self {
+        Self::Mspdebug(e)
+    }
+}
+
+impl From<SimError> for PilError {
+    fn from(e: SimError) -> Self {
+        Self::Sim(e)
+    }
+}
+
+/// The addresses the host needs, from the image's symbol table.
+#[derive(Clone, Debug)]
+pub struct ImageMap {
+    mailboxes: Vec<(&'static str, u32)>,
+    period_start: u32,
+    halt: u32,
+    take_uplink: u32,
+    /// `__ebss` and `_stack_top`: the painted stack area.
+    stack: Option<(u32, u32)>,
+    /// Flash bytes of the image.
+    pub flash_bytes: u32,
+}
+
+impl ImageMap {
+    /// The map of `elf`, checking that every mailbox is there with the host's size.
+    pub fn of(elf: &Elf) -> Result<Self, PilError> {
+        if elf.machine != EM_MSP430 {
+            return Err(PilError::Input(format!(
+                "not an MSP430 image (e_machine {})",
+                elf.machine
+            )));
+        }
+        let mut mailboxes = Vec::new();
+        for (name, size) in MAILBOXES {
+            let s = elf
+                .symbol(name)
+                .ok_or_else(|| PilError::Input(format!("the image has no mailbox `{name}`")))?;
+            if s.size != 0 && s.size as usize != size {
+                return Err(PilError::Input(format!(
+                    "mailbox `{name}` is {} B in the image, {size} B on the host",
+                    s.size
+                )));
+            }
+            mailboxes.push((name, s.addr));
+        }
+        let function = |name: &str| {
+            elf.symbol(name)
+                .map(|s| s.addr)
+                .ok_or_else(|| PilError::Input(format!("the image has no function `{name}`")))
+        };
+        let take_uplink = elf
+            .rust_function(&["acs_firmware", "flight", "take_uplink"])
+            .ok_or_else(|| {
+                PilError::Input(
+                    "the image has no (single) `acs_firmware::flight::take_uplink`".into(),
+                )
+            })?;
+        let stack = elf
+            .symbol("__ebss")
+            .zip(elf.symbol("_stack_top"))
+            .map(|(b, t)| (b.addr, t.addr));
+        Ok(Self {
+            mailboxes,
+            period_start: function("fw_period_start")?,
+            halt: function("fw_halt")?,
+            take_uplink: take_uplink.addr,
+            stack,
+            flash_bytes: elf.flash_bytes(),
+        })
+    }
+
+    /// The address of mailbox `name`.
+    pub fn mailbox(&self, name: &str) -> Option<u32> {
+        self.mailboxes
+            .iter()
+            .find(|(n, _)| *n == name)
+            .map(|(_, a)| *a)
+    }
+}
+
+/// What one control period produced, on either side.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StepOutputs {
+    /// The command mailboxes after the step.
+    pub commands: Commands,
+    /// `STEP_MODE` code.
+    pub mode: u16,
+    /// `STEP_FAULTS` bits.
+    pub faults: u16,
+    /// `UPLINK_STATUS` after each uplink command of the period.
+    pub uplink_status: Vec<u16>,
+}
+
+/// One difference between the image's and the host's outputs of a step.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Difference {
+    /// A wheel momentum command, kg·m²/s.
+    Wheel {
+        /// Tile.
+        tile: usize,
+        /// Host value.
+        host: f32,
+        /// Image value.
+        target: f32,
+    },
+    /// A coil dipole command, A·m².
+    Dipole {
+        /// Coil.
+        coil: usize,
+        /// Host value.
+        host: f32,
+        /// Image value.
+        target: f32,
+    },
+    /// The mode after the step.
+    Mode {
+        /// Host code.
+        host: u16,
+        /// Image code.
+        target: u16,
+    },
+    /// The fault bits of the step.
+    Faults {
+        /// Host bits.
+        host: u16,
+        /// Image bits.
+        target: u16,
+    },
+    /// The status of an uplink command.
+    UplinkStatus {
+        /// Its kind.
+        kind: u16,
+        /// Host status.
+        host: u16,
+        /// Image status.
+        target: u16,
+    },
+}
+
+impl std::fmt::Display for Difference {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let value = |x: &f32| format!("{x:.9e} (0x{:08x})", x.to_bits());
+        match self {
+            Self::Wheel { tile, host, target } => write!(
+                f,
+                "wheel {tile} momentum, kg·m²/s: host {}, target {}",
+                value(host),
+                value(target)
+            ),
+            Self::Dipole { coil, host, target } => write!(
+                f,
+                "coil {coil} dipole, A·m²: host {}, target {}",
+                value(host),
+                value(target)
+            ),
+            Self::Mode { host, target } => write!(
+                f,
+                "mode: host {}, target {}",
+                mode_name(*host),
+                mode_name(*target)
+            ),
+            Self::Faults { host, target } => {
+                write!(f, "fault bits: host 0x{host:02x}, target 0x{target:02x}")
+            }
+            Self::UplinkStatus { kind, host, target } => write!(
+                f,
+                "uplink command {kind}: host status 0x{host:x}, target status 0x{target:x}"
+            ),
+        }
+    }
+}
+
+/// The differences between the host's and the image's outputs of one step (empty: identical
+/// bit for bit). `kinds`: the uplink commands of the period.
+pub fn compare(host: &StepOutputs, target: &StepOutputs, kinds: &[u16]) -> Vec<Difference> {
+    let mut out = Vec::new();
+    let pairs = |a: &[f32], b: &[f32]| -> Vec<(usize, f32, f32)> {
+        a.iter()
+            .zip(b)
+            .enumerate()
+            .filter(|(_, (x, y))| x.to_bits() != y.to_bits())
+            .map(|(i, (x, y))| (i, *x, *y))
+            .collect()
+    };
+    for (tile, host, target) in pairs(&host.commands.wheel_nms, &target.commands.wheel_nms) {
+        out.push(Difference::Wheel { tile, host, target });
+    }
+    for (coil, host, target) in pairs(&host.commands.dipole_am2, &target.commands.dipole_am2) {
+        out.push(Difference::Dipole { coil, host, target });
+    }
+    if host.mode != target.mode {
+        out.push(Difference::Mode {
+            host: host.mode,
+            target: target.mode,
+        });
+    }
+    if host.faults != target.faults {
+        out.push(Difference::Faults {
+            host: host.faults,
+            target: target.faults,
+        });
+    }
+    for (i, kind) in kinds.iter().enumerate() {
+        let h = host.uplink_status.get(i).copied().unwrap_or(u16::MAX);
+        let t = target.uplink_status.get(i).copied().unwrap_or(u16::MAX);
+        if h != t {
+            out.push(Difference::UplinkStatus {
+                kind: *kind,
+                host: h,
+                target: t,
+            });
+        }
+    }
+    out
+}
+
+/// The first step at which the image and the host differ.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Mismatch {
+    /// Step index (0 first).
+    pub step: usize,
+    /// Time since the start, s.
+    pub t_s: f64,
+    /// The host's mode code after the step.
+    pub host_mode: u16,
+    /// The image's mode code after the step.
+    pub target_mode: u16,
+    /// Every difference of the step.
+    pub differences: Vec<Difference>,
+}
+
+impl std::fmt::Display for Mismatch {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "step {} (t = {:.3} s), mode {} on the host, {} on the target:",
+            self.step,
+            self.t_s,
+            mode_name(self.host_mode),
+            mode_name(self.target_mode)
+        )?;
+        for d in &self.differences {
+            write!(f, "\n  {d}")?;
+        }
+        Ok(())
+    }
+}
+
+/// The result of a run: `target/msp430/pil.json`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PilSummary {
+    /// Scenario name.
+    pub scenario: String,
+    /// Steps flown (up to and including a mismatching one).
+    pub steps: usize,
+    /// Steps whose outputs differ (0 or 1: the first stops the run).
+    pub mismatches: usize,
+    /// Largest MCLK cycles of one control period.
+    pub cycles_max: u64,
+    /// Mean MCLK cycles of one control period (rounded).
+    pub cycles_mean: u64,
+    /// Per mode (after the step): (mode name, steps, max cycles, mean cycles).
+    pub cycles_by_mode: Vec<(&'static str, usize, u64, u64)>,
+    /// Stack high-water mark of the run, bytes (painted words left), if the image has the
+    /// paint symbols.
+    pub stack_bytes: Option<u32>,
+    /// Flash bytes of the image.
+    pub flash_bytes: u32,
+}
+
+impl PilSummary {
+    /// The summary as `pil.json`, its keys in the order of the contract (`scenario`, `steps`,
+    /// `mismatches`, `cycles_max`, `cycles_mean`), then `cycles_by_mode`, `stack_bytes`,
+    /// `flash_bytes`.
+    pub fn to_json(&self) -> String {
+        let by_mode: Vec<String> = self
+            .cycles_by_mode
+            .iter()
+            .map(|(m, n, max, mean)| {
+                format!(r#""{m}": {{"steps": {n}, "cycles_max": {max}, "cycles_mean": {mean}}}"#)
+            })
+            .collect();
+        let name = serde_json::to_string(&self.scenario).unwrap_or_else(|_| "\"\"".into());
+        let stack = self
+            .stack_bytes
+            .map_or_else(|| "null".to_string(), |b| b.to_string());
+        format!(
+            "{{\n  \"scenario\": {name},\n  \"steps\": {},\n  \"mismatches\": {},\n  \"cycles_max\": {},\n  \"cycles_mean\": {},\n  \"cycles_by_mode\": {{{}}},\n  \"stack_bytes\": {stack},\n  \"flash_bytes\": {}\n}}\n",
+            self.steps,
+            self.mismatches,
+            self.cycles_max,
+            self.cycles_mean,
+            by_mode.join(", "),
+            self.flash_bytes
+        )
+    }
+}
+
+/// How to reach the image.
+#[derive(Clone, Debug)]
+pub struct PilOptions {
+    /// The flight image (ELF).
+    pub elf: PathBuf,
+    /// The `mspdebug` program.
+    pub mspdebug: String,
+    /// Time allowed for one simulator command (a control period), s.
+    pub timeout_s: u64,
+}
+
+impl Default for PilOptions {
+    fn default() -> Self {
+        Self {
+            elf: PathBuf::from("firmware/target/msp430-none-elf/release/acs-firmware"),
+            mspdebug: "mspdebug".into(),
+            timeout_s: 60,
+        }
+    }
+}
+
+/// The flight image in the simulator, stopped at a `fw_period_start`.
+pub struct Target {
+    dbg: Mspdebug,
+    map: ImageMap,
+    /// MCLK count at the current `fw_period_start` stop.
+    cycles: u64,
+}
+
+impl Target {
+    /// Loads `elf_path` into a new simulator and runs it to the first `fw_period_start`.
+    pub fn start(options: &PilOptions) -> Result<Self, PilError> {
+        let data = std::fs::read(&options.elf).map_err(|e| {
+            PilError::Input(format!(
+                "{}: {e} (build it: cd firmware && cargo build --release --bin acs-firmware)",
+                options.elf.display()
+            ))
+        })?;
+        let elf = Elf::parse(&data)
+            .map_err(|e| PilError::Input(format!("{}: {e}", options.elf.display())))?;
+        let map = ImageMap::of(&elf)
+            .map_err(|e| PilError::Input(format!("{}: {e}", options.elf.display())))?;
+        let path = options
+            .elf
+            .canonicalize()
+            .unwrap_or_else(|_| options.elf.clone());
+        let mut dbg = Mspdebug::start(
+            &options.mspdebug,
+            Duration::from_secs(options.timeout_s.max(1)),
+        )?;
+        dbg.command(&format!("prog {}", path.display()))?;
+        dbg.command("simio add tracer t")?;
+        dbg.command("simio add hwmult m")?;
+        dbg.set_break(map.period_start)?;
+        dbg.set_break(map.halt)?;
+        let mut target = Self {
+            dbg,
+            map,
+            cycles: 0,
+        };
+        target.run_to_period_start("at start-up")?;
+        Ok(target)
+    }
+
+    /// The image's map.
+    pub fn map(&self) -> &ImageMap {
+        &self.map
+    }
+
+    fn addr(&self, name: &str) -> Result<u32, PilError> {
+        self.map
+            .mailbox(name)
+            .ok_or_else(|| PilError::Input(format!("no mailbox `{name}`")))
+    }
+
+    fn stopped_at(&self, pc: u16, expected: u32, what: &str) -> Result<(), PilError> {
+        if u32::from(pc) == expected {
+            Ok(())
+        } else if u32::from(pc) == self.map.halt {
+            Err(PilError::Image(format!("halted (fw_halt) {what}")))
+        } else {
+            Err(PilError::Image(format!(
+                "stopped at 0x{pc:04x} instead of 0x{expected:04x} {what}"
+            )))
+        }
+    }
+
+    fn run_to_period_start(&mut self, what: &str) -> Result<(), PilError> {
+        let regs = self.dbg.run()?;
+        self.stopped_at(regs[0], self.map.period_start, what)?;
+        self.cycles = self.dbg.cycles()?;
+        Ok(())
+    }
+
+    fn write_uplink(&mut self, kind: u16, args: &[u32]) -> Result<(), PilError> {
+        let bytes: Vec<u8> = args.iter().flat_map(|w| w.to_le_bytes()).collect();
+        if !bytes.is_empty() {
+            self.dbg.write(self.addr("UPLINK_ARGS")?, &bytes)?;
+        }
+        self.dbg
+            .write(self.addr("UPLINK_KIND")?, &kind.to_le_bytes())?;
+        Ok(())
+    }
+
+    fn read_u16(&mut self, name: &str) -> Result<u16, PilError> {
+        let b = self.dbg.read(self.addr(name)?, 2)?;
+        Ok(u16::from_le_bytes([b[0], b[1]]))
+    }
+
+    /// The uplink status after a command, checking that the image took it.
+    fn taken_status(&mut self, kind: u16) -> Result<u16, PilError> {
+        if self.read_u16("UPLINK_KIND")? != 0 {
+            return Err(PilError::Image(format!(
+                "uplink command {kind} was not taken"
+            )));
+        }
+        self.read_u16("UPLINK_STATUS")
+    }
+
+    /// One control period: writes `readings` and the `uplinks` (kind, argument words), runs
+    /// to the next `fw_period_start`; the outputs and the period's cycles.
+    pub fn period(
+        &mut self,
+        readings: &Readings,
+        uplinks: &[(u16, Vec<u32>)],
+    ) -> Result<(StepOutputs, u64), PilError> {
+        for (name, bytes) in readings.mailboxes() {
+            let addr = self.addr(name)?;
+            self.dbg.write(addr, &bytes)?;
+        }
+        let start = self.cycles;
+        let mut extra = 0u64;
+        let mut statuses = Vec::with_capacity(uplinks.len());
+        if let Some((kind, args)) = uplinks.first() {
+            self.write_uplink(*kind, args)?;
+        }
+        if uplinks.len() > 1 {
+            // stop at take_uplink's entry: its registers make the call again
+            let entry = self.dbg.set_break(self.map.take_uplink)?;
+            let regs: Registers = self.dbg.run()?;
+            self.stopped_at(regs[0], self.map.take_uplink, "before take_uplink")?;
+            self.dbg.delete_break(entry)?;
+            let ret = self.dbg.read(u32::from(regs[1]), 2)?;
+            let ret = u32::from(u16::from_le_bytes([ret[0], ret[1]]));
+            let back = self.dbg.set_break(ret)?;
+            let after = self.dbg.run()?;
+            self.stopped_at(after[0], ret, "after take_uplink")?;
+            for (k, (kind, args)) in uplinks.iter().enumerate().skip(1) {
+                statuses.push(self.taken_status(uplinks[k - 1].0)?);
+                self.write_uplink(*kind, args)?;
+                self.dbg.set_registers(&regs)?;
+                let c0 = self.dbg.cycles()?;
+                let after = self.dbg.run()?;
+                self.stopped_at(after[0], ret, "after take_uplink")?;
+                extra += self.dbg.cycles()?.saturating_sub(c0);
+            }
+            self.dbg.delete_break(back)?;
+        }
+        self.run_to_period_start("after a step")?;
+        if let Some((kind, _)) = uplinks.last() {
+            statuses.push(self.taken_status(*kind)?);
+        }
+        let wheel = self.dbg.read(self.addr("CMD_WHEEL_NMS")?, 4 * TILES)?;
+        let dipole = self.dbg.read(self.addr("CMD_DIPOLE_AM2")?, 4 * COILS)?;
+        let commands = Commands::from_le_bytes(&wheel, &dipole)
+            .ok_or_else(|| PilError::Image("command mailboxes unreadable".into()))?;
+        let outputs = StepOutputs {
+            commands,
+            mode: self.read_u16("STEP_MODE")?,
+            faults: self.read_u16("STEP_FAULTS")?,
+            uplink_status: statuses,
+        };
+        let cycles = self.cycles.saturating_sub(start).saturating_sub(extra);
+        Ok((outputs, cycles))
+    }
+
+    /// The stack high-water mark so far, bytes: the part of `__ebss.._stack_top` no longer
+    /// painted.
+    pub fn stack_high_water(&mut self) -> Result<Option<u32>, PilError> {
+        let Some((bottom, top)) = self.map.stack else {
+            return Ok(None);
+        };
+        let len = top.saturating_sub(bottom) as usize;
+        let bytes = self.dbg.read(bottom, len)?;
+        let painted = bytes
+            .chunks_exact(2)
+            .take_while(|w| u16::from_le_bytes([w[0], w[1]]) == STACK_PAINT)
+            .count() as u32;
+        Ok(Some(top - bottom - 2 * painted))
+    }
+}
+
+/// The truth-side sample of a step (as the host simulator's `run` logs it).
+fn sample(sim: &Simulator, t: f64, report: StepReport, target: Option<[f64; 4]>) -> Sample {
+    let truth = sim.truth();
+    let h_body = sim
+        .config
+        .tiles
+        .iter()
+        .map(|t| t.normal_body().cast::<f64>())
+        .zip(truth.wheel_h.iter())
+        .fold(Vec3d::zeros(), |a, (z, h)| a + z * *h);
+    let pointing_error_deg = target.map(|q| {
+        let q32 = Quaternion {
+            q0: q[0] as f32,
+            q1: q[1] as f32,
+            q2: q[2] as f32,
+            q3: q[3] as f32,
+        };
+        angle_between_deg(&truth.q, &q32)
+    });
+    Sample {
+        t_s: t,
+        mode: report.mode,
+        omega_true: truth.omega,
+        pointing_error_deg,
+        estimate_error_deg: report.attitude.map(|q| angle_between_deg(&truth.q, &q)),
+        h_wheels_body: h_body,
+        dipole_am2: report.dipole_body_am2,
+        sun_fraction: sim.env().sun_fraction,
+        report,
+    }
+}
+
+/// A processor-in-the-loop run.
+#[derive(Clone, Debug)]
+pub struct PilRun {
+    /// The truth and the host loop's report of every step flown.
+    pub samples: Vec<Sample>,
+    /// `pil.json`.
+    pub summary: PilSummary,
+    /// The first difference, if any.
+    pub mismatch: Option<Mismatch>,
+    /// (step, mode code, cycles) of every step flown.
+    pub steps: Vec<(usize, u16, u64)>,
+    /// Wall-clock steps per second of the run.
+    pub steps_per_s: f64,
+}
+
+/// Flies `scenario` with the image of `options` and the host loop in lockstep (see the
+/// [module docs](self)); `progress` is called after each step with the step count.
+pub fn run(
+    scenario: &Scenario,
+    options: &PilOptions,
+    mut progress: impl FnMut(usize),
+) -> Result<PilRun, PilError> {
+    if scenario.dt_s != f64::from(CONTROL_PERIOD_S) {
+        return Err(PilError::Input(format!(
+            "scenario `{}`: control period {} s, the image's is {CONTROL_PERIOD_S} s",
+            scenario.name, scenario.dt_s
+        )));
+    }
+    if scenario.sim.tiles.len() != TILES {
+        return Err(PilError::Input(format!(
+            "scenario `{}`: {} tiles, the image flies {TILES}",
+            scenario.name,
+            scenario.sim.tiles.len()
+        )));
+    }
+    let tle = crate::tle::Tle::parse(&scenario.sim.tle.0, &scenario.sim.tle.1)
+        .map_err(|e| PilError::Input(format!("TLE: {e}")))?;
+    let words = Sgp4::new(&tle, scenario.gravity)
+        .map_err(|e| PilError::Input(format!("TLE: {e:?}")))?
+        .to_words();
+    let orbit =
+        Sgp4::from_words(&words).map_err(|e| PilError::Input(format!("element words: {e:?}")))?;
+    let mut acs = FlightLoop::new(&CONFIG, orbit)
+        .map_err(|e| PilError::Input(format!("flight configuration: {e}")))?;
+    let mut clock = Epoch::<Utc>::from_parts(RESET_EPOCH.0, RESET_EPOCH.1, 0)
+        .map_err(|e| PilError::Input(format!("reset epoch: {e}")))?;
+    let period = TimeSpan::from_whole_seconds(CONTROL_PERIOD_S as i32);
+    let mut sim = Simulator::new(scenario.sim.clone(), scenario.initial.0, scenario.initial.1)?;
+    let mut target = Target::start(options)?;
+
+    let steps = (scenario.duration_s / scenario.dt_s).round() as usize;
+    let mut pending: Vec<(f64, Command)> = scenario.commands.clone();
+    let mut mailbox = UplinkMailbox::default();
+    let mut host_commands = Commands::default();
+    let mut attitude: Option<Quaternion> = None;
+    let mut samples = Vec::with_capacity(steps);
+    let mut log = Vec::with_capacity(steps);
+    let mut mismatch = None;
+    let started = Instant::now();
+    for k in 0..steps {
+        let t = sim.truth().t_s;
+        let mut uplinks = Vec::new();
+        if k == 0 {
+            uplinks.push(Uplink::Elements(Box::new(words)));
+            uplinks.push(Uplink::Clock(scenario.sim.start));
+        }
+        let mut i = 0;
+        while i < pending.len() {
+            if pending[i].0 <= t {
+                uplinks.push(Uplink::of_command(&pending.remove(i).1));
+            } else {
+                i += 1;
+            }
+        }
+        // the host: uplink, step on the simulator through the recorder
+        let mut encoded = Vec::with_capacity(uplinks.len());
+        let mut host_status = Vec::with_capacity(uplinks.len());
+        for u in &uplinks {
+            let kind = mailbox.write(u);
+            host_status.push(mailbox.take(kind, &mut acs, &mut clock, attitude.as_ref()));
+            encoded.push((kind, u.args()));
+        }
+        let mut recorder = Recorder::new(&mut sim, &mut host_commands);
+        let report = acs.step(&mut recorder, clock, CONTROL_PERIOD_S);
+        let readings = recorder.finish().map_err(PilError::Record)?;
+        attitude = report.attitude;
+        clock = clock.add(period);
+        let host = StepOutputs {
+            commands: host_commands,
+            mode: mode_code(report.mode),
+            faults: report.faults.bits(),
+            uplink_status: host_status,
+        };
+        // the image, on the same readings and uplinks
+        let (image, cycles) = target.period(&readings, &encoded)?;
+        log.push((k, image.mode, cycles));
+        let kinds: Vec<u16> = encoded.iter().map(|(kind, _)| *kind).collect();
+        let differences = compare(&host, &image, &kinds);
+        samples.push(sample(&sim, t, report, scenario.target));
+        progress(k + 1);
+        if !differences.is_empty() {
+            mismatch = Some(Mismatch {
+                step: k,
+                t_s: t,
+                host_mode: host.mode,
+                target_mode: image.mode,
+                differences,
+            });
+            break;
+        }
+        sim.advance(scenario.dt_s)?;
+    }
+    let elapsed = started.elapsed().as_secs_f64();
+    let stack_bytes = target.stack_high_water()?;
+    let summary = summarise(
+        scenario.name,
+        &log,
+        usize::from(mismatch.is_some()),
+        stack_bytes,
+        target.map().flash_bytes,
+    );
+    Ok(PilRun {
+        samples,
+        summary,
+        mismatch,
+        steps_per_s: log.len() as f64 / elapsed.max(1e-9),
+        steps: log,
+    })
+}
+
+/// The summary of the steps flown: (step, mode code, cycles) each.
+pub fn summarise(
+    scenario: &str,
+    log: &[(usize, u16, u64)],
+    mismatches: usize,
+    stack_bytes: Option<u32>,
+    flash_bytes: u32,
+) -> PilSummary {
+    let stats = |cycles: &mut dyn Iterator<Item = u64>| {
+        let (n, max, sum) = cycles.fold((0usize, 0u64, 0u128), |(n, m, s), c| {
+            (n + 1, m.max(c), s + u128::from(c))
+        });
+        let mean = if n == 0 {
+            0
+        } else {
+            ((sum + n as u128 / 2) / n as u128) as u64
+        };
+        (n, max, mean)
+    };
+    let (_, cycles_max, cycles_mean) = stats(&mut log.iter().map(|s| s.2));
+    let cycles_by_mode = (0..4u16)
+        .filter_map(|m| {
+            let (n, max, mean) = stats(&mut log.iter().filter(|s| s.1 == m).map(|s| s.2));
+            (n > 0).then_some((mode_name(m), n, max, mean))
+        })
+        .collect();
+    PilSummary {
+        scenario: scenario.to_string(),
+        steps: log.len(),
+        mismatches,
+        cycles_max,
+        cycles_mean,
+        cycles_by_mode,
+        stack_bytes,
+        flash_bytes,
+    }
+}
+
+/// The per-step log as CSV: `step,mode,cycles`.
+pub fn steps_csv(log: &[(usize, u16, u64)]) -> String {
+    let mut out = String::from("step,mode,cycles\n");
+    for (k, mode, cycles) in log {
+        out.push_str(&format!("{k},{},{cycles}\n", mode_name(*mode)));
+    }
+    out
+}
+
+/// Writes `pil.json` at `path` (its folder created).
+pub fn write_summary(path: &Path, summary: &PilSummary) -> Result<(), String> {
+    if let Some(dir) = path.parent() {
+        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    }
+    std::fs::write(path, summary.to_json()).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn outputs() -> StepOutputs {
+        StepOutputs {
+            commands: Commands {
+                wheel_nms: [1e-4, -2e-4, 0.0, 3e-5, 0.0, 0.0],
+                dipole_am2: [0.1, 0.0, -0.05],
+            },
+            mode: 2,
+            faults: 0x40,
+            uplink_status: vec![0, 3],
+        }
+    }
+
+    #[test]
+    fn identical_outputs_have_no_difference() {
+        assert!(compare(&outputs(), &outputs(), &[4, 3]).is_empty());
+    }
+
+    #[test]
+    fn every_difference_is_named_with_both_values() {
+        let host = outputs();
+        let mut image = outputs();
+        image.commands.wheel_nms[1] = f32::from_bits((-2e-4f32).to_bits() + 1);
+        image.commands.dipole_am2[2] = 0.05;
+        image.mode = 3;
+        image.faults = 0x41;
+        image.uplink_status[1] = 0;
+        let d = compare(&host, &image, &[4, 3]);
+        assert_eq!(d.len(), 5);
+        assert_eq!(
+            d[0],
+            Difference::Wheel {
+                tile: 1,
+                host: -2e-4,
+                target: image.commands.wheel_nms[1]
+            }
+        );
+        let m = Mismatch {
+            step: 312,
+            t_s: 312.0,
+            host_mode: host.mode,
+            target_mode: image.mode,
+            differences: d,
+        };
+        let text = m.to_string();
+        assert!(text.starts_with(
+            "step 312 (t = 312.000 s), mode Slew on the host, Tracking on the target:"
+        ));
+        assert!(
+            text.contains("wheel 1 momentum, kg·m²/s: host -1.999999949e-4 (0xb951b717), target")
+        );
+        assert!(text.contains("coil 2 dipole, A·m²: host -5.000000075e-2 (0xbd4ccccd), target 5.000000075e-2 (0x3d4ccccd)"));
+        assert!(text.contains("mode: host Slew, target Tracking"));
+        assert!(text.contains("fault bits: host 0x40, target 0x41"));
+        assert!(text.contains("uplink command 3: host status 0x3, target status 0x0"));
+        // -0.0 and 0.0 differ bit for bit
+        let mut zero = outputs();
+        zero.commands.wheel_nms[2] = -0.0;
+        assert_eq!(compare(&outputs(), &zero, &[]).len(), 1);
+    }
+
+    #[test]
+    fn summary_counts_cycles_per_mode_and_writes_the_json_of_the_contract() {
+        let log = [(0, 0, 900), (1, 3, 400), (2, 3, 501), (3, 2, 700)];
+        let s = summarise("slew", &log, 0, Some(1800), 56_000);
+        assert_eq!(s.steps, 4);
+        assert_eq!(s.cycles_max, 900);
+        assert_eq!(s.cycles_mean, 625);
+        assert_eq!(
+            s.cycles_by_mode,
+            vec![
+                ("Detumble", 1, 900, 900),
+                ("Slew", 1, 700, 700),
+                ("Tracking", 2, 501, 451)
+            ]
+        );
+        let json = s.to_json();
+        assert!(json.starts_with("{\n  \"scenario\": \"slew\",\n  \"steps\": 4,\n  \"mismatches\": 0,\n  \"cycles_max\": 900,\n  \"cycles_mean\": 625,\n"), "{json}");
+        let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+        assert_eq!(v["cycles_by_mode"]["Tracking"]["cycles_mean"], 451);
+        assert_eq!(v["scenario"], "slew");
+        assert_eq!(v["steps"], 4);
+        assert_eq!(v["mismatches"], 0);
+        assert_eq!(v["cycles_max"], 900);
+        assert_eq!(v["cycles_mean"], 625);
+        assert_eq!(v["stack_bytes"], 1800);
+        assert_eq!(steps_csv(&log[..1]), "step,mode,cycles\n0,Detumble,900\n");
+    }
+
+    #[test]
+    fn the_image_map_checks_every_mailbox() {
+        let mut symbols: Vec<(&str, u32, u32)> = MAILBOXES
+            .iter()
+            .enumerate()
+            .map(|(i, (n, size))| (*n, 0x200 + 0x20 * i as u32, *size as u32))
+            .collect();
+        symbols.push(("fw_period_start", 0x4000, 4));
+        symbols.push(("fw_halt", 0x4010, 6));
+        symbols.push((
+            "_ZN12acs_firmware6flight11take_uplink17h0011223344556677E",
+            0x4100,
+            200,
+        ));
+        let elf = Elf::parse(&elf::tests::tiny_elf(&symbols, 0)).unwrap();
+        let map = ImageMap::of(&elf).unwrap();
+        assert_eq!(map.mailbox("TILE_MAG"), Some(0x240));
+        assert_eq!(map.take_uplink, 0x4100);
+        // a mailbox of another size (an image of another tile count) is refused
+        symbols[0].2 = 16;
+        let elf = Elf::parse(&elf::tests::tiny_elf(&symbols, 0)).unwrap();
+        let e = ImageMap::of(&elf).unwrap_err().to_string();
+        assert!(
+            e.contains("`TILE_SUN` is 16 B in the image, 24 B on the host"),
+            "{e}"
+        );
+        symbols.remove(0);
+        let elf = Elf::parse(&elf::tests::tiny_elf(&symbols, 0)).unwrap();
+        assert!(ImageMap::of(&elf).is_err());
+    }
+
+    #[test]
+    fn a_scenario_not_flying_the_flight_period_is_refused_before_the_simulator_starts() {
+        let thesis = crate::host::sim::scenarios::thesis_slew(false).unwrap();
+        let options = PilOptions {
+            mspdebug: "/nonexistent/mspdebug".into(),
+            ..PilOptions::default()
+        };
+        match run(&thesis, &options, |_| {}) {
+            Err(PilError::Input(m)) => assert!(m.contains("control period 0.1 s"), "{m}"),
+            other => panic!("{other:?}"),
+        }
+    }
+}

@@ -1,0 +1,322 @@
+//! The flight image's ground uplink on the host: ground commands as `UPLINK_KIND` codes and
+//! `UPLINK_ARGS` words, and the host mirror of the image's `take_uplink`, so that the host loop
+//! receives every command exactly as the image decodes it.
+//!
+//! The format is the image's (`firmware/src/flight.rs`, "Uplink mailbox"):
+//!
+//! | kind | command | arguments (u32 words) |
+//! |---|---|---|
+//! | 1 | sun-safe | — |
+//! | 2 | track an attitude | 0–3: quaternion (f32 bits, scalar first, TEME → body) |
+//! | 3 | slew, then track | 0–3: quaternion; 4: time allowed, s (f32 bits) |
+//! | 4 | new element set | 0–57: the words of [`Sgp4::to_words`] |
+//! | 5 | set the clock (UTC) | 0: days since 2000-01-01 (i32); 1: second of day; 2: nanoseconds |
+//! | 6 / 7 | mark tile failed / restore it | 0: tile index |
+//!
+//! Status: 0 accepted, 1 unknown command, 2 invalid argument, 3 refused by the loop,
+//! `0x100 + i` element set refused at word `i`.
+//!
+//! A slew's target goes up as a quaternion (`Dcm::to_quaternion`) and the image turns it back
+//! into a DCM after normalising it, so the host loop gets the same DCM only through
+//! [`UplinkMailbox::take`]; that is why the host loop is commanded through the mirror too.
+
+use crate::acs_loop::{Command, Mode};
+use crate::attitude::Quaternion;
+use crate::flight::FlightLoop;
+use crate::orbit::sgp4::{Sgp4, Sgp4Error, ELEMENT_WORDS};
+use crate::time::{Epoch, Utc};
+
+/// Uplink status: accepted.
+pub const ACCEPTED: u16 = 0;
+/// Uplink status: unknown command.
+pub const UNKNOWN: u16 = 1;
+/// Uplink status: invalid argument.
+pub const INVALID: u16 = 2;
+/// Uplink status: refused by the loop.
+pub const REFUSED: u16 = 3;
+/// Uplink status: element set refused, plus the index of the bad word.
+pub const BAD_WORD: u16 = 0x100;
+
+/// One ground command as the uplink carries it.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Uplink {
+    /// Kind 1.
+    SunSafe,
+    /// Kind 2.
+    Track {
+        /// Commanded attitude (reference TEME → body).
+        target: Quaternion,
+    },
+    /// Kind 3.
+    Slew {
+        /// Commanded attitude, as a quaternion.
+        target: Quaternion,
+        /// Time allowed, s.
+        within_s: f32,
+    },
+    /// Kind 4 (boxed: 232 B).
+    Elements(Box<[u32; ELEMENT_WORDS]>),
+    /// Kind 5.
+    Clock(Epoch<Utc>),
+    /// Kind 6.
+    MarkFailed(u32),
+    /// Kind 7.
+    Restore(u32),
+}
+
+fn quaternion_words(q: &Quaternion) -> [u32; 4] {
+    [
+        q.q0.to_bits(),
+        q.q1.to_bits(),
+        q.q2.to_bits(),
+        q.q3.to_bits(),
+    ]
+}
+
+impl Uplink {
+    /// The uplink of a loop command.
+    pub fn of_command(command: &Command) -> Self {
+        match command {
+            Command::SunSafe => Self::SunSafe,
+            Command::Track { target } => Self::Track { target: *target },
+            Command::Slew { target, within_s } => Self::Slew {
+                target: target.to_quaternion(),
+                within_s: *within_s,
+            },
+        }
+    }
+
+    /// The `UPLINK_KIND` code.
+    pub fn kind(&self) -> u16 {
+        match self {
+            Self::SunSafe => 1,
+            Self::Track { .. } => 2,
+            Self::Slew { .. } => 3,
+            Self::Elements(_) => 4,
+            Self::Clock(_) => 5,
+            Self::MarkFailed(_) => 6,
+            Self::Restore(_) => 7,
+        }
+    }
+
+    /// The argument words written to the start of `UPLINK_ARGS` (the rest is left as it was).
+    pub fn args(&self) -> Vec<u32> {
+        match self {
+            Self::SunSafe => vec![],
+            Self::Track { target } => quaternion_words(target).to_vec(),
+            Self::Slew { target, within_s } => {
+                let mut w = quaternion_words(target).to_vec();
+                w.push(within_s.to_bits());
+                w
+            }
+            Self::Elements(words) => words.to_vec(),
+            Self::Clock(t) => vec![t.day() as u32, t.second_of_day(), t.nano()],
+            Self::MarkFailed(tile) | Self::Restore(tile) => vec![*tile],
+        }
+    }
+}
+
+/// The host's copy of the uplink mailbox and the image's decoding of it.
+#[derive(Clone, Debug)]
+pub struct UplinkMailbox {
+    args: [u32; ELEMENT_WORDS],
+}
+
+impl Default for UplinkMailbox {
+    fn default() -> Self {
+        Self {
+            args: [0; ELEMENT_WORDS],
+        }
+    }
+}
+
+impl UplinkMailbox {
+    /// Writes `uplink`'s arguments as the ground does; returns its kind.
+    pub fn write(&mut self, uplink: &Uplink) -> u16 {
+        for (slot, w) in self.args.iter_mut().zip(uplink.args()) {
+            *slot = w;
+        }
+        uplink.kind()
+    }
+
+    fn arg(&self, i: usize) -> u32 {
+        self.args.get(i).copied().unwrap_or(0)
+    }
+
+    fn arg_quaternion(&self) -> Option<Quaternion> {
+        Quaternion::new_normalize(
+            f32::from_bits(self.arg(0)),
+            f32::from_bits(self.arg(1)),
+            f32::from_bits(self.arg(2)),
+            f32::from_bits(self.arg(3)),
+        )
+    }
+
+    /// Applies command `kind` with the mailbox's arguments to the loop or the clock, as the
+    /// image's `take_uplink` does (`attitude`: the last filtered attitude); returns the
+    /// status the image writes to `UPLINK_STATUS`.
+    pub fn take(
+        &self,
+        kind: u16,
+        acs: &mut FlightLoop,
+        clock: &mut Epoch<Utc>,
+        attitude: Option<&Quaternion>,
+    ) -> u16 {
+        let outcome = |r: Result<(), _>| r.map_or(REFUSED, |_| ACCEPTED);
+        match kind {
+            1 => outcome(acs.command(Command::SunSafe, attitude, *clock)),
+            2 => match self.arg_quaternion() {
+                Some(target) => outcome(acs.command(Command::Track { target }, attitude, *clock)),
+                None => INVALID,
+            },
+            3 => match (self.arg_quaternion(), f32::from_bits(self.arg(4))) {
+                (Some(q), within_s) if within_s.is_finite() && within_s > 0.0 => {
+                    let command = Command::Slew {
+                        target: q.to_dcm(),
+                        within_s,
+                    };
+                    outcome(acs.command(command, attitude, *clock))
+                }
+                _ => INVALID,
+            },
+            4 => match Sgp4::from_words(&self.args) {
+                Ok(orbit) => {
+                    acs.set_orbit(orbit);
+                    ACCEPTED
+                }
+                Err(Sgp4Error::Words { index }) => BAD_WORD + u16::from(index),
+                Err(_) => BAD_WORD,
+            },
+            5 => match Epoch::from_parts(self.arg(0) as i32, self.arg(1), self.arg(2)) {
+                Ok(t) => {
+                    *clock = t;
+                    ACCEPTED
+                }
+                Err(_) => INVALID,
+            },
+            6 | 7 => {
+                let tile = self.arg(0) as usize;
+                if acs.tile_state(tile).is_none() {
+                    INVALID
+                } else {
+                    if kind == 6 {
+                        acs.mark_failed(tile);
+                    } else {
+                        acs.restore(tile);
+                    }
+                    ACCEPTED
+                }
+            }
+            _ => UNKNOWN,
+        }
+    }
+}
+
+/// The image's `STEP_MODE` code of a mode.
+pub fn mode_code(mode: Mode) -> u16 {
+    match mode {
+        Mode::Detumble => 0,
+        Mode::SunSafe => 1,
+        Mode::Slew => 2,
+        Mode::Tracking => 3,
+    }
+}
+
+/// The name of a `STEP_MODE` code.
+pub fn mode_name(code: u16) -> &'static str {
+    match code {
+        0 => "Detumble",
+        1 => "SunSafe",
+        2 => "Slew",
+        3 => "Tracking",
+        _ => "(invalid mode code)",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::attitude::Dcm;
+    use crate::flight::CONFIG;
+    use crate::host::sim::scenarios::make_tle;
+    use crate::orbit::sgp4::Gravity;
+    use crate::tle::Tle;
+
+    fn orbit() -> Sgp4 {
+        let (l1, l2) = make_tle(90101, (25, 79.5), 97.4, 90.0, 0.0, 0.0, 15.2);
+        Sgp4::new(&Tle::parse(&l1, &l2).unwrap(), Gravity::Wgs72).unwrap()
+    }
+
+    #[test]
+    fn commands_encode_as_the_image_reads_them() {
+        let q = Quaternion::new_normalize(0.9, 0.1, -0.3, 0.2).unwrap();
+        let slew = Uplink::of_command(&Command::Slew {
+            target: q.to_dcm(),
+            within_s: 120.0,
+        });
+        assert_eq!(slew.kind(), 3);
+        let args = slew.args();
+        assert_eq!(args.len(), 5);
+        assert_eq!(args[4], 120.0f32.to_bits());
+        let t = Epoch::<Utc>::from_parts(9_210, 43_201, 5).unwrap();
+        assert_eq!(Uplink::Clock(t).args(), vec![9_210, 43_201, 5]);
+        assert_eq!(Uplink::Clock(t).kind(), 5);
+        assert_eq!(Uplink::SunSafe.args(), Vec::<u32>::new());
+        let words = orbit().to_words();
+        assert_eq!(Uplink::Elements(Box::new(words)).args(), words.to_vec());
+        assert_eq!(Uplink::MarkFailed(2).args(), vec![2]);
+    }
+
+    #[test]
+    fn the_mirror_applies_commands_as_take_uplink() {
+        let mut acs = FlightLoop::new(&CONFIG, orbit()).unwrap();
+        let mut clock = Epoch::<Utc>::from_parts(9_210, 43_200, 0).unwrap();
+        let mut mailbox = UplinkMailbox::default();
+
+        let t = Epoch::<Utc>::from_parts(9_300, 7, 0).unwrap();
+        let kind = mailbox.write(&Uplink::Clock(t));
+        assert_eq!(mailbox.take(kind, &mut acs, &mut clock, None), ACCEPTED);
+        assert_eq!(clock, t);
+
+        let q = Quaternion::new_normalize(0.9, 0.1, -0.3, 0.2).unwrap();
+        let kind = mailbox.write(&Uplink::Track { target: q });
+        assert_eq!(mailbox.take(kind, &mut acs, &mut clock, None), ACCEPTED);
+        assert_eq!(acs.mode(), Mode::Tracking);
+
+        // a slew needs an attitude to plan from
+        let kind = mailbox.write(&Uplink::of_command(&Command::Slew {
+            target: Dcm::a1(0.5),
+            within_s: 100.0,
+        }));
+        assert_eq!(mailbox.take(kind, &mut acs, &mut clock, None), REFUSED);
+        assert_eq!(mailbox.take(kind, &mut acs, &mut clock, Some(&q)), ACCEPTED);
+        assert_eq!(acs.mode(), Mode::Slew);
+
+        // a zero quaternion is invalid; a corrupt element set names its word
+        let kind = mailbox.write(&Uplink::Track {
+            target: Quaternion {
+                q0: 0.0,
+                q1: 0.0,
+                q2: 0.0,
+                q3: 0.0,
+            },
+        });
+        assert_eq!(mailbox.take(kind, &mut acs, &mut clock, None), INVALID);
+        let mut words = orbit().to_words();
+        let kind = mailbox.write(&Uplink::Elements(Box::new(words)));
+        assert_eq!(mailbox.take(kind, &mut acs, &mut clock, None), ACCEPTED);
+        words[ELEMENT_WORDS - 1] ^= 1;
+        let kind = mailbox.write(&Uplink::Elements(Box::new(words)));
+        assert_eq!(
+            mailbox.take(kind, &mut acs, &mut clock, None),
+            BAD_WORD + (ELEMENT_WORDS as u16 - 1)
+        );
+        assert_eq!(mailbox.take(6, &mut acs, &mut clock, None), INVALID); // arg 0 is a word
+        let kind = mailbox.write(&Uplink::MarkFailed(2));
+        assert_eq!(mailbox.take(kind, &mut acs, &mut clock, None), ACCEPTED);
+        assert_eq!(mailbox.take(99, &mut acs, &mut clock, None), UNKNOWN);
+        let kind = mailbox.write(&Uplink::SunSafe);
+        assert_eq!(mailbox.take(kind, &mut acs, &mut clock, None), ACCEPTED);
+        assert_eq!(acs.mode(), Mode::SunSafe);
+    }
+}
