@@ -93,6 +93,18 @@ pub enum Mode {
     Tracking,
 }
 
+impl Mode {
+    /// The mode as a telemetry code: 0 `Detumble`, 1 `SunSafe`, 2 `Slew`, 3 `Tracking`.
+    pub fn code(self) -> u16 {
+        match self {
+            Self::Detumble => 0,
+            Self::SunSafe => 1,
+            Self::Slew => 2,
+            Self::Tracking => 3,
+        }
+    }
+}
+
 /// What went wrong in a step (several may be set); the step still commands safe actuators.
 #[derive(Copy, Clone, Debug, PartialEq, Eq, Default)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -299,6 +311,7 @@ pub struct AcsLoop<'c, const N: usize = MAX_TILES, const F: usize = FULL_COEFFS>
 
 /// Errors of [`AcsLoop::new`] and [`AcsLoop::command`].
 #[derive(Copy, Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 #[non_exhaustive]
 pub enum AcsError {
     /// A configuration value is not finite or not positive where it must be, the tile capacity
@@ -511,7 +524,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
 
     /// Accepts a ground command. A slew is planned from the last determined attitude
     /// (`attitude`, reference → body), so it needs one.
-    #[cfg_attr(target_arch = "msp430", optimize(size))]
+    #[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
     pub fn command(
         &mut self,
         command: Command,

@@ -45,6 +45,7 @@ pub mod planning;
 pub mod tiles;
 pub mod time;
 pub mod tle;
+pub mod uplink;
 
 #[cfg(feature = "host")]
 pub mod host;

@@ -56,7 +56,7 @@ fn bit(mask: u32, i: usize) -> bool {
 
 /// Element `i` of a mailbox array, `None` beyond its end; one volatile read of that element
 /// only (a volatile read of the whole array is unrolled into a move per word).
-pub(crate) fn element<T: Copy, const L: usize>(mailbox: *const [T; L], i: usize) -> Option<T> {
+fn element<T: Copy, const L: usize>(mailbox: *const [T; L], i: usize) -> Option<T> {
     if i >= L {
         return None;
     }

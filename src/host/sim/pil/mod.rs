@@ -24,7 +24,7 @@
 //! first period the element set ([`Sgp4::to_words`] of the scenario's TLE, kind 4) and the
 //! clock (the scenario's start, kind 5), then each ground command at the period the host
 //! simulator's `run` would give it (time ≤ the truth's time). The host loop receives the same
-//! words through [`uplink::UplinkMailbox::take`], the host mirror of the image's decoding.
+//! words through [`uplink::UplinkMailbox::take`] ([`crate::uplink::apply`], what the image runs).
 //! The image takes one command per period (`take_uplink` before each step); when a period
 //! carries several, the host calls `take_uplink` again for each after the first, as a
 //! debugger does: at its entry it saves the registers, and after it returns it writes the next

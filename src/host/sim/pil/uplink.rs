@@ -1,41 +1,21 @@
-//! The flight image's ground uplink on the host: ground commands as `UPLINK_KIND` codes and
-//! `UPLINK_ARGS` words, and the host mirror of the image's `take_uplink`, so that the host loop
-//! receives every command exactly as the image decodes it.
-//!
-//! The format is the image's (`firmware/src/flight.rs`, "Uplink mailbox"):
-//!
-//! | kind | command | arguments (u32 words) |
-//! |---|---|---|
-//! | 1 | sun-safe | — |
-//! | 2 | track an attitude | 0–3: quaternion (f32 bits, scalar first, TEME → body) |
-//! | 3 | slew, then track | 0–3: quaternion; 4: time allowed, s (f32 bits) |
-//! | 4 | new element set | 0–57: the words of [`Sgp4::to_words`] |
-//! | 5 | set the clock (UTC) | 0: days since 2000-01-01 (i32); 1: second of day; 2: nanoseconds |
-//! | 6 / 7 | mark tile failed / restore it | 0: tile index |
-//!
-//! Status: 0 accepted, 1 unknown command, 2 invalid argument, 3 refused by the loop,
-//! `0x100 + i` element set refused at word `i`.
+//! The ground side of the flight image's uplink ([`crate::uplink`]): ground commands encoded
+//! as a command code and argument words, written to the host's copy of the mailbox and applied
+//! to the host loop by the same [`crate::uplink::apply`] the image runs, so that both loops
+//! receive every command exactly as the image decodes it.
 //!
 //! A slew's target goes up as a quaternion (`Dcm::to_quaternion`) and the image turns it back
-//! into a DCM after normalising it, so the host loop gets the same DCM only through
-//! [`UplinkMailbox::take`]; that is why the host loop is commanded through the mirror too.
+//! into a DCM after normalising it, so the host loop gets the same DCM only through the
+//! mailbox; that is why the host loop is commanded through it too.
 
 use crate::acs_loop::{Command, Mode};
 use crate::attitude::Quaternion;
 use crate::flight::FlightLoop;
-use crate::orbit::sgp4::{Sgp4, Sgp4Error, ELEMENT_WORDS};
+use crate::orbit::sgp4::ELEMENT_WORDS;
 use crate::time::{Epoch, Utc};
+use crate::uplink::{self, kind};
 
 /// Uplink status: accepted.
 pub const ACCEPTED: u16 = 0;
-/// Uplink status: unknown command.
-pub const UNKNOWN: u16 = 1;
-/// Uplink status: invalid argument.
-pub const INVALID: u16 = 2;
-/// Uplink status: refused by the loop.
-pub const REFUSED: u16 = 3;
-/// Uplink status: element set refused, plus the index of the bad word.
-pub const BAD_WORD: u16 = 0x100;
 
 /// One ground command as the uplink carries it.
 #[derive(Clone, Debug, PartialEq)]
@@ -89,13 +69,13 @@ impl Uplink {
     /// The `UPLINK_KIND` code.
     pub fn kind(&self) -> u16 {
         match self {
-            Self::SunSafe => 1,
-            Self::Track { .. } => 2,
-            Self::Slew { .. } => 3,
-            Self::Elements(_) => 4,
-            Self::Clock(_) => 5,
-            Self::MarkFailed(_) => 6,
-            Self::Restore(_) => 7,
+            Self::SunSafe => kind::SUN_SAFE,
+            Self::Track { .. } => kind::TRACK,
+            Self::Slew { .. } => kind::SLEW,
+            Self::Elements(_) => kind::ELEMENTS,
+            Self::Clock(_) => kind::CLOCK,
+            Self::MarkFailed(_) => kind::MARK_FAILED,
+            Self::Restore(_) => kind::RESTORE,
         }
     }
 
@@ -139,22 +119,9 @@ impl UplinkMailbox {
         uplink.kind()
     }
 
-    fn arg(&self, i: usize) -> u32 {
-        self.args.get(i).copied().unwrap_or(0)
-    }
-
-    fn arg_quaternion(&self) -> Option<Quaternion> {
-        Quaternion::new_normalize(
-            f32::from_bits(self.arg(0)),
-            f32::from_bits(self.arg(1)),
-            f32::from_bits(self.arg(2)),
-            f32::from_bits(self.arg(3)),
-        )
-    }
-
     /// Applies command `kind` with the mailbox's arguments to the loop or the clock, as the
-    /// image's `take_uplink` does (`attitude`: the last filtered attitude); returns the
-    /// status the image writes to `UPLINK_STATUS`.
+    /// image does ([`crate::uplink::apply`]; `attitude`: the last filtered attitude); returns
+    /// the status the image writes to `UPLINK_STATUS`.
     pub fn take(
         &self,
         kind: u16,
@@ -162,64 +129,13 @@ impl UplinkMailbox {
         clock: &mut Epoch<Utc>,
         attitude: Option<&Quaternion>,
     ) -> u16 {
-        let outcome = |r: Result<(), _>| r.map_or(REFUSED, |_| ACCEPTED);
-        match kind {
-            1 => outcome(acs.command(Command::SunSafe, attitude, *clock)),
-            2 => match self.arg_quaternion() {
-                Some(target) => outcome(acs.command(Command::Track { target }, attitude, *clock)),
-                None => INVALID,
-            },
-            3 => match (self.arg_quaternion(), f32::from_bits(self.arg(4))) {
-                (Some(q), within_s) if within_s.is_finite() && within_s > 0.0 => {
-                    let command = Command::Slew {
-                        target: q.to_dcm(),
-                        within_s,
-                    };
-                    outcome(acs.command(command, attitude, *clock))
-                }
-                _ => INVALID,
-            },
-            4 => match Sgp4::from_words(&self.args) {
-                Ok(orbit) => {
-                    acs.set_orbit(orbit);
-                    ACCEPTED
-                }
-                Err(Sgp4Error::Words { index }) => BAD_WORD + u16::from(index),
-                Err(_) => BAD_WORD,
-            },
-            5 => match Epoch::from_parts(self.arg(0) as i32, self.arg(1), self.arg(2)) {
-                Ok(t) => {
-                    *clock = t;
-                    ACCEPTED
-                }
-                Err(_) => INVALID,
-            },
-            6 | 7 => {
-                let tile = self.arg(0) as usize;
-                if acs.tile_state(tile).is_none() {
-                    INVALID
-                } else {
-                    if kind == 6 {
-                        acs.mark_failed(tile);
-                    } else {
-                        acs.restore(tile);
-                    }
-                    ACCEPTED
-                }
-            }
-            _ => UNKNOWN,
-        }
+        uplink::status(&uplink::apply(kind, &self.args, acs, clock, attitude))
     }
 }
 
-/// The image's `STEP_MODE` code of a mode.
+/// The image's `STEP_MODE` code of a mode ([`Mode::code`]).
 pub fn mode_code(mode: Mode) -> u16 {
-    match mode {
-        Mode::Detumble => 0,
-        Mode::SunSafe => 1,
-        Mode::Slew => 2,
-        Mode::Tracking => 3,
-    }
+    mode.code()
 }
 
 /// The name of a `STEP_MODE` code.
@@ -239,7 +155,7 @@ mod tests {
     use crate::attitude::Dcm;
     use crate::flight::CONFIG;
     use crate::host::sim::scenarios::make_tle;
-    use crate::orbit::sgp4::Gravity;
+    use crate::orbit::sgp4::{Gravity, Sgp4};
     use crate::tle::Tle;
 
     fn orbit() -> Sgp4 {
@@ -288,7 +204,7 @@ mod tests {
             target: Dcm::a1(0.5),
             within_s: 100.0,
         }));
-        assert_eq!(mailbox.take(kind, &mut acs, &mut clock, None), REFUSED);
+        assert_eq!(mailbox.take(kind, &mut acs, &mut clock, None), 3);
         assert_eq!(mailbox.take(kind, &mut acs, &mut clock, Some(&q)), ACCEPTED);
         assert_eq!(acs.mode(), Mode::Slew);
 
@@ -301,7 +217,7 @@ mod tests {
                 q3: 0.0,
             },
         });
-        assert_eq!(mailbox.take(kind, &mut acs, &mut clock, None), INVALID);
+        assert_eq!(mailbox.take(kind, &mut acs, &mut clock, None), 2);
         let mut words = orbit().to_words();
         let kind = mailbox.write(&Uplink::Elements(Box::new(words)));
         assert_eq!(mailbox.take(kind, &mut acs, &mut clock, None), ACCEPTED);
@@ -309,12 +225,12 @@ mod tests {
         let kind = mailbox.write(&Uplink::Elements(Box::new(words)));
         assert_eq!(
             mailbox.take(kind, &mut acs, &mut clock, None),
-            BAD_WORD + (ELEMENT_WORDS as u16 - 1)
+            0x100 + (ELEMENT_WORDS as u16 - 1)
         );
-        assert_eq!(mailbox.take(6, &mut acs, &mut clock, None), INVALID); // arg 0 is a word
+        assert_eq!(mailbox.take(6, &mut acs, &mut clock, None), 2); // arg 0 is a word
         let kind = mailbox.write(&Uplink::MarkFailed(2));
         assert_eq!(mailbox.take(kind, &mut acs, &mut clock, None), ACCEPTED);
-        assert_eq!(mailbox.take(99, &mut acs, &mut clock, None), UNKNOWN);
+        assert_eq!(mailbox.take(99, &mut acs, &mut clock, None), 1);
         let kind = mailbox.write(&Uplink::SunSafe);
         assert_eq!(mailbox.take(kind, &mut acs, &mut clock, None), ACCEPTED);
         assert_eq!(acs.mode(), Mode::SunSafe);

@@ -1,0 +1,172 @@
+//! Ground uplink: the commands the ground sends the flight loop, as a command code and argument
+//! words, decoded and applied on board (issue #17). The flight firmware receives them in a
+//! mailbox (`firmware/src/flight.rs`); the processor-in-the-loop host applies the same words to
+//! its host loop through the same function, so both decode every command identically.
+//!
+//! | code | command | argument words (`u32`) |
+//! |---|---|---|
+//! | [`kind::SUN_SAFE`] (1) | sun-safe | — |
+//! | [`kind::TRACK`] (2) | track an attitude | 0–3: quaternion (f32 bits, scalar first, TEME → body, [`crate::attitude`]) |
+//! | [`kind::SLEW`] (3) | slew, then track | 0–3: quaternion; 4: time allowed, s (f32 bits) |
+//! | [`kind::ELEMENTS`] (4) | new element set | 0–57: the words of [`Sgp4::to_words`] (`acs elements`) |
+//! | [`kind::CLOCK`] (5) | set the clock (UTC) | 0: days since 2000-01-01 (i32); 1: second of day; 2: nanoseconds |
+//! | [`kind::MARK_FAILED`] (6) / [`kind::RESTORE`] (7) | mark a tile failed / restore it | 0: tile index |
+//!
+//! [`apply`] checks the arguments completely before it changes anything: a refused command
+//! (a quaternion that is not finite or zero, a time out of range, an unknown tile, an element
+//! set with a bad word, a slew the planner refuses) leaves the loop and the clock as they were,
+//! and its [`UplinkError`] says why; [`status`] is the telemetry word the firmware reports.
+
+use core::fmt;
+
+use crate::acs_loop::{AcsError, AcsLoop, Command};
+use crate::attitude::Quaternion;
+use crate::orbit::sgp4::{Sgp4, Sgp4Error, ELEMENT_WORDS};
+use crate::time::{Epoch, Utc};
+
+/// Number of argument words (the longest command, an element set).
+pub const ARG_WORDS: usize = ELEMENT_WORDS;
+
+/// The command codes (0: none).
+pub mod kind {
+    /// Back to sun-safe.
+    pub const SUN_SAFE: u16 = 1;
+    /// Track an attitude.
+    pub const TRACK: u16 = 2;
+    /// Slew to an attitude, then track it.
+    pub const SLEW: u16 = 3;
+    /// A new SGP4 element set (initialised on the ground).
+    pub const ELEMENTS: u16 = 4;
+    /// Set the on-board clock.
+    pub const CLOCK: u16 = 5;
+    /// Mark a tile failed.
+    pub const MARK_FAILED: u16 = 6;
+    /// Return a tile to service.
+    pub const RESTORE: u16 = 7;
+}
+
+/// Why an uplinked command was refused (the loop and the clock are unchanged).
+#[derive(Copy, Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum UplinkError {
+    /// No command has this code.
+    UnknownCommand(u16),
+    /// An argument is invalid: a quaternion that is not finite or zero, a time allowed that
+    /// is not positive, an epoch out of range, a tile index that does not exist.
+    InvalidArgument,
+    /// The loop refused the command (a slew that cannot be planned now).
+    Refused(AcsError),
+    /// The element set is refused at this word ([`Sgp4::from_words`]).
+    BadElementWord(u8),
+}
+
+impl UplinkError {
+    /// The telemetry status word: 1 unknown command, 2 invalid argument, 3 refused by the
+    /// loop, `0x100 + i` element set refused at word `i` (0: accepted, [`status`]).
+    pub fn status(&self) -> u16 {
+        match self {
+            Self::UnknownCommand(_) => 1,
+            Self::InvalidArgument => 2,
+            Self::Refused(_) => 3,
+            Self::BadElementWord(i) => 0x100 + u16::from(*i),
+        }
+    }
+}
+
+impl fmt::Display for UplinkError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::UnknownCommand(k) => write!(f, "unknown uplink command {k}"),
+            Self::InvalidArgument => write!(f, "invalid uplink argument"),
+            Self::Refused(e) => write!(f, "command refused: {e}"),
+            Self::BadElementWord(i) => write!(f, "element set refused at word {i}"),
+        }
+    }
+}
+
+/// The telemetry status of an [`apply`] result: 0 accepted, else [`UplinkError::status`].
+pub fn status(result: &Result<(), UplinkError>) -> u16 {
+    match result {
+        Ok(()) => 0,
+        Err(e) => e.status(),
+    }
+}
+
+/// Argument words 0–3 as a normalised quaternion; `None` if not finite or zero.
+fn quaternion(args: &[u32; ARG_WORDS]) -> Option<Quaternion> {
+    let [q0, q1, q2, q3, ..] = *args;
+    Quaternion::new_normalize(
+        f32::from_bits(q0),
+        f32::from_bits(q1),
+        f32::from_bits(q2),
+        f32::from_bits(q3),
+    )
+}
+
+/// The element set of the argument words, checked whole ([`Sgp4::from_words`]) before it
+/// replaces the loop's (out of line: the new set's temporaries stay off the other commands'
+/// stack).
+#[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
+fn set_elements<const N: usize, const F: usize>(
+    args: &[u32; ARG_WORDS],
+    acs: &mut AcsLoop<'_, N, F>,
+) -> Result<(), UplinkError> {
+    let orbit = Sgp4::from_words(args).map_err(|e| match e {
+        Sgp4Error::Words { index } => UplinkError::BadElementWord(index),
+        _ => UplinkError::BadElementWord(0),
+    })?;
+    acs.set_orbit(orbit);
+    Ok(())
+}
+
+/// Applies command `code` with argument words `args` to the loop or the clock (see the
+/// [module docs](self)); `attitude` is the last filtered attitude (reference TEME → body,
+/// [`crate::attitude`]), which a slew is planned from.
+#[cfg_attr(target_arch = "msp430", optimize(size))]
+pub fn apply<const N: usize, const F: usize>(
+    code: u16,
+    args: &[u32; ARG_WORDS],
+    acs: &mut AcsLoop<'_, N, F>,
+    clock: &mut Epoch<Utc>,
+    attitude: Option<&Quaternion>,
+) -> Result<(), UplinkError> {
+    let [a0, a1, a2, _, a4, ..] = *args;
+    let command = match code {
+        kind::SUN_SAFE => Command::SunSafe,
+        kind::TRACK => Command::Track {
+            target: quaternion(args).ok_or(UplinkError::InvalidArgument)?,
+        },
+        kind::SLEW => {
+            let within_s = f32::from_bits(a4);
+            match quaternion(args) {
+                Some(q) if within_s.is_finite() && within_s > 0.0 => Command::Slew {
+                    target: q.to_dcm(),
+                    within_s,
+                },
+                _ => return Err(UplinkError::InvalidArgument),
+            }
+        }
+        kind::ELEMENTS => return set_elements(args, acs),
+        kind::CLOCK => {
+            *clock =
+                Epoch::from_parts(a0 as i32, a1, a2).map_err(|_| UplinkError::InvalidArgument)?;
+            return Ok(());
+        }
+        kind::MARK_FAILED | kind::RESTORE => {
+            let tile = usize::try_from(a0).map_err(|_| UplinkError::InvalidArgument)?;
+            if acs.tile_state(tile).is_none() {
+                return Err(UplinkError::InvalidArgument);
+            }
+            if code == kind::MARK_FAILED {
+                acs.mark_failed(tile);
+            } else {
+                acs.restore(tile);
+            }
+            return Ok(());
+        }
+        _ => return Err(UplinkError::UnknownCommand(code)),
+    };
+    acs.command(command, attitude, *clock)
+        .map_err(UplinkError::Refused)
+}
