@@ -243,6 +243,20 @@ pub struct StepReport {
 }
 
 impl StepReport {
+    /// Sets every field to [`StepReport::empty`]'s, in place.
+    fn reset(&mut self, mode: Mode) {
+        self.mode = mode;
+        self.measured_attitude = None;
+        self.attitude = None;
+        self.omega_body_radps = None;
+        self.b_body_nt = None;
+        self.sun_body = None;
+        self.sun_fraction = None;
+        self.dipole_body_am2 = Vec3::zeros();
+        self.h_wheels_body = Vec3::zeros();
+        self.faults = Faults::default();
+    }
+
     /// A report of nothing measured or commanded yet, in `mode` (the value a caller of
     /// [`AcsLoop::step_into`] starts from).
     pub fn empty(mode: Mode) -> Self {
@@ -713,7 +727,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         // the determination (and the magnetometers see the coils' field decay meanwhile).
         let models = self.models(&now, &mut faults);
         // The determination writes its results straight into the report.
-        *report = StepReport::empty(self.mode);
+        report.reset(self.mode);
         report.sun_fraction = models.illumination.map(|i| i.fraction);
         let dt = self.sense(bus, &models, &now, dt_s, &mut faults, report);
         self.change_mode(report);

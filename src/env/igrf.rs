@@ -828,7 +828,9 @@ impl<const COEFFS: usize> Igrf<COEFFS> {
         ))
     }
 
-    /// The field at a finite Earth-fixed position, Earth-fixed Cartesian components.
+    /// The field at a finite Earth-fixed position, Earth-fixed Cartesian components (out of
+    /// line on the MSP430: its work arrays stay off its callers' frames).
+    #[cfg_attr(target_arch = "msp430", inline(never))]
     fn cartesian(&self, r_km: &Vec3) -> Result<Vec3, IgrfError> {
         let r2 = r_km.x * r_km.x + r_km.y * r_km.y + r_km.z * r_km.z;
         if r2.is_infinite() {
