@@ -8,7 +8,12 @@
 //!
 //! # One step
 //! 1. Magnetorquers off (the magnetometers must not see them, note 002 §8.5).
-//! 2. SGP4 position at the step's UTC epoch; precise Sun (TEME); conical eclipse test;
+//! 2. SGP4 position at the step's UTC epoch; the Sun by the thesis's model
+//!    ([`crate::env::sun::thesis`], Schlyter: 46.9″ at most against JPL DE421) and the
+//!    cylindrical shadow test ([`crate::env::eclipse::cylindrical_illumination`]): the flight
+//!    image carries these rather than the precise Sun (2.2″) and the conical shadow, which
+//!    together take 7.5 KB more of the MSP430's flash (issue #17; the loop's pointing
+//!    requirement is 0.1° = 360″, its Sun sensors' noise 1 mrad = 206″);
 //!    IGRF field in TEME through GMST (UT1 ≈ UTC), its coefficients interpolated to the step's
 //!    date each step (not kept between steps: on the MSP430 that saves `4·F` bytes of RAM,
 //!    320 B at degree 8, for ≈ 40 000 cycles a step).
@@ -62,9 +67,9 @@ use crate::determination::least_squares::{
 };
 use crate::determination::sun_sensor::sun_direction_body;
 use crate::determination::{wahba_svd, Observation};
-use crate::env::eclipse::{conical, Illumination, Shadow};
+use crate::env::eclipse::{cylindrical_illumination, Illumination, Shadow};
 use crate::env::igrf::{coefficient_count, Degree, Igrf, IgrfError, Model, FULL_COEFFS};
-use crate::env::sun::{precise, Sun};
+use crate::env::sun::{thesis, Sun};
 use crate::hal::TileBus;
 use crate::linalg::{Vec2, Vec3};
 use crate::orbit::sgp4::Sgp4;
@@ -232,7 +237,8 @@ pub struct StepReport {
     pub b_body_nt: Option<Vec3>,
     /// Sun direction in body axes (unit), if seen.
     pub sun_body: Option<Vec3>,
-    /// Visible fraction of the solar disc from the orbit and Sun models (0 = umbra).
+    /// Visible fraction of the solar disc from the orbit and Sun models: 0 in the (cylindrical)
+    /// shadow, 1 outside it.
     pub sun_fraction: Option<f32>,
     /// Commanded body dipole, A·m².
     pub dipole_body_am2: Vec3,
@@ -597,7 +603,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         });
         for ((duration, h), s) in slew.steps.iter_mut().zip(plan.steps.iter()) {
             if s.duration_s > 0.0 {
-                let ticks = (s.duration_s / period - 1e-4).max(0.0) as u32 + 1;
+                let ticks = crate::fmath::max(s.duration_s / period - 1e-4, 0.0) as u32 + 1;
                 let rounded = ticks as f32 * period;
                 *h = s.h_body * (s.duration_s / rounded);
                 *duration = rounded;
@@ -763,10 +769,10 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
             .propagate(now.span_since(&self.orbit.epoch()))
             .ok();
         faults.orbit = orbit.is_none();
-        let sun = precise::sun(now).ok();
+        let sun = thesis::sun(now).ok();
         let gmst = now.to_ut1(None).ok().map(|ut1| gmst_rad(&ut1));
         let illumination = match (&orbit, &sun) {
-            (Some(o), Some(s)) => conical(&o.r_teme_km, s).ok(),
+            (Some(o), Some(s)) => cylindrical_illumination(&o.r_teme_km, &s.direction).ok(),
             _ => None,
         };
         // the field model fails on its own (a date outside its tables) or at the point

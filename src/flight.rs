@@ -14,6 +14,7 @@
 //! | wheels | one per power tile, ±1 mN·m·s | seed 000 §9 (tile wheel) |
 //! | coils | three, along body x, y, z, ±0.2 A·m² | seed 002 §8 (coil sizing) |
 //! | field model | IGRF-14 degree 8, 2020–2030 ([`crate::env::igrf::FLIGHT`]: only the tables it evaluates) | issue #17 product decision |
+//! | Sun and shadow models | the thesis's Sun (Schlyter, 46.9″) and the cylindrical shadow, in the loop ([`crate::acs_loop`]) | issue #17: flash |
 //! | control period | 1 s | seed 000 §1.5 |
 //! | tracking | `ω_n` = [`TRACKING_BANDWIDTH_RADPS`] = 0.5 rad/s, `ζ` = 0.9 | below |
 //! | Wahba weights | `σ⁻²`: Sun 1 mrad, field direction 30′ ([`SUN_WEIGHT`], [`FIELD_WEIGHT`]) | below |

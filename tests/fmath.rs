@@ -353,3 +353,33 @@ fn exhaustive_asin_acos() {
     );
     assert!(ea <= 2.5 && ec <= 1.2);
 }
+
+/// `fmath::min`/`max` agree with `f32::min`/`max` on every pair of non-NaN values (signed zeros:
+/// either zero may come back, as for `f32::min`), and return their first operand when either is
+/// NaN (documented).
+#[test]
+fn min_max() {
+    let values = [
+        f32::NEG_INFINITY,
+        -3.5,
+        -1.0,
+        -f32::MIN_POSITIVE,
+        -0.0,
+        0.0,
+        1e-45,
+        0.95,
+        1.0,
+        f32::MAX,
+        f32::INFINITY,
+    ];
+    for &a in &values {
+        for &b in &values {
+            assert_eq!(acs::fmath::min(a, b), a.min(b), "{a} {b}");
+            assert_eq!(acs::fmath::max(a, b), a.max(b), "{a} {b}");
+        }
+        assert!(acs::fmath::min(f32::NAN, a).is_nan());
+        assert!(acs::fmath::max(f32::NAN, a).is_nan());
+        assert_eq!(acs::fmath::min(a, f32::NAN).to_bits(), a.to_bits());
+        assert_eq!(acs::fmath::max(a, f32::NAN).to_bits(), a.to_bits());
+    }
+}

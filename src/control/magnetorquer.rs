@@ -147,7 +147,7 @@ pub fn saturate_dipole(
         .zip(max_per_axis_am2.iter())
         .fold(1.0f32, |s, (m, max)| {
             if m.abs() > *max {
-                s.min(max / m.abs())
+                crate::fmath::min(s, max / m.abs())
             } else {
                 s
             }

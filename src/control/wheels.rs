@@ -244,7 +244,7 @@ impl Allocator {
             }
             let mag = if *h < 0.0 { -*h } else { *h };
             if mag > w.limit {
-                scale = scale.min(w.limit / mag);
+                scale = crate::fmath::min(scale, w.limit / mag);
             }
         }
         if scale < 1.0 {

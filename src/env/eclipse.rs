@@ -157,6 +157,31 @@ pub fn cylindrical(r_teme_km: &Vec3, sun_direction: &Vec3) -> Result<bool, Eclip
     Ok(cylindrical_margin_km(r_teme_km, sun_direction)? < 0.0)
 }
 
+/// [`cylindrical`] as an [`Illumination`]: in shadow, fraction 0 and [`Shadow::Umbra`];
+/// otherwise fraction 1 and [`Shadow::Sunlit`] (no penumbra: the cylinder's edge lies between
+/// the conical model's umbra and penumbra edges, ≈ 4 s from each in low Earth orbit). The flight
+/// loop's shadow test: it needs only to know when the Sun sensors cannot see the Sun, in ≈ 400 B
+/// of MSP430 flash where [`conical`] takes ≈ 3 KB.
+///
+/// # Errors
+/// As [`cylindrical`].
+pub fn cylindrical_illumination(
+    r_teme_km: &Vec3,
+    sun_direction: &Vec3,
+) -> Result<Illumination, EclipseError> {
+    Ok(if cylindrical(r_teme_km, sun_direction)? {
+        Illumination {
+            fraction: 0.0,
+            shadow: Shadow::Umbra,
+        }
+    } else {
+        Illumination {
+            fraction: 1.0,
+            shadow: Shadow::Sunlit,
+        }
+    })
+}
+
 /// The signed distance (km) from the spacecraft to the surface of the shadow cylinder:
 /// `|r × ŝ| − R⊕` behind the Earth (`r·ŝ < 0`), `|r| − R⊕` in front of it; negative in shadow,
 /// continuous in time, zero at shadow entry and exit (for event search by bisection).

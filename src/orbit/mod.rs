@@ -7,7 +7,7 @@
 //! only by the sub-unit remainder (see `Phase` for the numbers).
 
 use crate::linalg::Vec3;
-use crate::time::TimeSpan;
+use crate::time::{TimeSpan, Wide};
 
 mod dfloat;
 pub mod kepler;
@@ -95,9 +95,11 @@ impl Phase {
 
     /// `θ(w + f)` in turns, about −½..½ (the remainder term may add up to `|θ̇|`).
     pub(crate) fn turns(&self, whole: i32, frac: f32) -> f32 {
-        let p = self
-            .at_epoch
-            .wrapping_add(self.rate_fx.wrapping_mul(i64::from(whole)));
+        // θ₀ + θ̇·w modulo 2⁶⁴ in 32-bit words ([`Wide`]: no 64-bit multiply on the MSP430)
+        let product = Wide::from_u64(self.rate_fx as u64).wrapping_mul_i32(whole);
+        let p = Wide::from_u64(self.at_epoch as u64)
+            .wrapping_add(product)
+            .to_u64() as i64;
         // sign-extend bit 47: the phase modulo one turn, in −½..½ turn
         let reduced = p
             .wrapping_shl(64 - PHASE_BITS)

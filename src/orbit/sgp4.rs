@@ -787,7 +787,10 @@ impl Sgp4 {
         let (mut sineo1, mut coseo1) = fmath::sincos(eo1);
         for _ in 0..KEPLER_MAX_ITERATIONS {
             let denom = 1.0 - coseo1 * axnl - sineo1 * aynl;
-            let step = ((u - aynl * coseo1 + axnl * sineo1 - eo1) / denom).clamp(-0.95, 0.95);
+            let step = fmath::max(
+                fmath::min((u - aynl * coseo1 + axnl * sineo1 - eo1) / denom, 0.95),
+                -0.95,
+            );
             eo1 += step;
             if fmath::abs(step) < KEPLER_TOLERANCE {
                 // sin and cos of eo1 to first order in the (tiny) last step
