@@ -11,14 +11,9 @@ use acs::orbit::sgp4::{Gravity, Sgp4};
 use acs::time::TimeSpan;
 use acs::tle::Tle;
 
-/// The near-Earth element sets of `../shared/ref/sgp4/catalogue.tle` plus DTUSAT.
+/// The near-Earth element sets of `tests/data/sgp4/catalogue.tle` plus DTUSAT.
 fn element_sets() -> Vec<(String, String)> {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/ref/sgp4");
-    let dir = if dir.is_dir() {
-        dir
-    } else {
-        std::path::PathBuf::from("/work/shared/ref/sgp4")
-    };
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/sgp4");
     let mut sets = Vec::new();
     for file in ["catalogue.tle", "dtusat.tle"] {
         let text = std::fs::read_to_string(dir.join(file)).expect("reference TLE file");

@@ -121,7 +121,7 @@ fn missing_tle_file_exits_2() {
 /// rows every step from the TLE epoch, TEME, metres (cli.md).
 #[test]
 fn propagate_output_reads_back() {
-    let tle_path = common::shared_path("ref/sgp4/dtusat.tle");
+    let tle_path = common::data_path("sgp4/dtusat.tle");
     let out = acs(&[
         "propagate",
         "--tle",
@@ -139,7 +139,7 @@ fn propagate_output_reads_back() {
     }
     assert_eq!(out.status.code(), Some(0), "{stderr}");
     let e = acs::host::stk::read(&text(&out.stdout)).unwrap();
-    let tle = acs::tle::Tle::parse_text(&common::read_shared("ref/sgp4/dtusat.tle")).unwrap();
+    let tle = acs::tle::Tle::parse_text(&common::read_data("sgp4/dtusat.tle")).unwrap();
     assert_eq!(e.scenario_epoch, tle.epoch);
     assert_eq!(e.central_body, "Earth");
     assert_eq!(
@@ -153,8 +153,7 @@ fn propagate_output_reads_back() {
     // the first row is the TLE epoch's state: the reference's t = 0 row (which counts from the
     // TLE epoch, see host::stk) to the flight SGP4's accuracy, far below the 1.8 km that a
     // 0.24 s epoch error would give
-    let reference =
-        acs::host::stk::read(&common::read_shared("ref/sgp4/dtusat_wgs72_teme.e")).unwrap();
+    let reference = acs::host::stk::read(&common::read_data("sgp4/dtusat_wgs72_teme.e")).unwrap();
     let (a, b) = (e.rows[0].r_m, reference.rows[0].r_m);
     let d = ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt();
     println!("acs propagate t=0 vs reference: {d:.3} m");

@@ -64,11 +64,11 @@ struct RefSet {
     tle: Tle,
 }
 
-/// Every element set of `../shared/ref/sgp4/`.
+/// Every element set of `tests/data/sgp4/`.
 fn reference_sets() -> Vec<RefSet> {
     let mut out = Vec::new();
     for file in ["SGP4-VER.TLE", "catalogue.tle", "dtusat.tle"] {
-        let content = common::read_shared(&format!("ref/sgp4/{file}"));
+        let content = common::read_data(&format!("sgp4/{file}"));
         let lines: Vec<&str> = content.lines().collect();
         for (i, l) in lines.iter().enumerate() {
             if !l.starts_with("1 ") {
@@ -483,7 +483,7 @@ fn missing_and_extra_words_are_named() {
 /// JSON epoch is not theirs: the word (or field) at fault.
 #[test]
 fn consistent_but_wrong_sets_are_refused() {
-    let tle = Tle::parse_text(&common::read_shared("ref/sgp4/dtusat.tle")).unwrap();
+    let tle = Tle::parse_text(&common::read_data("sgp4/dtusat.tle")).unwrap();
     let words = Sgp4::new(&tle, Gravity::Wgs72).unwrap().to_words();
     let resum = |mut w: [u32; ELEMENT_WORDS]| {
         w[57] = elements::checksum(&w[..57]);
@@ -520,7 +520,7 @@ fn consistent_but_wrong_sets_are_refused() {
 /// panics.
 #[test]
 fn garbage_is_refused() {
-    let tle = Tle::parse_text(&common::read_shared("ref/sgp4/dtusat.tle")).unwrap();
+    let tle = Tle::parse_text(&common::read_data("sgp4/dtusat.tle")).unwrap();
     let words = Sgp4::new(&tle, Gravity::Wgs72).unwrap().to_words();
     let hex = elements::to_hex(&words);
     let mut lines: Vec<String> = hex.lines().map(str::to_string).collect();
@@ -582,7 +582,7 @@ fn garbage_is_refused() {
 /// A single-bit flip through the binary: exit 2, the line and the word named.
 #[test]
 fn check_names_the_flipped_word_through_the_binary() {
-    let tle_path = common::shared_path("ref/sgp4/dtusat.tle");
+    let tle_path = common::data_path("sgp4/dtusat.tle");
     let out = acs(&["elements", "--tle", tle_path.to_str().unwrap()]);
     assert_eq!(out.status.code(), Some(0));
     let mut words = hex_words(&text(&out.stdout));
@@ -608,7 +608,7 @@ fn check_names_the_flipped_word_through_the_binary() {
 /// (SGP4 refuses it), as for `acs propagate`; usage errors exit 2.
 #[test]
 fn bad_input_exit_codes() {
-    let good = common::read_shared("ref/sgp4/dtusat.tle");
+    let good = common::read_data("sgp4/dtusat.tle");
     for (name, bad) in [
         ("checksum.tle", good.replace("0  5778", "0  5779")),
         (
@@ -642,7 +642,7 @@ fn bad_input_exit_codes() {
     assert_eq!(out.status.code(), Some(3), "{}", text(&out.stderr));
     assert!(text(&out.stderr).contains("deep-space"));
 
-    let tle = common::shared_path("ref/sgp4/dtusat.tle");
+    let tle = common::data_path("sgp4/dtusat.tle");
     let tle = tle.to_str().unwrap();
     for args in [
         &["elements"][..],

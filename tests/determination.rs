@@ -1,6 +1,6 @@
 //! Attitude determination: the thesis's chapter-12 tests (note 000 §4.2–4.7, data in
 //! `tests/data/thesis_attitude.txt`), the least squares from tiles, the physical Sun-sensor
-//! path, and the optimal solvers on the 200 problems of `../shared/ref/attitude/wahba.json`.
+//! path, and the optimal solvers on the 200 problems of `tests/data/attitude/wahba.json`.
 //!
 //! `cargo test --test determination -- --nocapture` prints the measured errors.
 
@@ -15,15 +15,6 @@ use acs::determination::{
 };
 use acs::linalg::{Mat3, Vec2, Vec3};
 use acs::tiles::{self, SunAngles, Tile, TileState};
-
-fn shared_dir() -> PathBuf {
-    let beside = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared");
-    if beside.exists() {
-        beside
-    } else {
-        PathBuf::from("/work/shared")
-    }
-}
 
 /// `key = numbers` lines of `tests/data/thesis_attitude.txt`, as f64.
 fn thesis_data() -> HashMap<String, Vec<f64>> {
@@ -569,7 +560,7 @@ mod wahba_json {
     }
 
     fn problems() -> Vec<Problem> {
-        let path = shared_dir().join("ref/attitude/wahba.json");
+        let path = common::data_path("attitude/wahba.json");
         let v: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
         assert!(v["convention"]

@@ -307,7 +307,7 @@ fn cli_acs_eclipses() {
     use acs::time::{Calendar, Epoch, Utc};
     use std::process::Command;
 
-    let tle_path = common::shared_path("ref/sgp4/dtusat.tle")
+    let tle_path = common::data_path("sgp4/dtusat.tle")
         .to_string_lossy()
         .into_owned();
     let run = |args: &[&str]| {

@@ -1,5 +1,5 @@
 //! Tests of `acs::frames`: TEME↔ECEF, geodetic WGS-84, NED, geocentric spherical (seed 000
-//! eq. 7.26), RSW, and TEME→J2000 against the STK reference pair in `shared/ref/sgp4/`.
+//! eq. 7.26), RSW, and TEME→J2000 against the STK reference pair in `tests/data/sgp4/`.
 //!
 //! Run with `cargo test --test frames -- --nocapture` to print the measured errors.
 
@@ -478,9 +478,8 @@ fn nutation_truncation_and_f32() {
 /// nutation arguments in TT (UTC + 66.184 s in 2009).
 #[test]
 fn teme_to_j2000_dtusat_week() {
-    let read = |name: &str| {
-        acs::host::stk::read(&common::read_shared(&format!("ref/sgp4/{name}"))).unwrap()
-    };
+    let read =
+        |name: &str| acs::host::stk::read(&common::read_data(&format!("sgp4/{name}"))).unwrap();
     let teme_file = read("dtusat_wgs72_teme.e");
     let j2000_file = read("dtusat_wgs72_j2000.e");
     let (teme, j2000) = (&teme_file.rows, &j2000_file.rows);

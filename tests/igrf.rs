@@ -9,7 +9,7 @@ use acs::env::igrf::{Degree, Igrf, IgrfError, FLIGHT, FULL, MIN_RADIUS_KM, RECEN
 use acs::linalg::Vec3;
 
 mod common;
-use common::shared_dir;
+use common::data_path;
 
 /// One row of `ref/igrf/igrf14_points.csv` (ppigrf, f64, degree 13).
 struct Point {
@@ -24,7 +24,7 @@ struct Point {
 }
 
 fn reference_points() -> Vec<Point> {
-    let path = shared_dir().join("ref/igrf/igrf14_points.csv");
+    let path = data_path("igrf/igrf14_points.csv");
     let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path:?}: {e}"));
     let mut points = Vec::new();
     for line in text.lines() {

@@ -1,4 +1,4 @@
-//! SGP4 against the f64 Vallado reference files of `../shared/ref/sgp4/`.
+//! SGP4 against the f64 Vallado reference files of `tests/data/sgp4/`.
 //!
 //! Run `cargo test --release --test sgp4 -- --nocapture` to read the error statistics (max and
 //! RMS per file, position and velocity, this crate and a plain f32 port of the same code).
@@ -15,7 +15,7 @@ use acs::tle::{Checksum, Tle};
 mod common;
 
 fn sgp4_ref(name: &str) -> PathBuf {
-    common::shared_path("ref/sgp4").join(name)
+    common::data_path("sgp4").join(name)
 }
 
 /// Parses with the crate's parser, checksums ignored: the error-code cases at the end of

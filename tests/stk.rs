@@ -12,7 +12,7 @@ use acs::time::{Calendar, Epoch, Utc};
 use acs::tle::Tle;
 
 fn reference_files() -> Vec<(String, String)> {
-    let dir = common::shared_path("ref/sgp4");
+    let dir = common::data_path("sgp4");
     let mut files: Vec<_> = std::fs::read_dir(&dir)
         .unwrap()
         .map(|e| e.unwrap().path())
@@ -70,7 +70,7 @@ fn reads_every_reference_file() {
 
 #[test]
 fn dtusat_header_and_first_row() {
-    let text = common::read_shared("ref/sgp4/dtusat_wgs72_teme.e");
+    let text = common::read_data("sgp4/dtusat_wgs72_teme.e");
     let e = stk::read(&text).unwrap();
     let expected = Epoch::<Utc>::from_calendar(Calendar {
         year: 2009,

@@ -1,4 +1,4 @@
-//! Sun models against JPL DE421 (`../shared/ref/sun/sun_de421.csv`) and the thesis's numbers.
+//! Sun models against JPL DE421 (`tests/data/sun/sun_de421.csv`) and the thesis's numbers.
 //!
 //! Run with `cargo test --test sun -- --nocapture` to read the error statistics quoted in the
 //! README.
@@ -7,7 +7,7 @@ mod common;
 
 use acs::env::sun::{precise, thesis, SunError};
 use acs::time::{Calendar, Epoch, TimeError, Tt, Utc};
-use common::shared_dir;
+use common::data_path;
 
 /// Parses `YYYY-MM-DDTHH:MM:SS[.fff]Z`.
 fn parse_utc(s: &str) -> Epoch<Utc> {
@@ -48,7 +48,7 @@ struct Row {
 }
 
 fn rows() -> Vec<Row> {
-    let path = shared_dir().join("ref/sun/sun_de421.csv");
+    let path = data_path("sun/sun_de421.csv");
     let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path:?}: {e}"));
     let mut out = Vec::new();
     for line in text.lines() {

@@ -25,7 +25,7 @@ struct Set {
 /// Reads the element sets of a reference file: `#` lines are comments; a line that is neither
 /// line 1 nor line 2 is the name of the next set.
 fn reference_sets(file: &'static str) -> Vec<Set> {
-    let text = common::read_shared(&format!("ref/sgp4/{file}"));
+    let text = common::read_data(&format!("sgp4/{file}"));
     let mut sets = Vec::new();
     let mut name = None;
     let mut line1: Option<(usize, String)> = None;
@@ -204,7 +204,7 @@ fn agrees_with_sgp4_crate() {
 /// 15 Jun 2009 04:56:45.71, JD 2454997.70608466).
 #[test]
 fn dtusat_fields() {
-    let text = common::read_shared("ref/sgp4/dtusat.tle");
+    let text = common::read_data("sgp4/dtusat.tle");
     let t = Tle::parse_text(&text).unwrap();
     assert_eq!(t, Tle::parse_with_name("DTUSAT", L1, L2).unwrap());
     assert_eq!(t.name.as_deref(), Some("DTUSAT"));

@@ -44,7 +44,7 @@
 //! of equal weight at angle θ, `s₂/s₁ = (1 − cos θ)/(1 + cos θ) ≈ θ²/4`, so the threshold
 //! refuses pairs closer than about 1.1°: below that, rounding `B` to f32 alone turns the
 //! rotation about the common direction by more than 1e-3 rad). Measured on the 200 problems of
-//! `../shared/ref/attitude/wahba.json` (2–6 vectors, 51 of them with two, noise 0–0.01 rad):
+//! `tests/data/attitude/wahba.json` (2–6 vectors, 51 of them with two, noise 0–0.01 rad):
 //! [`solve`] within 1.8e-5° of the f64 optimum (RMS 5.9e-6°), [`solve_raw`] within 1.6e-5°
 //! (`cargo test --test determination wahba -- --nocapture`; README). MSP430 (no hardware
 //! multiplier): 100 601 cycles for two observations, 487 427 for three

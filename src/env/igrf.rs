@@ -107,7 +107,7 @@
 //! # Validity and accuracy
 //! Dates 1900.0–2030.0 ([`FULL`]) or 2020.0–2030.0 ([`RECENT`]); radius from
 //! [`MIN_RADIUS_KM`] up (no upper limit: the field tends to zero). Measured against 1 500
-//! points of the reference implementation (`../shared/ref/igrf/igrf14_points.csv`: ppigrf,
+//! points of the reference implementation (`tests/data/igrf/igrf14_points.csv`: ppigrf,
 //! f64, 1965–2030, 0–3000 km), degree 13, in f32: max 0.20 nT, RMS 0.04 nT on every component
 //! of both the geodetic (N, E, D) and geocentric (B_r, B_θ, B_φ) outputs, every row within
 //! 1 nT (`cargo test --test igrf -- --nocapture`; ppigrf interpolates in days rather than

@@ -18,7 +18,7 @@
 //! rad/s, changes them by < 2e-6 m/s).
 //!
 //! # Accuracy (measured, `cargo test --test frames j2000 -- --nocapture`)
-//! On the DTUSAT week of `shared/ref/sgp4/dtusat_wgs72_{teme,j2000}.e` (10 081 rows,
+//! On the DTUSAT week of `tests/data/sgp4/dtusat_wgs72_{teme,j2000}.e` (10 081 rows,
 //! 2009-06-15 … 22, |r| ≈ 7200 km), every TEME row rotated to J2000 matches the J2000 row within
 //! 0.94 m (RMS 0.88 m, 0.027″); velocities within 1e-3 m/s. With f32 vectors (km) and matrix:
 //! 1.9 m. About 0.5 m of the residual goes away if the 23 mas frame bias J2000 → GCRS is

@@ -37,7 +37,7 @@
 //!   iterate, harmless with his 1e-12 tolerance in f64 but not with an f32 tolerance).
 //!
 //! # Accuracy (measured, `cargo test --release --test sgp4 -- --nocapture`)
-//! Against the f64 Vallado reference files of `../shared/ref/sgp4/` (per-file figures in the
+//! Against the f64 Vallado reference files of `tests/data/sgp4/` (per-file figures in the
 //! README), position / velocity error:
 //! - the 9 near-Earth cases of `SGP4-VER.TLE` over their listed times: 3.2 m / 3.5 mm/s max
 //!   (RMS 1.3 m / 1.4 mm/s);

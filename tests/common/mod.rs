@@ -9,34 +9,20 @@
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-/// The shared folder (`../shared` beside the crate on CI, `/work/shared` in the worktrees).
-///
-/// Tries `CARGO_MANIFEST_DIR/../shared`, then `/work/shared`; panics with both paths if neither
-/// exists, so a missing checkout is obvious.
-pub fn shared_dir() -> PathBuf {
-    let beside = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared");
-    if beside.is_dir() {
-        return beside;
-    }
-    let fixed = PathBuf::from("/work/shared");
-    if fixed.is_dir() {
-        return fixed;
-    }
-    panic!(
-        "reference data not found: neither {} nor {} exists",
-        beside.display(),
-        fixed.display()
-    );
+/// The reference data of the tests, `tests/data/` of this repository (see its README for where
+/// each file comes from).
+pub fn data_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data")
 }
 
-/// A path inside the shared folder, e.g. `shared_path("ref/sgp4/dtusat.tle")`.
-pub fn shared_path(relative: &str) -> PathBuf {
-    shared_dir().join(relative)
+/// A path inside `tests/data/`, e.g. `data_path("sgp4/dtusat.tle")`.
+pub fn data_path(relative: &str) -> PathBuf {
+    data_dir().join(relative)
 }
 
-/// Reads a text file of the shared folder; panics naming the file if it cannot.
-pub fn read_shared(relative: &str) -> String {
-    let path = shared_path(relative);
+/// Reads a text file of `tests/data/`; panics naming the file if it cannot.
+pub fn read_data(relative: &str) -> String {
+    let path = data_path(relative);
     std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()))
 }
 

@@ -57,7 +57,7 @@
 //! # Range and measured accuracy
 //! Years 1950–2100 in TT ([`sun_tt`]); from UTC ([`sun`]) 1972–2100, the leap-second era. Other
 //! years give [`SunError`]. Against the apparent Sun of JPL DE421 in TEME of date
-//! (`../shared/ref/sun/sun_de421.csv`, 400 instants 1990–2050, UTC input): see the README "Sun
+//! (`tests/data/sun/sun_de421.csv`, 400 instants 1990–2050, UTC input): see the README "Sun
 //! direction" table (`cargo test --test sun -- --nocapture`, which holds 15″ and 2e-5 AU on every
 //! row); over the whole range 1950–2100 against the full abridged series of Meeus in f64
 //! (test `precise_truncation_over_1950_2100`).
