@@ -18,6 +18,7 @@
 
 use core::fmt;
 
+use crate::fmath;
 use crate::linalg::{self, Vec3};
 
 /// Nanotesla to tesla.
@@ -139,20 +140,22 @@ pub fn saturate_dipole(
     if !finite(dipole_am2) || !finite(max_per_axis_am2) {
         return Err(MagnetorquerError::NotFinite);
     }
-    if max_per_axis_am2.iter().any(|m| *m <= 0.0) {
-        return Err(MagnetorquerError::InvalidParameter);
+    let pairs = [
+        (dipole_am2.x, max_per_axis_am2.x),
+        (dipole_am2.y, max_per_axis_am2.y),
+        (dipole_am2.z, max_per_axis_am2.z),
+    ];
+    let mut scale = 1.0f32;
+    for (m, max) in pairs {
+        if !(max > 0.0) {
+            return Err(MagnetorquerError::InvalidParameter);
+        }
+        let size = fmath::abs(m);
+        if size > max {
+            scale = fmath::min(scale, max / size);
+        }
     }
-    let scale = dipole_am2
-        .iter()
-        .zip(max_per_axis_am2.iter())
-        .fold(1.0f32, |s, (m, max)| {
-            if m.abs() > *max {
-                crate::fmath::min(s, max / m.abs())
-            } else {
-                s
-            }
-        });
-    Ok((dipole_am2 * scale, scale))
+    Ok((linalg::scale(dipole_am2, scale), scale))
 }
 
 /// Coil currents `I_i = m_i / (N A)` for air-core coils of `turns` turns and area `area_m2`
