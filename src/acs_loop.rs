@@ -922,7 +922,8 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
     /// momentum to hold (body, kg·m²/s; `None`: hold the momentum in force).
     #[inline(never)]
     fn laws(&mut self, det: &StepReport, dt: f32, now: &Epoch<Utc>) -> (Vec3, Option<Vec3>) {
-        let (omega, b_body_nt) = (det.omega_body_radps, det.b_body_nt);
+        // by reference: on the MSP430 each copy of an option is a `memcpy` call
+        let (omega, b_body_nt) = (det.omega_body_radps.as_ref(), det.b_body_nt.as_ref());
         let mut dipole = Vec3::zeros();
         let mut torque: Option<Vec3> = None;
         let mut h_target: Option<Vec3> = None;
@@ -933,11 +934,11 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
                         // the derivative form must not difference against a sample taken
                         // before a gyro outage: forget it while the gyro form runs
                         self.bdot.reset();
-                        bdot_from_rates(&self.config.bdot, &w, &b).unwrap_or_else(|_| Vec3::zeros())
+                        bdot_from_rates(&self.config.bdot, w, b).unwrap_or_else(|_| Vec3::zeros())
                     }
                     (None, Some(b)) => self
                         .bdot
-                        .update(&self.config.bdot, &b, dt)
+                        .update(&self.config.bdot, b, dt)
                         .ok()
                         .flatten()
                         .unwrap_or_else(Vec3::zeros),
@@ -950,39 +951,20 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
                         &self.config.sun_safe,
                         det.sun_body.as_ref(),
                         &self.config.sun_axis_body,
-                        &w,
+                        w,
                     )
                     .ok();
                 }
             }
             Mode::Slew => {
-                if let Some(p) = self.slew {
-                    // half a period of margin: boundaries fall on ticks
-                    let t = span_s(now, &p.started) + 0.5 * self.config.control_period_s;
-                    let mut t0 = 0.0f32;
-                    let mut h = p.h_base;
-                    let mut done = true;
-                    for (duration_s, h_body) in p.steps.iter() {
-                        if t < t0 + duration_s {
-                            // rotating: the body holds the step's momentum
-                            h = p.h_base - h_body;
-                            done = false;
-                            break;
-                        }
-                        if t < t0 + duration_s + self.config.slew_pause_s {
-                            // stopping before the next axis
-                            done = false;
-                            break;
-                        }
-                        t0 += duration_s + self.config.slew_pause_s;
-                    }
-                    if done {
-                        // then track the slew's target (set with it, `self.target`)
+                match self.slew.as_ref().map(|p| self.slew_momentum(p, now)) {
+                    Some(Some(h)) => h_target = Some(h),
+                    Some(None) => {
+                        // done: track the slew's target (set with it, `self.target`)
                         self.mode = Mode::Tracking;
                         self.slew = None;
-                    } else {
-                        h_target = Some(h);
                     }
+                    None => {}
                 }
             }
             Mode::Tracking => {}
@@ -990,15 +972,17 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         // the wheels' momentum in force, summed once for the tracking law and the integration
         let mut h_now: Option<Vec3> = None;
         if self.mode == Mode::Tracking {
-            if let (Some(q), Some(w), Some(target)) = (det.attitude, omega, self.target) {
+            if let (Some(q), Some(w), Some(target)) =
+                (det.attitude.as_ref(), omega, self.target.as_ref())
+            {
                 let h_w = self.wheels_body();
                 h_now = Some(h_w);
                 torque = tracking_torque(
                     &self.config.tracking,
                     &self.config.axes.inertia_body,
-                    &q,
-                    &w,
-                    &target,
+                    q,
+                    w,
+                    target,
                     &Vec3::zeros(),
                     &h_w,
                 )
@@ -1011,10 +995,31 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
                 let h_w = h_now.unwrap_or_else(|| self.wheels_body());
                 h_target = Some(crate::linalg::sub_scaled(&h_w, &tau, dt));
             } else if let Some(b) = b_body_nt {
-                dipole = dipole_for_torque(&tau, &b).unwrap_or_else(|_| Vec3::zeros());
+                dipole = dipole_for_torque(&tau, b).unwrap_or_else(|_| Vec3::zeros());
             }
         }
         (dipole, h_target)
+    }
+
+    /// The body momentum the wheels hold at `now` in the slew `p` (the step's momentum while
+    /// rotating, the momentum before the slew while stopping between axes), `None` when the
+    /// plan is done.
+    fn slew_momentum(&self, p: &SlewProgress, now: &Epoch<Utc>) -> Option<Vec3> {
+        // half a period of margin: boundaries fall on ticks
+        let t = span_s(now, &p.started) + 0.5 * self.config.control_period_s;
+        let mut t0 = 0.0f32;
+        for (duration_s, h_body) in p.steps.iter() {
+            if t < t0 + duration_s {
+                // rotating: the body holds the step's momentum
+                return Some(p.h_base - h_body);
+            }
+            if t < t0 + duration_s + self.config.slew_pause_s {
+                // stopping before the next axis
+                return Some(p.h_base);
+            }
+            t0 += duration_s + self.config.slew_pause_s;
+        }
+        None
     }
 
     /// Step phase 5c: wheel momentum (the target, or the momentum in force re-sent: it stops
