@@ -41,10 +41,10 @@ keeps only the ones a firmware refers to:
   (column order lets the evaluator run the recursion in n for one order m at a time with a
   handful of scalars, walking the tables with iterators: no index arithmetic, no scratch arrays.)
 - `FULL`: every interval of the file; `RECENT`: the last two (from the last definitive model
-  through the current model to its secular-variation prediction); `FLIGHT`: the intervals of
-  `RECENT` in tables truncated at degree FLIGHT_DEGREE (8, the on-board model: the same f32
-  values in the same column order for n <= 8, so the flight image carries 960 B instead of
-  2 340 B).
+  through the current model to its secular-variation prediction); `FLIGHT`: the last interval
+  (the current model to its prediction) in tables truncated at degree FLIGHT_DEGREE (8, the
+  on-board model: the same f32 values in the same column order for n <= 8, so the flight image
+  carries 640 B instead of 2 340 B).
 """
 
 import argparse
@@ -232,7 +232,8 @@ def generate(shc_path):
                   lambda n, m, a_=a_, o=o: dec(n, m, o) - dec(n, m, a_), degree)
 
     tables_of(list(range(len(epochs))), n_max)
-    tables_of(recent, FLIGHT_DEGREE)
+    current = list(range(len(epochs) - 2, len(epochs)))
+    tables_of(current, FLIGHT_DEGREE)
 
     def model(name, idx, doc, degree=n_max):
         first, last = epochs[idx[0]], epochs[idx[-1]]
@@ -265,8 +266,10 @@ def generate(shc_path):
     model("RECENT", recent,
           "The last definitive model, the current model and its secular-variation prediction, "
           "at full degree.")
-    model("FLIGHT", recent,
-          f"The flight tables: the epochs of [`RECENT`] truncated at degree {FLIGHT_DEGREE} "
+    model("FLIGHT", current,
+          f"The flight tables: the current model and its secular-variation prediction (the last "
+          f"interval of [`RECENT`]: a mission flown after its epoch needs no earlier one) "
+          f"truncated at degree {FLIGHT_DEGREE} "
           "(the flight image carries only what it evaluates; issue #17).",
           FLIGHT_DEGREE)
     return "\n".join(out) + "\n"

@@ -1,6 +1,6 @@
 //! The orbital elements the flight firmware and the benchmark use: Vallado's test satellite
 //! for the SGP4 benchmark cases, and the flight loop's orbit (within the on-board IGRF model's
-//! 2020–2030 range).
+//! 2025–2030 range, `acs::env::igrf::FLIGHT`).
 
 use acs::time::Epoch;
 
@@ -36,7 +36,7 @@ pub fn test_tle() -> Option<acs::tle::Tle> {
 
 /// The flight loop's element set: the `tracking` scenario's dawn-dusk orbit of the simulator
 /// (`acs::host::sim::scenarios::tracking`: 500 km, 97.4°, RAAN 90°, near-circular, B* = 0),
-/// epoch 2025-03-20 12:00 UTC, inside the on-board IGRF model (`RECENT`, 2020–2030). Built
+/// epoch 2025-03-20 12:00 UTC, inside the on-board IGRF model (`FLIGHT`, 2025–2030). Built
 /// field by field like [`test_tle`]; `firmware/bench-host` checks it against the text:
 /// ```text
 /// 1 90101U 25001A   25079.50000000  .00000000  00000-0  00000-0 0  9997

@@ -87,9 +87,11 @@
 //! linker drops the others, with no cargo feature to get wrong):
 //! - [`RECENT`]: 2020.0–2030.0 (DGRF-2020, IGRF-2025 and its SV; anchor 2025.0 and the changes
 //!   to 2020.0 and 2030.0): 3 tables, 2 340 bytes;
-//! - [`FLIGHT`]: the tables of [`RECENT`] truncated at degree 8, the on-board model (the same
-//!   f32 values for n ≤ 8, so bit-identical results; a degree above 8 is refused,
-//!   [`IgrfError::DegreeAboveModel`]): 3 tables, 960 bytes;
+//! - [`FLIGHT`]: the last interval of [`RECENT`] (2025.0–2030.0, the current model and its
+//!   prediction: a mission flown after 2025.0 needs no earlier date) truncated at degree 8, the
+//!   on-board model (the same f32 values for n ≤ 8, so bit-identical results; a degree above 8
+//!   is refused, [`IgrfError::DegreeAboveModel`], and so is a date before 2025.0): 2 tables,
+//!   640 bytes;
 //! - [`FULL`]: 1900.0–2030.0, 26 intervals: 13 anchors and 26 changes, 30 420 bytes;
 //! - both use 48 bytes of constants (Bonnet's recursion).
 //!

@@ -4288,54 +4288,6 @@ static EPOCH_2025_N8: [f32; 80] = [
     3.091756e-07, 1.2057848e-06, // g8,8 h8,8
 ];
 
-/// Schmidt-scaled change N Δg, N Δh (nT) from 2025.0 to 2020.0, column order, n <= 8.
-static DELTA_2025_2020_N8: [f32; 80] = [
-    -53.41, // g1,0
-    56.42, // g2,0
-    2.1, // g3,0
-    8.12, // g4,0
-    -1.52, // g5,0
-    1.67, // g6,0
-    0.94, // g7,0
-    0.56, // g8,0
-    -41.07, 107.85, // g1,1 h1,1
-    17.932499, 81.91446, // g2,1 h2,1
-    9.55301, -10.230702, // g3,1 h3,1
-    3.1211681, 1.1067972, // g4,1 h4,1
-    -1.4820616, 0.57320154, // g5,1 h5,1
-    0.38406348, -0.17893867, // g6,1 h6,1
-    0.051025204, -0.4913538, // g7,1 h7,1
-    -0.19333333, 0.205, // g8,1 h8,1
-    8.126205, 22.972767, // g2,2 h2,2
-    -0.9992297, 0.5422177, // g3,2 h3,2
-    2.2643914, -1.8261222, // g4,2 h4,2
-    0.032204702, -0.56797385, // g5,2 h5,2
-    -0.12904225, 0.28361693, // g6,2 h6,2
-    0.014658818, -0.0630072, // g7,2 h7,2
-    0.00019920476, -0.052390855, // g8,2 h8,2
-    3.805274, 0.37314877, // g3,3 h3,3
-    -0.56514394, -0.24402584, // g4,3 h4,3
-    -0.020219283, 0.01464155, // g5,3 h5,3
-    -0.03375571, 0.022197109, // g6,3 h6,3
-    -0.01036535, 0.012220202, // g7,3 h7,3
-    -0.0061055827, 0.0032612148, // g8,3 h8,3
-    0.24960223, 0.1767781, // g4,4 h4,4
-    -0.021739246, -0.025378104, // g5,4 h5,4
-    0.0050815223, -0.004829546, // g6,4 h6,4
-    0.0, 3.2897584e-05, // g7,4 h7,4
-    0.00023108673, -0.00065210776, // g8,4 h8,4
-    -0.005137355, -0.0052412897, // g5,5 h5,5
-    -0.00029099162, -0.00043424903, // g6,5 h6,5
-    0.0003472523, 0.00047610115, // g7,5 h7,5
-    -7.11157e-05, 9.833282e-05, // g8,5 h8,5
-    -0.00025846783, -0.00030757673, // g6,6 h6,6
-    7.150687e-05, -3.7455975e-05, // g7,6 h7,6
-    -8.467122e-06, 1.9779198e-05, // g8,6 h8,6
-    -2.1697466e-05, 1.4369183e-06, // g7,7 h7,7
-    2.597075e-07, -2.102394e-06, // g8,7 h8,7
-    -4.142953e-07, -3.091756e-07, // g8,8 h8,8
-];
-
 /// Schmidt-scaled change N Δg, N Δh (nT) from 2025.0 to 2030.0, column order, n <= 8.
 static DELTA_2025_2030_N8: [f32; 80] = [
     63.0, // g1,0
@@ -4436,16 +4388,15 @@ pub static RECENT: Model = Model {
     ],
 };
 
-/// The flight tables: the epochs of [`RECENT`] truncated at degree 8 (the flight image carries only what it evaluates; issue #17).
+/// The flight tables: the current model and its secular-variation prediction (the last interval of [`RECENT`]: a mission flown after its epoch needs no earlier one) truncated at degree 8 (the flight image carries only what it evaluates; issue #17).
 ///
-/// IGRF 14: epochs 2020.0 to 2030.0 every 5 years, degree 8 (3 tables of 80 f32, 960 bytes of flash, plus 48 bytes of constants shared by all models).
+/// IGRF 14: epochs 2025.0 to 2030.0 every 5 years, degree 8 (2 tables of 80 f32, 640 bytes of flash, plus 48 bytes of constants shared by all models).
 pub static FLIGHT: Model = Model {
     name: "IGRF-14",
-    first_year: 2020,
+    first_year: 2025,
     step_years: 5,
     degree: 8,
     intervals: &[
-        Interval { anchor: &EPOCH_2025_N8, delta: &DELTA_2025_2020_N8, from_end: true },
         Interval { anchor: &EPOCH_2025_N8, delta: &DELTA_2025_2030_N8, from_end: false },
     ],
 };
