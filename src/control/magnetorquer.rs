@@ -147,7 +147,7 @@ pub fn saturate_dipole(
     ];
     let mut scale = 1.0f32;
     for (m, max) in pairs {
-        if !(max > 0.0) {
+        if max <= 0.0 {
             return Err(MagnetorquerError::InvalidParameter);
         }
         let size = fmath::abs(m);
