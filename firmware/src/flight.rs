@@ -59,7 +59,7 @@ pub const PERIOD: TimeSpan = TimeSpan::from_whole_seconds(CONTROL_PERIOD_S as i3
 /// and out of line: the loop is not returned by value, and the element set's temporaries live
 /// in this frame only while the loop is built (not under the steps).
 #[inline(never)]
-#[optimize(size)]
+#[cfg_attr(target_arch = "msp430", optimize(size))]
 pub fn init_loop(slot: &mut Option<FlightLoop>) {
     *slot = flight_orbit().and_then(|orbit| FlightLoop::new(&CONFIG, orbit).ok());
 }
@@ -84,7 +84,7 @@ pub fn flight_orbit() -> Option<Sgp4> {
 /// Takes a pending uplink command, if any, and applies it to the loop or the clock
 /// (`attitude`: the last filtered attitude, which a slew is planned from).
 #[inline(never)]
-#[optimize(size)]
+#[cfg_attr(target_arch = "msp430", optimize(size))]
 pub fn take_uplink(acs: &mut FlightLoop, clock: &mut Epoch<Utc>, attitude: Option<&Quaternion>) {
     // SAFETY: single-threaded firmware, no interrupt touches the mailbox; volatile: written
     // from outside the program.
