@@ -1,0 +1,24 @@
+//! Simulator speed: one orbit (5 676 control periods) of the `tracking` scenario, the flight
+//! loop flying the simulated tiles.
+//!
+//! `cargo bench --bench sim`; issue #18 keeps the simulator within 3× of its speed before the
+//! realistic truth.
+
+use std::hint::black_box;
+
+use criterion::{criterion_group, criterion_main, Criterion};
+
+use acs::host::sim::scenarios;
+
+fn one_orbit_of_tracking(c: &mut Criterion) {
+    let scenario = scenarios::tracking(None).expect("scenario");
+    let mut group = c.benchmark_group("sim");
+    group.sample_size(20);
+    group.bench_function("tracking one orbit", |b| {
+        b.iter(|| black_box(scenario.run().expect("run")).len())
+    });
+    group.finish();
+}
+
+criterion_group!(benches, one_orbit_of_tracking);
+criterion_main!(benches);
