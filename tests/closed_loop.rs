@@ -7,6 +7,7 @@
 
 use acs::acs_loop::Mode;
 use acs::flight::{FlightLoop, CONFIG};
+use acs::host::sim::realistic::TruthLevel;
 use acs::host::sim::scenarios;
 use acs::host::sim::{angle_between_deg, Sample};
 
@@ -57,7 +58,7 @@ fn no_nan(samples: &[Sample]) {
 
 #[test]
 fn detumble_within_three_orbits() {
-    let sc = scenarios::detumble().unwrap();
+    let sc = scenarios::detumble().unwrap().with_truth(TruthLevel::Ideal);
     let samples = sc.run().unwrap();
     report("detumble", &samples);
     no_nan(&samples);
@@ -98,7 +99,11 @@ fn slew_end_error(samples: &[Sample]) -> (f64, f64) {
 
 #[test]
 fn thesis_slew_ideal_sensors() {
-    let samples = scenarios::thesis_slew(false).unwrap().run().unwrap();
+    let samples = scenarios::thesis_slew(false)
+        .unwrap()
+        .with_truth(TruthLevel::Ideal)
+        .run()
+        .unwrap();
     report("thesis-slew", &samples);
     no_nan(&samples);
     let (open_loop, closed) = slew_end_error(&samples);
@@ -114,7 +119,11 @@ fn thesis_slew_ideal_sensors() {
 
 #[test]
 fn thesis_slew_one_percent_noise() {
-    let samples = scenarios::thesis_slew(true).unwrap().run().unwrap();
+    let samples = scenarios::thesis_slew(true)
+        .unwrap()
+        .with_truth(TruthLevel::Ideal)
+        .run()
+        .unwrap();
     report("thesis-slew-noisy", &samples);
     no_nan(&samples);
     let (open_loop, closed) = slew_end_error(&samples);
@@ -191,7 +200,9 @@ fn tracking_with_wheels_and_noisy_tiles() {
     use acs::env::igrf::{coefficient_count, Degree, FULL};
     use acs::flight::TILES;
     const REQUIREMENT_DEG: f64 = 0.1;
-    let scenario = scenarios::tracking(None).unwrap();
+    let scenario = scenarios::tracking(None)
+        .unwrap()
+        .with_truth(TruthLevel::Ideal);
     let samples = scenario.run().unwrap();
     report("tracking", &samples);
     no_nan(&samples);
@@ -240,7 +251,7 @@ fn tracking_with_wheels_and_noisy_tiles() {
 /// open-loop plan completes within the commanded time and tracking then converges.
 #[test]
 fn flight_slew_completes_and_converges() {
-    let scenario = scenarios::slew().unwrap();
+    let scenario = scenarios::slew().unwrap().with_truth(TruthLevel::Ideal);
     let samples = scenario.run().unwrap();
     report("slew", &samples);
     no_nan(&samples);
@@ -264,7 +275,11 @@ fn flight_slew_completes_and_converges() {
 
 #[test]
 fn failed_tile_still_converges() {
-    let samples = scenarios::tracking(Some(2)).unwrap().run().unwrap();
+    let samples = scenarios::tracking(Some(2))
+        .unwrap()
+        .with_truth(TruthLevel::Ideal)
+        .run()
+        .unwrap();
     report("failed-tile", &samples);
     no_nan(&samples);
     let last = samples.last().unwrap();
@@ -284,7 +299,11 @@ fn failed_tile_still_converges() {
 
 #[test]
 fn sun_safe_through_a_whole_eclipse() {
-    let samples = scenarios::sun_safe().unwrap().run().unwrap();
+    let samples = scenarios::sun_safe()
+        .unwrap()
+        .with_truth(TruthLevel::Ideal)
+        .run()
+        .unwrap();
     report("sun-safe", &samples);
     no_nan(&samples);
     let dark: Vec<&Sample> = samples.iter().filter(|s| s.sun_fraction == 0.0).collect();
@@ -339,7 +358,9 @@ fn loop_state_size() {
 
 /// The `tracking` scenario, its TLE and the flight SGP4 of it.
 fn tracking_setup() -> (scenarios::Scenario, acs::tle::Tle, acs::orbit::sgp4::Sgp4) {
-    let scenario = scenarios::tracking(None).unwrap();
+    let scenario = scenarios::tracking(None)
+        .unwrap()
+        .with_truth(TruthLevel::Ideal);
     let tle = acs::tle::Tle::parse(&scenario.sim.tle.0, &scenario.sim.tle.1).unwrap();
     let orbit = acs::orbit::sgp4::Sgp4::new(&tle, scenario.gravity).unwrap();
     (scenario, tle, orbit)

@@ -64,6 +64,7 @@ use crate::orbit::sgp4::{Gravity, Sgp4};
 use crate::tiles::{Tiles, CUBE_THESIS};
 use crate::time::{Calendar, Epoch, Utc};
 
+use super::realistic::{Realism, TruthLevel};
 use super::{run, Disturbances, Sample, SensorNoise, SimConfig, SimError, Simulator};
 
 /// The thesis TLE (DTUSAT, note 000 §3.3 and §4.2).
@@ -213,6 +214,24 @@ impl Scenario {
         let tle = crate::tle::Tle::parse(&self.sim.tle.0, &self.sim.tle.1)
             .map_err(|e| SimError::Tle(e.to_string()))?;
         Sgp4::new(&tle, self.gravity).map_err(|e| SimError::Model(format!("{e:?}")))
+    }
+
+    /// The scenario flown against `truth` (every constructor gives the realistic truth).
+    pub fn with_truth(mut self, truth: TruthLevel) -> Self {
+        self.sim.realism = match truth {
+            TruthLevel::Ideal => None,
+            TruthLevel::Realistic => Some(Realism::DEFAULT),
+        };
+        self
+    }
+
+    /// The truth the scenario flies.
+    pub fn truth(&self) -> TruthLevel {
+        if self.sim.realism.is_some() {
+            TruthLevel::Realistic
+        } else {
+            TruthLevel::Ideal
+        }
     }
 
     /// The simulator in the scenario's initial state.
@@ -371,6 +390,7 @@ pub fn thesis_slew(noisy: bool) -> Result<Scenario, SimError> {
         failures: vec![],
         substep_s: 0.05,
         seed: 7,
+        realism: Some(Realism::DEFAULT),
     };
     Ok(Scenario {
         name: if noisy {
@@ -430,6 +450,7 @@ fn flight_truth(
         failures,
         substep_s: 0.1,
         seed,
+        realism: Some(Realism::DEFAULT),
     })
 }
 
@@ -592,7 +613,12 @@ pub fn sun_safe() -> Result<Scenario, SimError> {
     })
 }
 
-/// All built-in scenarios by name.
+/// A built-in scenario by name, flown against `truth`.
+pub fn by_name_with(name: &str, truth: TruthLevel) -> Option<Result<Scenario, SimError>> {
+    by_name(name).map(|s| s.map(|s| s.with_truth(truth)))
+}
+
+/// All built-in scenarios by name (the realistic truth).
 pub fn by_name(name: &str) -> Option<Result<Scenario, SimError>> {
     Some(match name {
         "thesis-slew" => thesis_slew(false),
