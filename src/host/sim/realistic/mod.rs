@@ -82,7 +82,7 @@ impl SolarActivity {
 /// | parameter | value | source |
 /// |---|---|---|
 /// | unmodelled field RMS over the orbit's sphere | 100 nT (vector magnitude) | issue #18: the typical IGRF residual in LEO (external and crustal fields, secular-variation forecast error) |
-/// | model | potential field of 48 random Earth-fixed dipoles at 0.6 R_E from the centre | a curl- and divergence-free field, smooth along the orbit (half-correlation ≈ 3 min, measured in the tests) |
+/// | model | potential field of 48 random Earth-fixed dipoles at 0.6 R_E from the centre | a curl- and divergence-free field, smooth along the orbit: its autocorrelation falls to one half in 280 s, RMS 104 nT along a day of the `tracking` orbit (`tests/truth.rs`) |
 #[derive(Clone, Debug, PartialEq)]
 pub struct FieldTruth {
     /// RMS of the unmodelled field's magnitude over the sphere of the orbit's initial radius, nT.
@@ -158,7 +158,7 @@ impl SpacecraftMagnetics {
 /// |---|---|---|
 /// | field of view | 70° half angle | NFSS-411 (140°); NCSS-SA05 (PSD) 114° |
 /// | FOV edge | the spot (0.5° angular radius) is clipped by the detector's edge: dimmer, centroid pulled inward | geometry; spot radius assumed (pinhole ⌀ / height) |
-/// | detection threshold | 0.35 × the normal-incidence solar signal | assumption: above the largest albedo signal of a 0.30 Earth at 500 km (≈ 0.25), so albedo alone is never taken for the Sun |
+/// | detection threshold | 0.35 × the normal-incidence solar signal | assumption: above the largest albedo signal of a 0.30 Earth at 500 km (0.257 on a nadir-facing sensor under a zenith Sun), so albedo alone is never taken for the Sun |
 /// | noise | 1σ 0.02° per angle at normal incidence, × (normal-incidence signal / signal): 1/cos θ | seed 004 §2.7 (pinhole, ±0.026° at 3σ on a CMOS) rounded up for a PSD's analogue chain; the signal falls as cos θ |
 /// | calibration residual | 0.1° RMS per angle, a smooth function of the angles drawn per sensor | NFSS-411 (< 0.1° RMS over the field of view); NCSS-SA05 quotes < 0.5° RMS |
 /// | misalignment | 1σ 0.1° about each tile axis | assumption: tile on structure and sensor on tile |
