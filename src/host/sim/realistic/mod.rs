@@ -435,3 +435,121 @@ impl Default for Realism {
         Self::DEFAULT
     }
 }
+
+/// One group of effects of the realistic truth, to measure its share of a closed-loop figure
+/// ([`Realism::without`], [`Realism::only`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Effect {
+    /// The unmodelled part of the field.
+    UnmodelledField,
+    /// The spacecraft's own fields at the magnetometers.
+    SpacecraftField,
+    /// Earth albedo on the Sun sensors.
+    Albedo,
+    /// The Sun sensors' noise, calibration residual and misalignment (not their field of view,
+    /// spot and threshold).
+    SunSensorErrors,
+    /// The magnetometers' scale factor, non-orthogonality, misalignment, offset and noise.
+    MagnetometerErrors,
+    /// The gyros' noise, biases, scale factor and misalignment.
+    GyroErrors,
+    /// The wheels' speed loop, torque limit, friction and quanta.
+    Wheel,
+    /// The coils' time constant, quantum, scale factor and current limit.
+    Coil,
+    /// The read latency and the actuation instant.
+    Timing,
+}
+
+impl Effect {
+    /// Every group.
+    pub const ALL: [Self; 9] = [
+        Self::UnmodelledField,
+        Self::SpacecraftField,
+        Self::Albedo,
+        Self::SunSensorErrors,
+        Self::MagnetometerErrors,
+        Self::GyroErrors,
+        Self::Wheel,
+        Self::Coil,
+        Self::Timing,
+    ];
+
+    /// A short name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::UnmodelledField => "unmodelled field",
+            Self::SpacecraftField => "spacecraft field",
+            Self::Albedo => "albedo",
+            Self::SunSensorErrors => "Sun sensor errors",
+            Self::MagnetometerErrors => "magnetometer errors",
+            Self::GyroErrors => "gyro errors",
+            Self::Wheel => "wheel dynamics",
+            Self::Coil => "coil dynamics",
+            Self::Timing => "step timing",
+        }
+    }
+}
+
+impl Realism {
+    /// These tables with `effect` removed (its parameters zero; the wheels without limits and
+    /// with an instantaneous speed loop; the coils instantaneous and unlimited).
+    pub fn without(&self, effect: Effect) -> Self {
+        let mut r = self.clone();
+        match effect {
+            Effect::UnmodelledField => r.field.unmodelled_rms_nt = 0.0,
+            Effect::SpacecraftField => r.magnetometer.contamination = false,
+            Effect::Albedo => r.sun_sensor.albedo = 0.0,
+            Effect::SunSensorErrors => {
+                r.sun_sensor.noise_rad = 0.0;
+                r.sun_sensor.calibration_rad = 0.0;
+                r.sun_sensor.misalignment_rad = 0.0;
+            }
+            Effect::MagnetometerErrors => {
+                let m = &mut r.magnetometer;
+                m.scale_factor = 0.0;
+                m.non_orthogonality_rad = 0.0;
+                m.misalignment_rad = 0.0;
+                m.offset_nt = 0.0;
+                m.noise_nt = 0.0;
+            }
+            Effect::GyroErrors => {
+                let g = &mut r.gyro;
+                g.arw_rad_per_sqrt_s = 0.0;
+                g.bias_instability_radps = 0.0;
+                g.turn_on_bias_radps = 0.0;
+                g.scale_factor = 0.0;
+                g.misalignment_rad = 0.0;
+            }
+            Effect::Wheel => {
+                let w = &mut r.wheel;
+                w.time_constant_s = 0.0;
+                w.torque_limit_nm = f64::INFINITY;
+                w.coulomb_nm = 0.0;
+                w.viscous_nm_per_radps = 0.0;
+                w.setpoint_lsb_radps = 0.0;
+                w.readback_lsb_radps = 0.0;
+            }
+            Effect::Coil => {
+                let c = &mut r.coil;
+                c.time_constant_s = 0.0;
+                c.lsb_am2 = 0.0;
+                c.scale_factor = 0.0;
+                c.current_limit_a = f64::INFINITY;
+            }
+            Effect::Timing => {
+                r.timing.read_s = 0.0;
+                r.timing.actuate_s = 0.0;
+            }
+        }
+        r
+    }
+
+    /// These tables with every effect but `effect` removed.
+    pub fn only(&self, effect: Effect) -> Self {
+        Effect::ALL
+            .iter()
+            .filter(|e| **e != effect)
+            .fold(self.clone(), |r, e| r.without(*e))
+    }
+}
