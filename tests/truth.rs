@@ -753,3 +753,39 @@ fn solar_activity() {
             < 1e-12
     );
 }
+
+/// The processor-in-the-loop run's host side (`acs sim --pil`: the host loop steps through the
+/// recorder that fills the image's mailboxes) flies the realistic truth exactly as `acs sim`
+/// does: the same truth at every step, readings that fit the mailboxes (one read per device and
+/// step). The image then gets these readings; nothing in the truth depends on it.
+#[test]
+fn the_pil_host_side_flies_the_same_realistic_truth() {
+    use acs::flight::{FlightLoop, CONFIG, CONTROL_PERIOD_S};
+    use acs::host::sim::pil::bus::{Commands, Recorder};
+    let sc = tracking(|_| {});
+    let reference = sc.run().unwrap();
+    let mut sim = sc.simulator().unwrap();
+    let mut acs = FlightLoop::new(&CONFIG, sc.orbit().unwrap()).unwrap();
+    let mut commands = Commands::default();
+    let mut pending = sc.commands.clone();
+    let mut last = None;
+    for expected in reference.iter().take(600) {
+        let t = sim.truth().t_s;
+        let now = sim.epoch_at(t);
+        pending.retain(|(at, c)| {
+            if *at <= t {
+                let _ = acs.command(*c, last.as_ref(), now);
+                false
+            } else {
+                true
+            }
+        });
+        let mut recorder = Recorder::new(&mut sim, &mut commands);
+        let report = acs.step(&mut recorder, now, CONTROL_PERIOD_S);
+        recorder.finish().expect("the readings fit the mailboxes");
+        last = report.attitude;
+        assert_eq!(sim.truth().omega, expected.omega_true, "at {t}");
+        assert_eq!(report.attitude, expected.report.attitude, "at {t}");
+        sim.advance(sc.dt_s).unwrap();
+    }
+}

@@ -1,29 +1,55 @@
 //! The host simulator: f64 truth dynamics, environment and simulated tiles that fly the flight
 //! loop ([`crate::acs_loop`]) unchanged, through the same [`TileBus`] trait as the hardware.
 //!
+//! Two truths ([`realistic::TruthLevel`], `acs sim SCENARIO --truth ideal|realistic`):
+//! - the **realistic** truth (the default, [`realistic`]): a field that is not the flight model
+//!   (IGRF-14 at degree 13 plus a 100 nT RMS unmodelled field), the spacecraft's own fields at
+//!   the magnetometers, Earth albedo, and sensors and actuators as real hardware behaves, each
+//!   effect a parameter of one table per device (`docs/simulator.md` lists them with values and
+//!   sources);
+//! - the **ideal** truth (`SimConfig::realism` = `None`): the simulator as it was before issue
+//!   #18, bit for bit: the truth field is IGRF itself, the sensors have the scenario's
+//!   [`SensorNoise`], wheels slew to their command at the torque limit, coils take their command
+//!   at once.
+//!
 //! # Truth models
 //! | what | model |
 //! |---|---|
 //! | orbit | the `sgp4` crate (f64, Vallado's SGP4, WGS-72), independent of the flight SGP4 |
 //! | attitude | `q̇ = ½ q ⊗ (0, ω)` (scalar-first, reference TEME → body, [`crate::attitude`]) |
 //! | rigid body + wheels | `I ω̇ = τ − ω × (I ω + h) − ḣ`, RK4 at [`SimConfig::substep_s`] |
-//! | wheels | each wheel slews to its commanded momentum at up to `wheel_max_torque_nm` |
-//! | magnetic torque | `m × B`, B from IGRF-14 (degree 13) in TEME through GMST |
+//! | wheels | ideal: each wheel slews to its commanded momentum at up to `wheel_max_torque_nm`; realistic: [`realistic::WheelModel`] |
+//! | coils | ideal: the commanded dipole; realistic: [`realistic::CoilModel`], commanded at the step's actuation instant |
+//! | magnetic torque | `m × B`, B the truth field in TEME (IGRF-14 degree 13 through GMST; plus the unmodelled field in the realistic truth) |
 //! | gravity gradient | `3μ/r³ ô × (I ô)` (seed 004 eq. A.13) |
-//! | aerodynamic | `½ ρ C_d A v² (c_p × v̂)`, exponential atmosphere |
+//! | aerodynamic | `½ ρ C_d A v² (c_p × v̂)`, exponential atmosphere (60 km scale height; 4.38e-12 kg/m³ at 500 km, seed 004's solar maximum; realistic: [`realistic::SolarActivity`], default the same maximum) |
 //! | solar pressure | `p_R A (1+q) (c_p × ŝ)`, off in the umbra |
 //! | residual dipole | `m_res × B` |
 //! Defaults follow seed 004 (3U: `C_d = 2.5`, 1.5× the largest face, 72.8 mm lever arm,
 //! `m_res = 4e-3 A·m²`).
 //!
-//! The Sun and IGRF truth use the crate's own f32 models (15″ and 1 nT, far below what the
-//! attitude tests resolve), evaluated once per control period.
+//! The Sun and the IGRF part of the field use the crate's own f32 models, evaluated once per
+//! control period, in both truths: the precise Sun is within 2.22″ (RMS 0.82″) of DE421 and
+//! IGRF-14 within 0.2 nT of ppigrf (README, "Sun direction" and "Geomagnetic field"), far below
+//! what the attitude figures resolve; the orbit is the independent `sgp4` crate (a port of
+//! Vallado's f64 SGP4), which reproduces the reference ephemerides of `../shared/ref/sgp4` to
+//! 2e-6 m (README, "SGP4"). What the
+//! realistic truth makes independent of the flight models is what they leave out: the field
+//! beyond degree 8 and beyond IGRF, albedo, the spacecraft's own fields, the devices' errors.
 //!
 //! # Simulated tiles
-//! Each tile's sensors see the truth through its orientation: Sun angles (only within
-//! `sun_fov_rad` of the normal and outside the umbra), magnetometer, gyro, with Gaussian noise,
-//! constant bias, int16 quantisation in the units of note 000 §1.3, random dropouts and failures
-//! from a given time. Random numbers come from a seeded generator: runs are reproducible.
+//! Each tile's sensors see the truth through its orientation: Sun angles, magnetometer, gyro,
+//! int16 quantisation in the units of note 000 §1.3, random dropouts and failures from a given
+//! time. Ideal truth: Sun angles only within `sun_fov_rad` of the normal and outside the umbra,
+//! Gaussian noise and constant biases ([`SensorNoise`]), from a seeded sequential generator.
+//! Realistic truth: the device models of [`realistic::devices`], sampled at the step's read
+//! instant, with counter-based random draws (a pure function of the seed, the device and the
+//! step: the readings do not depend on which loop reads them or in what order). Runs are
+//! reproducible.
+//!
+//! # Wheel momentum read-back
+//! [`Simulator::wheel_momentum_nms`] is the simulator side of the HAL read-back issue #18 asks
+//! for: once [`TileBus`] has `read_wheel_momentum`, the simulator implements it by that call.
 
 pub mod pil;
 pub mod plan_flight;

@@ -4,7 +4,10 @@
 //!
 //! Each scenario is plain data: the satellite the loop flies, the truth configuration, the
 //! initial state, the ground commands and the target attitude the pointing error is measured
-//! against. [`Scenario::run`] builds the loop, [`Scenario::orbit`] its element set,
+//! against. Every constructor gives the realistic truth ([`super::realistic`]);
+//! [`Scenario::with_truth`] switches to the ideal truth, which for the thesis scenarios is the
+//! thesis's own noise model (ideal sensors, or about 1 % noise: `acs demo` compares with the
+//! thesis's figures in it). [`Scenario::run`] builds the loop, [`Scenario::orbit`] its element set,
 //! [`Scenario::simulator`] the truth, and [`Scenario::fly`] flies any loop over the scenario's
 //! configuration (the pieces another way of running the loop, e.g. on the target, reuses).
 //!
@@ -20,8 +23,10 @@
 //! | truth item | value | source |
 //! |---|---|---|
 //! | orbit, field, Sun, sensors | the simulator's own f64 orbit, IGRF-14 at degree 13, precise Sun, sensor models | [`super`] |
-//! | wheel torque limit | 1e-3 N·m | issue #8's scenarios (unchanged) |
-//! | Sun-sensor field of view | 80° half angle | issue #8's scenarios (unchanged) |
+//! | truth | realistic ([`super::realistic::Realism::DEFAULT`]) unless [`Scenario::with_truth`] says ideal | issue #18 |
+//! | wheel torque limit (ideal truth) | 1e-3 N·m | issue #8's scenarios (unchanged; the realistic truth has its wheel class's) |
+//! | Sun-sensor field of view (ideal truth) | 80° half angle | issue #8's scenarios (unchanged; the realistic truth has its sensor class's) |
+//! | sensor noise (ideal truth) | per scenario ([`SensorNoise`]) | issue #8's scenarios (unchanged; the realistic truth has its device tables) |
 //! | disturbances | `C_d` 2.5, 0.051 m², centre of pressure (20, 0, 70) mm, residual dipole 4e-3 A·m², gravity gradient, `q` 0.6 | seed 004 §2.1 ([`Disturbances::seed004`]) |
 //!
 //! The disturbances: note 000 gives no dimensions, mass, surface or residual dipole for the
