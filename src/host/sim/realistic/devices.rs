@@ -39,7 +39,8 @@
 //!
 //! # Wheel
 //! `ḣ = sat(k (h_set − h), ±τ_max) − τ_c sgn ω − c ω`, `k = 1/τ_loop`, `h = I_w ω`, `|ω| ≤
-//! ω_max`, stepped at ≤ 20 ms; the body receives `−ḣ`. The set-point is rounded to the
+//! ω_max`: solved exactly where it is linear (within the torque limit, one direction of
+//! rotation), stepped at ≤ 20 ms elsewhere; the body receives `−ḣ`. The set-point is rounded to the
 //! set-point quantum; the read-back is `h` rounded to the read-back quantum. A wheel whose
 //! motor torque cannot beat its Coulomb friction stays stopped.
 //!
@@ -376,43 +377,81 @@ impl WheelState {
     }
 
     /// Advances the wheel by `dt_s` toward its set-point; returns the momentum change.
+    ///
+    /// Where the motor is within its torque limit at both ends of an interval and the rotor
+    /// keeps its direction, the loop is linear (`ḣ = a − b h`) and the interval is taken in one
+    /// exact step (the error decays monotonically, so it stays within the limit in between);
+    /// elsewhere (torque-limited, through zero speed) the wheel is stepped at ≤ 20 ms.
     pub fn advance(&mut self, model: &WheelModel, dt_s: f64) -> f64 {
         let start = self.h_nms;
-        let n = (dt_s / 0.02).ceil().max(1.0) as usize;
-        let h = dt_s / n as f64;
-        let h_max = model.speed_limit_radps * self.inertia_kgm2;
-        for _ in 0..n {
-            let error = self.setpoint_nms - self.h_nms;
-            let motor = if model.time_constant_s > 0.0 {
-                (error / model.time_constant_s).clamp(-model.torque_limit_nm, model.torque_limit_nm)
-            } else {
-                (error / h).clamp(-model.torque_limit_nm, model.torque_limit_nm)
-            };
-            let omega = self.h_nms / self.inertia_kgm2;
-            let before = self.h_nms;
-            let next = if omega == 0.0 {
-                // static: the motor must beat the Coulomb friction
-                if motor.abs() <= model.coulomb_nm {
-                    0.0
-                } else {
-                    before + (motor - model.coulomb_nm * motor.signum()) * h
-                }
-            } else {
-                let friction =
-                    model.coulomb_nm * omega.signum() + model.viscous_nm_per_radps * omega;
-                let n = before + (motor - friction) * h;
-                if n.signum() != before.signum() && motor.abs() <= model.coulomb_nm {
-                    // the friction stops it at zero
-                    0.0
-                } else {
-                    n
-                }
-            };
-            self.h_nms = next.clamp(-h_max, h_max);
-            self.angle_rad += 0.5 * (before + self.h_nms) / self.inertia_kgm2 * h;
+        let mut remaining = dt_s;
+        while remaining > 1e-12 {
+            if let Some(angle) = self.linear_step(model, remaining) {
+                self.angle_rad += angle;
+                break;
+            }
+            let h = remaining.min(0.02);
+            self.euler_step(model, h);
+            remaining -= h;
         }
         self.angle_rad = self.angle_rad.rem_euclid(2.0 * PI);
         self.h_nms - start
+    }
+
+    /// The exact step of `t` seconds of the linear regime, if the wheel stays in it: returns the
+    /// rotor's turn, rad (the momentum updated).
+    fn linear_step(&mut self, model: &WheelModel, t: f64) -> Option<f64> {
+        let tau = model.time_constant_s;
+        if tau <= 0.0 || self.h_nms == 0.0 {
+            return None;
+        }
+        let limit = model.torque_limit_nm;
+        let within = |h: f64| ((self.setpoint_nms - h) / tau).abs() <= limit;
+        let sign = self.h_nms.signum();
+        // ḣ = (s − h)/τ − τ_c sgn − c h / I = a − b h
+        let b = 1.0 / tau + model.viscous_nm_per_radps / self.inertia_kgm2;
+        let a = self.setpoint_nms / tau - model.coulomb_nm * sign;
+        let end_of = |t: f64| a / b + (self.h_nms - a / b) * (-b * t).exp();
+        let end = end_of(t);
+        let h_max = model.speed_limit_radps * self.inertia_kgm2;
+        if !within(self.h_nms) || !within(end) || end.signum() != sign || end.abs() > h_max {
+            return None;
+        }
+        let integral = a / b * t + (self.h_nms - a / b) * (1.0 - (-b * t).exp()) / b;
+        self.h_nms = end;
+        Some(integral / self.inertia_kgm2)
+    }
+
+    /// One explicit step of `h` seconds (torque-limited, or through zero speed).
+    fn euler_step(&mut self, model: &WheelModel, h: f64) {
+        let error = self.setpoint_nms - self.h_nms;
+        let motor = if model.time_constant_s > 0.0 {
+            (error / model.time_constant_s).clamp(-model.torque_limit_nm, model.torque_limit_nm)
+        } else {
+            (error / h).clamp(-model.torque_limit_nm, model.torque_limit_nm)
+        };
+        let omega = self.h_nms / self.inertia_kgm2;
+        let before = self.h_nms;
+        let next = if omega == 0.0 {
+            // static: the motor must beat the Coulomb friction
+            if motor.abs() <= model.coulomb_nm {
+                0.0
+            } else {
+                before + (motor - model.coulomb_nm * motor.signum()) * h
+            }
+        } else {
+            let friction = model.coulomb_nm * omega.signum() + model.viscous_nm_per_radps * omega;
+            let n = before + (motor - friction) * h;
+            if n.signum() != before.signum() && motor.abs() <= model.coulomb_nm {
+                // the friction stops it at zero
+                0.0
+            } else {
+                n
+            }
+        };
+        let h_max = model.speed_limit_radps * self.inertia_kgm2;
+        self.h_nms = next.clamp(-h_max, h_max);
+        self.angle_rad += 0.5 * (before + self.h_nms) / self.inertia_kgm2 * h;
     }
 }
 

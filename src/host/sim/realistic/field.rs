@@ -362,13 +362,15 @@ pub fn albedo_cap(
     let cos_rho = (1.0 - (EARTH_RADIUS_M / r).powi(2)).sqrt();
     let d_omega = 2.0 * PI * (1.0 - cos_rho) / (rings * sectors) as f64;
     let position = nadir * -r;
+    let azimuths: Vec<(f64, f64)> = (0..sectors)
+        .map(|j| (2.0 * PI * (j as f64 + 0.5) / sectors as f64).sin_cos())
+        .collect();
     for i in 0..rings {
         // rings of equal solid angle; the point at the ring's middle in solid angle
         let cos_eta = 1.0 - (i as f64 + 0.5) / rings as f64 * (1.0 - cos_rho);
         let sin_eta = (1.0 - cos_eta * cos_eta).max(0.0).sqrt();
-        for j in 0..sectors {
-            let psi = 2.0 * PI * (j as f64 + 0.5) / sectors as f64;
-            let d = nadir * cos_eta + (e1 * psi.cos() + e2 * psi.sin()) * sin_eta;
+        for (sin_psi, cos_psi) in &azimuths {
+            let d = nadir * cos_eta + (e1 * *cos_psi + e2 * *sin_psi) * sin_eta;
             // nearest intersection with the sphere
             let b = position.dot(&d);
             let disc = b * b - (position.norm_squared() - EARTH_RADIUS_M * EARTH_RADIUS_M);
