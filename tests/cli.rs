@@ -182,6 +182,37 @@ fn sim_plan_flight_wheels_reports_planned_and_flown_errors() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// `acs sim SCENARIO --truth ideal|realistic`: realistic by default, named on stdout; the ideal
+/// truth is a different run (the realistic truth's albedo, fields and devices change the
+/// figures); another value is a usage error.
+#[test]
+fn sim_truth_option() {
+    let run = |extra: &[&str]| {
+        let dir = std::env::temp_dir().join(format!(
+            "acs-cli-truth-{}-{}",
+            std::process::id(),
+            extra.join("")
+        ));
+        let mut args = vec!["sim", "slew", "--out", dir.to_str().unwrap()];
+        args.extend_from_slice(extra);
+        let out = acs(&args);
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        let csv = std::fs::read_to_string(dir.join("run.csv")).unwrap();
+        let _ = std::fs::remove_dir_all(&dir);
+        (text(&out.stdout), csv)
+    };
+    let (default, default_csv) = run(&[]);
+    let (realistic, realistic_csv) = run(&["--truth", "realistic"]);
+    let (ideal, ideal_csv) = run(&["--truth", "ideal"]);
+    assert!(default.contains("truth: realistic"), "{default}");
+    assert!(realistic.contains("truth: realistic"));
+    assert!(ideal.contains("truth: ideal"), "{ideal}");
+    assert_eq!(default_csv, realistic_csv);
+    assert_ne!(default_csv, ideal_csv);
+    let out = acs(&["sim", "slew", "--truth", "perfect"]);
+    assert_eq!(out.status.code(), Some(2), "{}", text(&out.stderr));
+}
+
 /// `acs sim --pil` without a flight image, or with a file that is not an MSP430 image, is
 /// invalid input (exit 2) naming the file; the run itself needs mspdebug (`firmware/pil`).
 #[test]

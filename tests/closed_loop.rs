@@ -1,27 +1,40 @@
 //! Closed-loop results (README "Closed loop"), with fixed random seeds: the flight loop flying
-//! simulated tiles. `detumble`, `sun-safe`, `tracking` and `failed-tile` fly the flight
+//! simulated tiles. `detumble`, `sun-safe`, `tracking`, `failed-tile` and `slew` fly the flight
 //! configuration (`acs::flight::CONFIG` through `FlightLoop`, what the firmware flies); the
 //! thesis slews fly the thesis's satellite (`acs::host::sim::scenarios`). Run with
 //! `cargo test --release --test closed_loop -- --nocapture` to see the figures: each
-//! requirement of README's table prints one `REQUIREMENT MET` or `REQUIREMENT NOT MET` line.
+//! requirement of README's table prints one `REQUIREMENT MET` or `REQUIREMENT NOT MET` line per
+//! truth.
+//!
+//! Every scenario flies twice (issue #18): against the ideal truth (the simulator before the
+//! realistic truth; for the thesis scenarios the thesis's own noise model), where the
+//! requirements are asserted, and against the realistic truth (`acs::host::sim::realistic`, what
+//! `acs sim` flies by default), where only the absence of NaN and a bounded motion are asserted
+//! and the figure is printed with its verdict: the flight code's answers to the realistic truth
+//! (issue #18 item 4) come later. `realistic_figures_by_cause` prints, for the worst figures,
+//! each effect's share: the figure without it, and with it alone.
 
 use acs::acs_loop::Mode;
 use acs::flight::{FlightLoop, CONFIG};
-use acs::host::sim::scenarios;
+use acs::host::sim::realistic::{Effect, Realism, TruthLevel};
+use acs::host::sim::scenarios::{self, Scenario};
 use acs::host::sim::{angle_between_deg, Sample};
+
+const TRUTHS: [TruthLevel; 2] = [TruthLevel::Ideal, TruthLevel::Realistic];
 
 fn orbit_s() -> f64 {
     94.6 * 60.0
 }
 
-fn report(name: &str, samples: &[Sample]) {
+fn report(name: &str, truth: TruthLevel, samples: &[Sample]) {
     let last = samples.last().unwrap();
     let max_est = samples
         .iter()
         .filter_map(|s| s.estimate_error_deg)
         .fold(0.0f64, f64::max);
     println!(
-        "{name}: {} steps, final mode {:?}, final rate {:.4} °/s, final pointing {:?}°, max estimate error {max_est:.3}°",
+        "{name} ({} truth): {} steps, final mode {:?}, final rate {:.4} °/s, final pointing {:?}°, max estimate error {max_est:.3}°",
+        truth.name(),
         samples.len(),
         last.mode,
         last.omega_true.norm().to_degrees(),
@@ -29,10 +42,13 @@ fn report(name: &str, samples: &[Sample]) {
     );
 }
 
-/// Prints one line per README requirement: whether it is met and the figure.
-fn requirement(name: &str, requirement: &str, met: bool, figure: &str) {
+/// Prints one line per README requirement and truth: whether it is met and the figure.
+fn requirement(name: &str, truth: TruthLevel, requirement: &str, met: bool, figure: &str) {
     let verdict = if met { "MET" } else { "NOT MET" };
-    println!("{name}: REQUIREMENT {verdict} ({requirement}): {figure}");
+    println!(
+        "{name} ({} truth): REQUIREMENT {verdict} ({requirement}): {figure}",
+        truth.name()
+    );
 }
 
 fn no_nan(samples: &[Sample]) {
@@ -52,96 +68,149 @@ fn no_nan(samples: &[Sample]) {
             "wheel NaN at {}",
             s.t_s
         );
+        assert!(
+            s.pointing_error_deg.is_none_or(|e| e.is_finite())
+                && s.estimate_error_deg.is_none_or(|e| e.is_finite()),
+            "error NaN at {}",
+            s.t_s
+        );
     }
+}
+
+/// What the realistic truth asserts: no NaN, and a bounded motion: the body rate within the
+/// gyros' word (±3.27 rad/s), the wheels' total momentum within six wheels at the largest limit
+/// of the scenarios (the thesis's 2e-3 kg·m²/s), the coils within their limits.
+fn bounded(samples: &[Sample]) {
+    no_nan(samples);
+    let wheels = 6.0 * f64::from(CONFIG.wheel_limit_nms).max(2e-3) * 1.001;
+    let coils = f64::from(CONFIG.coils[0].limit) * 3f64.sqrt() * 1.001;
+    for s in samples {
+        assert!(s.omega_true.norm() < 3.27, "rate at {}", s.t_s);
+        assert!(s.h_wheels_body.norm() <= wheels, "wheels at {}", s.t_s);
+        assert!(
+            f64::from(s.dipole_am2.norm()) <= coils,
+            "coils at {}",
+            s.t_s
+        );
+    }
+}
+
+fn fly(scenario: Result<Scenario, acs::host::sim::SimError>, truth: TruthLevel) -> Vec<Sample> {
+    scenario.unwrap().with_truth(truth).run().unwrap()
 }
 
 #[test]
 fn detumble_within_three_orbits() {
-    let sc = scenarios::detumble().unwrap();
-    let samples = sc.run().unwrap();
-    report("detumble", &samples);
-    no_nan(&samples);
-    let first_below = samples
-        .iter()
-        .find(|s| s.omega_true.norm().to_degrees() < 0.5)
-        .map(|s| s.t_s);
-    println!(
-        "detumble: below 0.5°/s after {:?} s ({:?} orbits)",
-        first_below,
-        first_below.map(|t| t / orbit_s())
-    );
-    let last = samples.last().unwrap();
-    let end_degps = last.omega_true.norm().to_degrees();
-    let t = first_below.unwrap();
-    requirement(
-        "detumble",
-        "< 0.5°/s within 3 orbits",
-        end_degps < 0.5 && t <= 3.0 * orbit_s(),
-        &format!(
-            "below 0.5°/s after {t:.0} s ({:.2} orbits); {end_degps:.4}°/s at 3 orbits",
-            t / orbit_s()
-        ),
-    );
-    assert!(end_degps < 0.5);
-    assert!(t <= 3.0 * orbit_s());
+    for truth in TRUTHS {
+        let samples = fly(scenarios::detumble(), truth);
+        report("detumble", truth, &samples);
+        bounded(&samples);
+        let first_below = samples
+            .iter()
+            .find(|s| s.omega_true.norm().to_degrees() < 0.5)
+            .map(|s| s.t_s);
+        let last = samples.last().unwrap();
+        let end_degps = last.omega_true.norm().to_degrees();
+        let met = end_degps < 0.5 && first_below.is_some_and(|t| t <= 3.0 * orbit_s());
+        let figure = match first_below {
+            Some(t) => format!(
+                "below 0.5°/s after {t:.0} s ({:.2} orbits); {end_degps:.4}°/s at 3 orbits",
+                t / orbit_s()
+            ),
+            None => format!("never below 0.5°/s; {end_degps:.4}°/s at 3 orbits"),
+        };
+        requirement("detumble", truth, "< 0.5°/s within 3 orbits", met, &figure);
+        if truth == TruthLevel::Ideal {
+            assert!(end_degps < 0.5);
+            assert!(first_below.unwrap() <= 3.0 * orbit_s());
+        }
+    }
 }
 
-fn slew_end_error(samples: &[Sample]) -> (f64, f64) {
-    // the open-loop plan ends where the loop switches from Slew to Tracking
+/// The error at the end of the open-loop plan (where the loop switches from Slew to Tracking)
+/// and at the end of the run; `None` if the plan never completed.
+fn slew_end_error(samples: &[Sample]) -> Option<(f64, f64)> {
     let end = samples
         .windows(2)
         .find(|w| w[0].mode == Mode::Slew && w[1].mode == Mode::Tracking)
-        .map(|w| w[1].pointing_error_deg.unwrap())
-        .expect("the slew completed");
-    (end, samples.last().unwrap().pointing_error_deg.unwrap())
+        .map(|w| w[1].pointing_error_deg.unwrap())?;
+    Some((end, samples.last().unwrap().pointing_error_deg.unwrap()))
+}
+
+/// The thesis slews (seed 000 ch. 12) against the thesis's figures: `noisy` the 1 % noise test.
+fn thesis_slew(noisy: bool, limit_deg: f64, thesis_deg: f64) {
+    let name = if noisy {
+        "thesis-slew-noisy"
+    } else {
+        "thesis-slew"
+    };
+    for truth in TRUTHS {
+        let samples = fly(scenarios::thesis_slew(noisy), truth);
+        report(name, truth, &samples);
+        bounded(&samples);
+        let end = slew_end_error(&samples);
+        let (met, figure) = match end {
+            Some((open_loop, closed)) => {
+                println!("{name} ({} truth): error at the end of the open-loop plan {open_loop:.4}° (thesis {thesis_deg}°), after tracking {closed:.4}°", truth.name());
+                (
+                    open_loop <= limit_deg,
+                    format!("{open_loop:.3}°; {closed:.3}° after tracking"),
+                )
+            }
+            None => (false, "the plan never completed".to_string()),
+        };
+        requirement(
+            name,
+            truth,
+            &format!("≤ {limit_deg}° at the end of the plan"),
+            met,
+            &figure,
+        );
+        if truth == TruthLevel::Ideal {
+            let (open_loop, _) = end.expect("the slew completed");
+            assert!(open_loop <= limit_deg, "{open_loop}");
+        }
+    }
 }
 
 #[test]
 fn thesis_slew_ideal_sensors() {
-    let samples = scenarios::thesis_slew(false).unwrap().run().unwrap();
-    report("thesis-slew", &samples);
-    no_nan(&samples);
-    let (open_loop, closed) = slew_end_error(&samples);
-    println!("thesis slew, ideal sensors: error at the end of the open-loop plan {open_loop:.4}° (thesis 0.148°), after tracking {closed:.4}°");
-    requirement(
-        "thesis-slew",
-        "≤ 0.15° at the end of the plan",
-        open_loop <= 0.15,
-        &format!("{open_loop:.3}°; {closed:.3}° after tracking"),
-    );
-    assert!(open_loop <= 0.15, "{open_loop}");
+    thesis_slew(false, 0.15, 0.148);
 }
 
+/// In the realistic truth the thesis's noise model gives way to the realistic sensors: the two
+/// thesis slews are then the same run.
 #[test]
 fn thesis_slew_one_percent_noise() {
-    let samples = scenarios::thesis_slew(true).unwrap().run().unwrap();
-    report("thesis-slew-noisy", &samples);
-    no_nan(&samples);
-    let (open_loop, closed) = slew_end_error(&samples);
-    println!("thesis slew, 1 % noise: error at the end of the open-loop plan {open_loop:.4}° (thesis 0.42°), after tracking {closed:.4}°");
-    requirement(
-        "thesis-slew-noisy",
-        "≤ 0.45° at the end of the plan",
-        open_loop <= 0.45,
-        &format!("{open_loop:.3}°; {closed:.3}° after tracking"),
-    );
-    assert!(open_loop <= 0.45, "{open_loop}");
+    thesis_slew(true, 0.45, 0.42);
 }
 
-/// When the pointing error first falls below `limit_deg`, and the worst error from 600 s later
-/// to the end (the requirement's "within one orbit and after").
-fn settling(samples: &[Sample], limit_deg: f64) -> (f64, f64) {
-    let settle = samples
+/// When the pointing error first falls below `limit_deg` (`None`: never), and the worst error
+/// from 600 s later (from 600 s if it never falls below) to the end (the requirement's "within
+/// one orbit and after").
+fn settling(samples: &[Sample], limit_deg: f64) -> (Option<f64>, f64) {
+    let settled_at = samples
         .iter()
-        .position(|s| s.pointing_error_deg.unwrap() < limit_deg)
-        .expect("the error falls below the limit");
-    let settled_at = samples[settle].t_s;
+        .find(|s| s.pointing_error_deg.unwrap() < limit_deg)
+        .map(|s| s.t_s);
     let tail = samples
         .iter()
-        .filter(|s| s.t_s > settled_at + 600.0)
+        .filter(|s| s.t_s > settled_at.unwrap_or(0.0) + 600.0)
         .filter_map(|s| s.pointing_error_deg)
         .fold(0.0, f64::max);
     (settled_at, tail)
+}
+
+/// The worst and RMS pointing error from `from_s` on.
+fn steady(samples: &[Sample], from_s: f64) -> (f64, f64) {
+    let v: Vec<f64> = samples
+        .iter()
+        .filter(|s| s.t_s >= from_s)
+        .filter_map(|s| s.pointing_error_deg)
+        .collect();
+    let worst = v.iter().copied().fold(0.0, f64::max);
+    let rms = (v.iter().map(|x| x * x).sum::<f64>() / v.len().max(1) as f64).sqrt();
+    (worst, rms)
 }
 
 /// The flight field model's truncation along a scenario's orbit, against the truth's degree 13:
@@ -149,7 +218,7 @@ fn settling(samples: &[Sample], limit_deg: f64) -> (f64, f64) {
 /// two fields' projections on the plane normal to the Sun (degrees): with the Sun and the field
 /// as the two observations, that is the error of the attitude about the Sun line the field
 /// model alone makes, whatever the sensors, weights or filter.
-fn field_truncation(scenario: &scenarios::Scenario) -> (f64, f64) {
+fn field_truncation(scenario: &Scenario) -> (f64, f64) {
     use acs::env::igrf::Igrf;
     use acs::flight::FIELD_COEFFS;
     let mut sim = scenario.simulator().unwrap();
@@ -181,130 +250,333 @@ fn field_truncation(scenario: &scenarios::Scenario) -> (f64, f64) {
 /// README's tracking requirement, < 0.1° within one orbit and after, is **not met** with the
 /// flight configuration: its degree-8 field model alone turns the attitude about the Sun line
 /// by up to 0.11° on this orbit (degrees 9–13 are up to 105 nT at 500 km), and the sensors'
-/// noise adds to it. The test asserts what the loop achieves: it settles within one orbit, and
-/// afterwards the error stays below the requirement plus that truncation error (measured here
-/// from the models, not copied); it prints the figures, the cause and the same run with the
-/// field model at degree 13.
+/// noise adds to it. The test asserts what the loop achieves in the ideal truth: it settles
+/// within one orbit, and afterwards the error stays below the requirement plus that truncation
+/// error (measured here from the models, not copied); it prints the figures, the cause and the
+/// same run with the field model at degree 13. In the realistic truth it prints the figures
+/// (and `realistic_figures_by_cause` their causes).
 #[test]
 fn tracking_with_wheels_and_noisy_tiles() {
     use acs::acs_loop::{AcsConfig, AcsLoop};
     use acs::env::igrf::{coefficient_count, Degree, FULL};
     use acs::flight::TILES;
     const REQUIREMENT_DEG: f64 = 0.1;
-    let scenario = scenarios::tracking(None).unwrap();
-    let samples = scenario.run().unwrap();
-    report("tracking", &samples);
-    no_nan(&samples);
-    let (settled_at, tail) = settling(&samples, REQUIREMENT_DEG);
-    let target = scenario.target.unwrap();
-    let after: Vec<&Sample> = samples
-        .iter()
-        .filter(|s| s.t_s > settled_at + 600.0)
-        .collect();
-    let control = after
-        .iter()
-        .filter_map(|s| s.report.attitude)
-        .map(|q| angle_between_deg(&target, &q))
-        .fold(0.0, f64::max);
-    let determination = after
-        .iter()
-        .filter_map(|s| s.estimate_error_deg)
-        .fold(0.0, f64::max);
-    let (truncation_nt, truncation_deg) = field_truncation(&scenario);
-    let degree_13 = AcsConfig {
-        igrf_model: &FULL,
-        igrf_degree: Degree::FULL,
-        ..CONFIG.clone()
-    };
-    let mut acs =
-        AcsLoop::<TILES, { coefficient_count(13) }>::new(&degree_13, scenario.orbit().unwrap())
+    for truth in TRUTHS {
+        let scenario = scenarios::tracking(None).unwrap().with_truth(truth);
+        let samples = scenario.run().unwrap();
+        report("tracking", truth, &samples);
+        bounded(&samples);
+        let (settled_at, tail) = settling(&samples, REQUIREMENT_DEG);
+        let target = scenario.target.unwrap();
+        let after: Vec<&Sample> = samples
+            .iter()
+            .filter(|s| s.t_s > settled_at.unwrap_or(0.0) + 600.0)
+            .collect();
+        let control = after
+            .iter()
+            .filter_map(|s| s.report.attitude)
+            .map(|q| angle_between_deg(&target, &q))
+            .fold(0.0, f64::max);
+        let determination = after
+            .iter()
+            .filter_map(|s| s.estimate_error_deg)
+            .fold(0.0, f64::max);
+        let (worst, rms) = steady(&samples, 1200.0);
+        let since = settled_at.map_or("never".to_string(), |t| format!("after {t:.0} s"));
+        println!(
+            "tracking ({} truth): below {REQUIREMENT_DEG}° {since}; worst from 600 s later on {tail:.4}° (filtered attitude against the target {control:.4}°, against the truth {determination:.4}°); from 1 200 s on worst {worst:.4}°, RMS {rms:.4}°",
+            truth.name()
+        );
+        let met = settled_at.is_some_and(|t| t < orbit_s()) && tail < REQUIREMENT_DEG;
+        if truth == TruthLevel::Ideal {
+            let (truncation_nt, truncation_deg) = field_truncation(&scenario);
+            let degree_13 = AcsConfig {
+                igrf_model: &FULL,
+                igrf_degree: Degree::FULL,
+                ..CONFIG.clone()
+            };
+            let mut acs = AcsLoop::<TILES, { coefficient_count(13) }>::new(
+                &degree_13,
+                scenario.orbit().unwrap(),
+            )
             .unwrap();
-    let (_, tail_13) = settling(&scenario.fly(&mut acs).unwrap(), REQUIREMENT_DEG);
-    println!(
-        "tracking: below {REQUIREMENT_DEG}° after {settled_at} s; worst from 600 s later on {tail:.4}° (filtered attitude against the target {control:.4}°, against the truth {determination:.4}°)"
-    );
-    println!(
-        "tracking: degree-8 field model against the degree-13 truth on this orbit: up to {truncation_nt:.1} nT, {truncation_deg:.4}° about the Sun line; the same run with degree 13 on board: {tail_13:.4}°"
-    );
-    requirement(
-        "tracking",
-        "< 0.1° within one orbit and after",
-        settled_at < orbit_s() && tail < REQUIREMENT_DEG,
-        &format!("below 0.1° after {settled_at:.0} s; {tail:.3}° at worst from 600 s later on (degree-8 field model: {truncation_deg:.3}° about the Sun line on this orbit)"),
-    );
-    assert!(settled_at < orbit_s());
-    assert!(tail < REQUIREMENT_DEG + truncation_deg, "{tail}");
+            let (_, tail_13) = settling(&scenario.fly(&mut acs).unwrap(), REQUIREMENT_DEG);
+            println!(
+                "tracking (ideal truth): degree-8 field model against the degree-13 truth on this orbit: up to {truncation_nt:.1} nT, {truncation_deg:.4}° about the Sun line; the same run with degree 13 on board: {tail_13:.4}°"
+            );
+            requirement(
+                "tracking",
+                truth,
+                "< 0.1° within one orbit and after",
+                met,
+                &format!("below 0.1° {since}; {tail:.3}° at worst from 600 s later on (degree-8 field model: {truncation_deg:.3}° about the Sun line on this orbit)"),
+            );
+            let settled_at = settled_at.expect("the error falls below the limit");
+            assert!(settled_at < orbit_s());
+            assert!(tail < REQUIREMENT_DEG + truncation_deg, "{tail}");
+        } else {
+            requirement(
+                "tracking",
+                truth,
+                "< 0.1° within one orbit and after",
+                met,
+                &format!("below 0.1° {since}; {tail:.3}° at worst from 600 s later on; from 1 200 s on {worst:.3}° worst, {rms:.3}° RMS (causes: realistic_figures_by_cause)"),
+            );
+        }
+    }
 }
 
 /// The flight configuration's slew (no README requirement: the figures are printed): the
-/// open-loop plan completes within the commanded time and tracking then converges.
+/// open-loop plan completes within the commanded time and tracking then converges (asserted in
+/// the ideal truth).
 #[test]
 fn flight_slew_completes_and_converges() {
-    let scenario = scenarios::slew().unwrap();
-    let samples = scenario.run().unwrap();
-    report("slew", &samples);
-    no_nan(&samples);
-    let begun = samples
-        .iter()
-        .find(|s| s.mode == Mode::Slew)
-        .expect("the slew was accepted")
-        .t_s;
-    let ended = samples
-        .windows(2)
-        .find(|w| w[0].mode == Mode::Slew && w[1].mode == Mode::Tracking)
-        .map(|w| w[1].t_s)
-        .expect("the slew completed");
-    let (open_loop, closed) = slew_end_error(&samples);
-    println!(
-        "slew (flight configuration): plan from {begun:.0} s to {ended:.0} s, error at its end {open_loop:.3}°, {closed:.3}° at the end of the run"
-    );
-    assert!(ended - begun <= 300.0);
-    assert!(closed < 0.5, "{closed}");
+    for truth in TRUTHS {
+        let samples = fly(scenarios::slew(), truth);
+        report("slew", truth, &samples);
+        bounded(&samples);
+        let begun = samples
+            .iter()
+            .find(|s| s.mode == Mode::Slew)
+            .expect("the slew was accepted")
+            .t_s;
+        let ended = samples
+            .windows(2)
+            .find(|w| w[0].mode == Mode::Slew && w[1].mode == Mode::Tracking)
+            .map(|w| w[1].t_s);
+        match (ended, slew_end_error(&samples)) {
+            (Some(ended), Some((open_loop, closed))) => {
+                println!(
+                    "slew ({} truth): plan from {begun:.0} s to {ended:.0} s, error at its end {open_loop:.3}°, {closed:.3}° at the end of the run",
+                    truth.name()
+                );
+                if truth == TruthLevel::Ideal {
+                    assert!(ended - begun <= 300.0);
+                    assert!(closed < 0.5, "{closed}");
+                }
+            }
+            _ => {
+                println!("slew ({} truth): the plan never completed", truth.name());
+                assert!(truth != TruthLevel::Ideal, "the slew completed");
+            }
+        }
+    }
 }
 
 #[test]
 fn failed_tile_still_converges() {
-    let samples = scenarios::tracking(Some(2)).unwrap().run().unwrap();
-    report("failed-tile", &samples);
-    no_nan(&samples);
-    let last = samples.last().unwrap();
-    let end = last.pointing_error_deg.unwrap();
-    requirement(
-        "failed-tile",
-        "still converges",
-        end < 0.5,
-        &format!("{end:.3}° at the end of the orbit"),
-    );
-    assert!(
-        last.pointing_error_deg.unwrap() < 0.5,
-        "{:?}",
-        last.pointing_error_deg
-    );
+    for truth in TRUTHS {
+        let samples = fly(scenarios::tracking(Some(2)), truth);
+        report("failed-tile", truth, &samples);
+        bounded(&samples);
+        let end = samples.last().unwrap().pointing_error_deg.unwrap();
+        let (worst, rms) = steady(&samples, 1200.0);
+        requirement(
+            "failed-tile",
+            truth,
+            "still converges",
+            end < 0.5,
+            &format!(
+                "{end:.3}° at the end of the orbit; from 1 200 s on {worst:.3}° worst, {rms:.3}° RMS"
+            ),
+        );
+        if truth == TruthLevel::Ideal {
+            assert!(end < 0.5, "{end}");
+        }
+    }
 }
 
 #[test]
 fn sun_safe_through_a_whole_eclipse() {
-    let samples = scenarios::sun_safe().unwrap().run().unwrap();
-    report("sun-safe", &samples);
-    no_nan(&samples);
-    let dark: Vec<&Sample> = samples.iter().filter(|s| s.sun_fraction == 0.0).collect();
-    println!("sun-safe: {} s in umbra", dark.len());
-    assert!(
-        dark.len() > 1000,
-        "the scenario must contain a whole eclipse"
-    );
-    // in the umbra no attitude is measured: the loop runs gyro/magnetometer laws, never NaN
-    assert!(dark.iter().all(|s| s.report.measured_attitude.is_none()));
-    let end_degps = samples.last().unwrap().omega_true.norm().to_degrees();
-    requirement(
-        "sun-safe",
-        "no NaN, actuators safe or gyro/magnetometer laws",
-        true,
-        &format!(
-            "no NaN through {} s of umbra; {end_degps:.4}°/s at the end",
+    for truth in TRUTHS {
+        let samples = fly(scenarios::sun_safe(), truth);
+        report("sun-safe", truth, &samples);
+        bounded(&samples);
+        let dark: Vec<&Sample> = samples.iter().filter(|s| s.sun_fraction == 0.0).collect();
+        println!(
+            "sun-safe ({} truth): {} s in umbra",
+            truth.name(),
             dark.len()
-        ),
+        );
+        assert!(
+            dark.len() > 1000,
+            "the scenario must contain a whole eclipse"
+        );
+        // in the umbra no attitude is measured: the loop runs gyro/magnetometer laws, never NaN
+        let measured_in_umbra = dark
+            .iter()
+            .filter(|s| s.report.measured_attitude.is_some())
+            .count();
+        let end_degps = samples.last().unwrap().omega_true.norm().to_degrees();
+        requirement(
+            "sun-safe",
+            truth,
+            "no NaN, actuators safe or gyro/magnetometer laws",
+            measured_in_umbra == 0,
+            &format!(
+                "no NaN through {} s of umbra ({measured_in_umbra} attitudes measured there); {end_degps:.4}°/s at the end",
+                dark.len()
+            ),
+        );
+        if truth == TruthLevel::Ideal {
+            assert_eq!(measured_in_umbra, 0);
+        }
+    }
+}
+
+/// A named change of the tables.
+type Part = (&'static str, fn(&mut Realism));
+
+/// A scenario's figure flown against `realism`.
+fn figure_with(
+    scenario: fn() -> Result<Scenario, acs::host::sim::SimError>,
+    realism: Realism,
+    metric: fn(&[Sample]) -> (f64, f64),
+) -> (f64, f64) {
+    let mut sc = scenario().unwrap().with_truth(TruthLevel::Realistic);
+    sc.sim.realism = Some(realism);
+    let samples = sc.run().unwrap();
+    no_nan(&samples);
+    metric(&samples)
+}
+
+/// Prints a scenario's realistic figure without each effect and with it alone (the others
+/// removed), and the spacecraft field split into its sources; returns the figure with no
+/// effect at all.
+fn causes(
+    name: &str,
+    what: &str,
+    scenario: fn() -> Result<Scenario, acs::host::sim::SimError>,
+    metric: fn(&[Sample]) -> (f64, f64),
+) -> (f64, f64) {
+    let full = Realism::DEFAULT;
+    let nothing = Effect::ALL.iter().fold(full.clone(), |r, e| r.without(*e));
+    let ideal = {
+        let samples = scenario()
+            .unwrap()
+            .with_truth(TruthLevel::Ideal)
+            .run()
+            .unwrap();
+        metric(&samples)
+    };
+    let all = figure_with(scenario, full.clone(), metric);
+    let none = figure_with(scenario, nothing.clone(), metric);
+    println!("causes, {name} ({what}):");
+    println!("  ideal truth {:.3}° / {:.3}°", ideal.0, ideal.1);
+    println!("  realistic truth {:.3}° / {:.3}°", all.0, all.1);
+    println!(
+        "  realistic, every effect removed {:.3}° / {:.3}°",
+        none.0, none.1
     );
+    println!("  | effect | without it | it alone |");
+    for e in Effect::ALL {
+        let without = figure_with(scenario, full.without(e), metric);
+        let alone = figure_with(scenario, full.only(e), metric);
+        println!(
+            "  | {} | {:.3}° / {:.3}° | {:.3}° / {:.3}° |",
+            e.name(),
+            without.0,
+            without.1,
+            alone.0,
+            alone.1
+        );
+    }
+    let parts: [Part; 3] = [
+        ("residual dipole", |r| {
+            r.magnetics.rotor_dipole_am2 = 0.0;
+            r.coil.time_constant_s = 0.0;
+        }),
+        ("wheel rotors", |r| {
+            r.magnetics.residual_dipole_error_am2 = 0.0;
+            r.coil.time_constant_s = 0.0;
+        }),
+        ("coils", |r| {
+            r.magnetics.residual_dipole_error_am2 = 0.0;
+            r.magnetics.rotor_dipole_am2 = 0.0;
+        }),
+    ];
+    let wheel_parts: [Part; 2] = [
+        ("wheels: torque limit alone", |r| {
+            r.wheel.time_constant_s = 0.0;
+            r.wheel.torque_limit_nm = Realism::DEFAULT.wheel.torque_limit_nm;
+        }),
+        ("wheels: speed loop, friction, quanta alone", |r| {
+            let w = Realism::DEFAULT.wheel;
+            r.wheel = acs::host::sim::realistic::WheelModel {
+                torque_limit_nm: f64::INFINITY,
+                ..w
+            };
+        }),
+    ];
+    for (part, set) in wheel_parts {
+        let mut alone = full.only(Effect::Wheel).without(Effect::Wheel);
+        set(&mut alone);
+        let f = figure_with(scenario, alone, metric);
+        println!("  | {part} | | {:.3}° / {:.3}° |", f.0, f.1);
+    }
+    for (part, keep) in parts {
+        let mut alone = full.only(Effect::SpacecraftField);
+        // the coils' decay needs their time constant and the read latency kept
+        alone.coil.time_constant_s = full.coil.time_constant_s;
+        alone.timing = full.timing.clone();
+        keep(&mut alone);
+        let f = figure_with(scenario, alone, metric);
+        println!(
+            "  | spacecraft field: {part} alone | | {:.3}° / {:.3}° |",
+            f.0, f.1
+        );
+    }
+    none
+}
+
+/// The worst figures of the realistic truth, effect by effect (printed; asserted only that with
+/// every effect removed the figures come back to the ideal truth's size).
+#[test]
+fn realistic_figures_by_cause() {
+    fn tracking() -> Result<Scenario, acs::host::sim::SimError> {
+        scenarios::tracking(None)
+    }
+    fn thesis() -> Result<Scenario, acs::host::sim::SimError> {
+        scenarios::thesis_slew(false)
+    }
+    fn tracking_tail(s: &[Sample]) -> (f64, f64) {
+        steady(s, 1200.0)
+    }
+    fn transient(s: &[Sample]) -> (f64, f64) {
+        let v: Vec<f64> = s
+            .iter()
+            .filter(|x| x.t_s >= 200.0 && x.t_s < 1200.0)
+            .filter_map(|x| x.pointing_error_deg)
+            .collect();
+        let worst = v.iter().copied().fold(0.0, f64::max);
+        (
+            worst,
+            (v.iter().map(|x| x * x).sum::<f64>() / v.len() as f64).sqrt(),
+        )
+    }
+    fn plan_end(s: &[Sample]) -> (f64, f64) {
+        slew_end_error(s).unwrap_or((f64::INFINITY, f64::INFINITY))
+    }
+    let none = causes(
+        "tracking",
+        "worst / RMS pointing error from 1 200 s on",
+        tracking,
+        tracking_tail,
+    );
+    assert!(none.0 < 0.2, "{none:?}");
+    causes(
+        "tracking",
+        "worst / RMS pointing error from 200 s to 1 200 s",
+        tracking,
+        transient,
+    );
+    let none = causes(
+        "thesis-slew",
+        "error at the end of the plan / at the end of the run",
+        thesis,
+        plan_end,
+    );
+    assert!(none.0 < 0.15, "{none:?}");
 }
 
 #[test]
@@ -339,7 +611,9 @@ fn loop_state_size() {
 
 /// The `tracking` scenario, its TLE and the flight SGP4 of it.
 fn tracking_setup() -> (scenarios::Scenario, acs::tle::Tle, acs::orbit::sgp4::Sgp4) {
-    let scenario = scenarios::tracking(None).unwrap();
+    let scenario = scenarios::tracking(None)
+        .unwrap()
+        .with_truth(TruthLevel::Ideal);
     let tle = acs::tle::Tle::parse(&scenario.sim.tle.0, &scenario.sim.tle.1).unwrap();
     let orbit = acs::orbit::sgp4::Sgp4::new(&tle, scenario.gravity).unwrap();
     (scenario, tle, orbit)

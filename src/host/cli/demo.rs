@@ -12,6 +12,7 @@ use crate::determination::{quest, Observation};
 use crate::env::igrf::{Degree, Igrf, FULL};
 use crate::env::sun::{precise, thesis};
 use crate::hal::TileBus;
+use crate::host::sim::realistic::TruthLevel;
 use crate::host::sim::scenarios::{self, DTUSAT_TLE};
 use crate::host::sim::{angle_between_deg, Simulator};
 use crate::linalg::{Mat3, Vec3};
@@ -55,7 +56,9 @@ pub fn run(_args: &Args) -> Result<(), CliError> {
 
     // 1. orbit
     let tle = crate::tle::Tle::parse(DTUSAT_TLE.0, DTUSAT_TLE.1).map_err(compute)?;
-    let sc = scenarios::thesis_slew(false).map_err(compute)?;
+    let sc = scenarios::thesis_slew(false)
+        .map_err(compute)?
+        .with_truth(TruthLevel::Ideal);
     let now = sc.sim.start;
     let orbit = Sgp4::new(&tle, Gravity::Wgs84).map_err(|e| compute(format!("{e:?}")))?;
     let bug = orbit
@@ -211,7 +214,9 @@ pub fn run(_args: &Args) -> Result<(), CliError> {
         (false, "simulink_error_ideal_deg"),
         (true, "simulink_error_noisy_deg"),
     ] {
-        let sc = scenarios::thesis_slew(noisy).map_err(compute)?;
+        let sc = scenarios::thesis_slew(noisy)
+            .map_err(compute)?
+            .with_truth(TruthLevel::Ideal);
         let samples = sc.run().map_err(compute)?;
         let end = samples
             .windows(2)

@@ -3,7 +3,29 @@
 use std::path::PathBuf;
 
 use super::CliError;
+use crate::host::sim::realistic::TruthLevel;
 use crate::host::sim::{pil, plan_flight, plot, scenarios, Sample};
+
+/// `--truth`: what the simulator's truth is ([`crate::host::sim::realistic`]).
+#[derive(clap::ValueEnum, Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Truth {
+    /// The simulator before issue #18 (the field is IGRF itself, the scenario's Gaussian sensor
+    /// noise, ideal actuators); for the thesis scenarios, the thesis's own noise model.
+    Ideal,
+    /// Independent field truth, the spacecraft's own fields, albedo, sensors and actuators as
+    /// real hardware behaves (`docs/simulator.md`).
+    #[default]
+    Realistic,
+}
+
+impl From<Truth> for TruthLevel {
+    fn from(t: Truth) -> Self {
+        match t {
+            Truth::Ideal => Self::Ideal,
+            Truth::Realistic => Self::Realistic,
+        }
+    }
+}
 
 /// Arguments of `acs sim`.
 #[derive(clap::Args, Debug)]
@@ -16,6 +38,10 @@ pub struct Args {
     /// `acs-sim-<scenario>-pil`).
     #[arg(long)]
     out: Option<PathBuf>,
+    /// The simulator's truth: `realistic` (default) or `ideal` (the simulator before issue
+    /// #18; the thesis scenarios' own noise model).
+    #[arg(long, value_enum, default_value_t = Truth::Realistic)]
+    truth: Truth,
     /// Processor in the loop: fly the MSP430 flight image in mspdebug's simulator, in lockstep
     /// with the host loop, and stop at the first actuator command that differs ([`pil`]).
     #[arg(long)]
@@ -32,8 +58,8 @@ pub struct Args {
 }
 
 /// The built-in scenario `name`.
-fn scenario(name: &str) -> Result<scenarios::Scenario, CliError> {
-    match scenarios::by_name(name) {
+fn scenario(name: &str, truth: Truth) -> Result<scenarios::Scenario, CliError> {
+    match scenarios::by_name_with(name, truth.into()) {
         Some(s) => s.map_err(|e| CliError::Compute(e.to_string())),
         None => Err(CliError::Input(format!(
             "scenario `{name}`: not a built-in scenario ({}); scenario files are not supported yet",
@@ -47,7 +73,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
     if args.scenario == "plan-flight" || args.scenario == "plan-flight-wheels" {
         return plan_flight_run(&args.scenario, args.out.clone());
     }
-    let scenario = scenario(&args.scenario)?;
+    let scenario = scenario(&args.scenario, args.truth)?;
     if args.pil {
         return pil_run(args, &scenario);
     }
@@ -140,6 +166,7 @@ fn print_summary(
         .map(|s| s.t_s);
     let dark = samples.iter().filter(|s| s.sun_fraction < 0.5).count();
     println!("scenario: {} — {}", scenario.name, scenario.description);
+    println!("truth: {}", scenario.truth().name());
     println!("duration_s: {:.1}", last.t_s + scenario.dt_s);
     println!("control_period_s: {}", scenario.dt_s);
     println!("final_mode: {:?}", last.mode);

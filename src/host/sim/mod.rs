@@ -1,33 +1,60 @@
 //! The host simulator: f64 truth dynamics, environment and simulated tiles that fly the flight
 //! loop ([`crate::acs_loop`]) unchanged, through the same [`TileBus`] trait as the hardware.
 //!
+//! Two truths ([`realistic::TruthLevel`], `acs sim SCENARIO --truth ideal|realistic`):
+//! - the **realistic** truth (the default, [`realistic`]): a field that is not the flight model
+//!   (IGRF-14 at degree 13 plus a 100 nT RMS unmodelled field), the spacecraft's own fields at
+//!   the magnetometers, Earth albedo, and sensors and actuators as real hardware behaves, each
+//!   effect a parameter of one table per device (`docs/simulator.md` lists them with values and
+//!   sources);
+//! - the **ideal** truth (`SimConfig::realism` = `None`): the simulator as it was before issue
+//!   #18, bit for bit: the truth field is IGRF itself, the sensors have the scenario's
+//!   [`SensorNoise`], wheels slew to their command at the torque limit, coils take their command
+//!   at once.
+//!
 //! # Truth models
 //! | what | model |
 //! |---|---|
 //! | orbit | the `sgp4` crate (f64, Vallado's SGP4, WGS-72), independent of the flight SGP4 |
 //! | attitude | `q̇ = ½ q ⊗ (0, ω)` (scalar-first, reference TEME → body, [`crate::attitude`]) |
 //! | rigid body + wheels | `I ω̇ = τ − ω × (I ω + h) − ḣ`, RK4 at [`SimConfig::substep_s`] |
-//! | wheels | each wheel slews to its commanded momentum at up to `wheel_max_torque_nm` |
-//! | magnetic torque | `m × B`, B from IGRF-14 (degree 13) in TEME through GMST |
+//! | wheels | ideal: each wheel slews to its commanded momentum at up to `wheel_max_torque_nm`; realistic: [`realistic::WheelModel`] |
+//! | coils | ideal: the commanded dipole; realistic: [`realistic::CoilModel`], commanded at the step's actuation instant |
+//! | magnetic torque | `m × B`, B the truth field in TEME (IGRF-14 degree 13 through GMST; plus the unmodelled field in the realistic truth) |
 //! | gravity gradient | `3μ/r³ ô × (I ô)` (seed 004 eq. A.13) |
-//! | aerodynamic | `½ ρ C_d A v² (c_p × v̂)`, exponential atmosphere |
+//! | aerodynamic | `½ ρ C_d A v² (c_p × v̂)`, exponential atmosphere (60 km scale height; 4.38e-12 kg/m³ at 500 km, seed 004's solar maximum; realistic: [`realistic::SolarActivity`], default the same maximum) |
 //! | solar pressure | `p_R A (1+q) (c_p × ŝ)`, off in the umbra |
 //! | residual dipole | `m_res × B` |
 //! Defaults follow seed 004 (3U: `C_d = 2.5`, 1.5× the largest face, 72.8 mm lever arm,
 //! `m_res = 4e-3 A·m²`).
 //!
-//! The Sun and IGRF truth use the crate's own f32 models (15″ and 1 nT, far below what the
-//! attitude tests resolve), evaluated once per control period.
+//! The Sun and the IGRF part of the field use the crate's own f32 models, evaluated once per
+//! control period, in both truths: the precise Sun is within 2.22″ (RMS 0.82″) of DE421 and
+//! IGRF-14 within 0.2 nT of ppigrf (README, "Sun direction" and "Geomagnetic field"), far below
+//! what the attitude figures resolve; the orbit is the independent `sgp4` crate (a port of
+//! Vallado's f64 SGP4), which reproduces the reference ephemerides of `../shared/ref/sgp4` to
+//! 2e-6 m (README, "SGP4"). What the
+//! realistic truth makes independent of the flight models is what they leave out: the field
+//! beyond degree 8 and beyond IGRF, albedo, the spacecraft's own fields, the devices' errors.
 //!
 //! # Simulated tiles
-//! Each tile's sensors see the truth through its orientation: Sun angles (only within
-//! `sun_fov_rad` of the normal and outside the umbra), magnetometer, gyro, with Gaussian noise,
-//! constant bias, int16 quantisation in the units of note 000 §1.3, random dropouts and failures
-//! from a given time. Random numbers come from a seeded generator: runs are reproducible.
+//! Each tile's sensors see the truth through its orientation: Sun angles, magnetometer, gyro,
+//! int16 quantisation in the units of note 000 §1.3, random dropouts and failures from a given
+//! time. Ideal truth: Sun angles only within `sun_fov_rad` of the normal and outside the umbra,
+//! Gaussian noise and constant biases ([`SensorNoise`]), from a seeded sequential generator.
+//! Realistic truth: the device models of [`realistic::devices`], sampled at the step's read
+//! instant, with counter-based random draws (a pure function of the seed, the device and the
+//! step: the readings do not depend on which loop reads them or in what order). Runs are
+//! reproducible.
+//!
+//! # Wheel momentum read-back
+//! [`Simulator::wheel_momentum_nms`] is the simulator side of the HAL read-back issue #18 asks
+//! for: once [`TileBus`] has `read_wheel_momentum`, the simulator implements it by that call.
 
 pub mod pil;
 pub mod plan_flight;
 pub mod plot;
+pub mod realistic;
 pub mod scenarios;
 
 use std::f64::consts::PI;
@@ -41,6 +68,12 @@ use crate::hal::{ErrorKind, TileBus};
 use crate::linalg::{Mat3d, Vec3, Vec3d};
 use crate::tiles::{sun_angles_of_direction, Tiles};
 use crate::time::{gmst_rad_f64, Epoch, TimeSpan, Utc};
+
+use self::realistic::devices::{
+    gauss, uniform, CoilState, Devices, Gyro, Magnetometer, Phase, Stream, SunSensor, WheelState,
+};
+use self::realistic::field::{albedo_cap, Magnetics, UnmodelledField};
+use self::realistic::Realism;
 
 /// Earth's gravitational parameter for the truth dynamics, m³/s².
 const MU_M3_S2: f64 = 3.986_004_418e14;
@@ -174,6 +207,9 @@ pub struct SimConfig {
     pub substep_s: f64,
     /// Random seed.
     pub seed: u64,
+    /// The realistic truth's tables ([`realistic`]); `None`: the ideal truth (the field is IGRF
+    /// itself, sensors with [`SimConfig::noise`], ideal actuators).
+    pub realism: Option<Realism>,
 }
 
 /// The true state.
@@ -200,8 +236,15 @@ pub struct Environment {
     pub sun_teme: Vec3d,
     /// Visible fraction of the solar disc.
     pub sun_fraction: f64,
-    /// Field, TEME, nT.
+    /// Field, TEME, nT (the truth: IGRF-14 degree 13, plus the unmodelled part in the
+    /// realistic truth).
     pub b_teme_nt: Vec3d,
+    /// The unmodelled part of [`Environment::b_teme_nt`], TEME, nT (zero in the ideal truth).
+    pub b_unmodelled_teme_nt: Vec3d,
+    /// Earth albedo as the Sun sensors see it: direction from the satellite (TEME, unit) and
+    /// irradiance at normal incidence in solar units ([`realistic::field::albedo_cap`]; empty in
+    /// the ideal truth).
+    pub albedo_teme: Vec<(Vec3d, f64)>,
 }
 
 /// Errors of the simulator set-up.
@@ -273,6 +316,24 @@ pub struct Simulator {
     gyro_bias: Vec<f64>,
     wheel_cmd: Vec<f64>,
     coil_cmd: Vec<f64>,
+    real: Option<Box<RealState>>,
+}
+
+/// What the realistic truth adds to the simulator's state ([`realistic`]).
+#[derive(Clone, Debug)]
+struct RealState {
+    model: Realism,
+    devices: Devices,
+    unmodelled: UnmodelledField,
+    /// Control steps completed (`advance` calls): the index of the random draws.
+    step: u64,
+    phase: Phase,
+    /// Mean body rate over the last `advance`, rad/s (what the gyros average).
+    omega_mean: Vec3d,
+    /// Length of the last `advance`, s.
+    last_dt_s: f64,
+    /// The albedo points in body axes at this step's read instant (step, points).
+    albedo_body: Option<(u64, Vec<(Vec3d, f64)>)>,
 }
 
 impl Simulator {
@@ -311,6 +372,8 @@ impl Simulator {
                 sun_teme: Vec3d::x(),
                 sun_fraction: 1.0,
                 b_teme_nt: Vec3d::zeros(),
+                b_unmodelled_teme_nt: Vec3d::zeros(),
+                albedo_teme: Vec::new(),
             },
             config,
             constants,
@@ -321,9 +384,101 @@ impl Simulator {
             gyro_bias,
             wheel_cmd: vec![0.0; n],
             coil_cmd: vec![0.0; coils],
+            real: None,
         };
+        if let Some(model) = sim.config.realism.clone() {
+            sim.real = Some(Box::new(sim.real_state(model, &omega0)?));
+        }
         sim.env = sim.environment(0.0)?;
         Ok(sim)
+    }
+
+    /// The realistic truth's state at the start: every device's constant errors, the
+    /// unmodelled field scaled on the sphere of the orbit's initial radius.
+    fn real_state(&self, model: Realism, omega0: &Vec3d) -> Result<RealState, SimError> {
+        let seed = self.config.seed;
+        let tiles = self.config.tiles.as_slice();
+        let r0_m = self.environment(0.0)?.r_teme_km.norm() * 1e3;
+        let unmodelled = UnmodelledField::new(&model.field, seed, r0_m);
+        let per_tile =
+            |has: fn(&crate::tiles::Tile) -> bool| -> Vec<bool> { tiles.iter().map(has).collect() };
+        let sun = per_tile(|t| t.equipment.sun_sensor)
+            .iter()
+            .zip(tiles.iter())
+            .enumerate()
+            .map(|(i, (has, t))| has.then(|| SunSensor::new(&model.sun_sensor, t, i as u64, seed)))
+            .collect();
+        let magnetometer = per_tile(|t| t.equipment.magnetometer)
+            .iter()
+            .zip(tiles.iter())
+            .enumerate()
+            .map(|(i, (has, t))| {
+                has.then(|| Magnetometer::new(&model.magnetometer, t, i as u64, seed))
+            })
+            .collect();
+        let gyro: Vec<Option<Gyro>> = per_tile(|t| t.equipment.gyro)
+            .iter()
+            .zip(tiles.iter())
+            .enumerate()
+            .map(|(i, (has, t))| has.then(|| Gyro::new(&model.gyro, t, i as u64, seed)))
+            .collect();
+        // the Gauss–Markov biases start from their stationary distribution
+        let gyro_markov_radps = (0..tiles.len())
+            .map(|i| {
+                model.gyro.bias_instability_radps
+                    * gauss(seed, Stream::GyroMarkov, u64::MAX, i as u64)
+            })
+            .collect();
+        let wheels = (0..tiles.len())
+            .map(|_| WheelState::new(&model.wheel, self.config.wheel_max_h_nms))
+            .collect();
+        let coils = (0..self.config.coils.len())
+            .map(|i| CoilState::new(&model.coil, i as u64, seed))
+            .collect();
+        let magnetics = Magnetics::new(&model.magnetics, tiles, &self.config.coils, seed);
+        Ok(RealState {
+            devices: Devices {
+                sun,
+                magnetometer,
+                gyro,
+                gyro_markov_radps,
+                wheels,
+                coils,
+                magnetics,
+            },
+            unmodelled,
+            step: 0,
+            phase: Phase::Start,
+            omega_mean: *omega0,
+            last_dt_s: 1.0,
+            albedo_body: None,
+            model,
+        })
+    }
+
+    /// The realistic truth's tables, if the simulator flies it.
+    pub fn realism(&self) -> Option<&Realism> {
+        self.real.as_ref().map(|r| &r.model)
+    }
+
+    /// The spacecraft's own fields (realistic truth only).
+    pub fn magnetics(&self) -> Option<&Magnetics> {
+        self.real.as_ref().map(|r| &r.devices.magnetics)
+    }
+
+    /// The unmodelled part of the field (realistic truth only).
+    pub fn unmodelled_field(&self) -> Option<&UnmodelledField> {
+        self.real.as_ref().map(|r| &r.unmodelled)
+    }
+
+    /// The realistic truth's per-device state (constant errors, wheels, coils).
+    pub fn devices(&self) -> Option<&Devices> {
+        self.real.as_ref().map(|r| &r.devices)
+    }
+
+    /// The simulator's configuration.
+    pub fn config(&self) -> &SimConfig {
+        &self.config
     }
 
     /// The truth now.
@@ -366,25 +521,53 @@ impl Simulator {
         let b = igrf
             .teme(&r32, gmst)
             .map_err(|e| SimError::Model(format!("{e:?}")))?;
+        let sun_teme = sun.direction.cast::<f64>().normalize();
+        let (b_unmodelled, albedo) = match &self.real {
+            None => (Vec3d::zeros(), Vec::new()),
+            Some(real) => {
+                // Earth-fixed = R3(θ) TEME, with the f64 sidereal angle
+                let (s, c) = gmst_rad_f64(&ut1).sin_cos();
+                let r_m = r * 1e3;
+                let r_ecef = Vec3d::new(c * r_m.x + s * r_m.y, c * r_m.y - s * r_m.x, r_m.z);
+                let d = real.unmodelled.ecef_nt(&r_ecef);
+                let d_teme = Vec3d::new(c * d.x - s * d.y, s * d.x + c * d.y, d.z);
+                let albedo = albedo_cap(&r, &sun_teme, real.model.sun_sensor.albedo, 6, 12);
+                (d_teme, albedo)
+            }
+        };
         Ok(Environment {
             r_teme_km: r,
             v_teme_kmps: v,
-            sun_teme: sun.direction.cast::<f64>().normalize(),
+            sun_teme,
             sun_fraction: fraction,
-            b_teme_nt: b.cast::<f64>(),
+            b_teme_nt: b.cast::<f64>() + b_unmodelled,
+            b_unmodelled_teme_nt: b_unmodelled,
+            albedo_teme: albedo,
         })
     }
 
-    /// The external torque on the body now (magnetic + disturbances), N·m, body axes.
-    fn external_torque(&self, q: &[f64; 4]) -> Vec3d {
-        let a = dcm_of(q);
-        let b_body_t = a * self.env.b_teme_nt * 1e-9;
-        let dipole: Vec3d = self
-            .config
+    /// The coils' dipole as commanded (the ideal truth's coils), body, A·m².
+    fn commanded_dipole(&self) -> Vec3d {
+        self.config
             .coils
             .iter()
             .zip(self.coil_cmd.iter())
-            .fold(Vec3d::zeros(), |acc, ((axis, _), m)| acc + axis * *m);
+            .fold(Vec3d::zeros(), |acc, ((axis, _), m)| acc + axis * *m)
+    }
+
+    /// Density at 500 km of the drag model, kg/m³: seed 004's worst case in the ideal truth,
+    /// the stated solar activity's in the realistic truth.
+    fn density_500km(&self) -> f64 {
+        self.real
+            .as_ref()
+            .map_or(4.38e-12, |r| r.model.solar_activity.density_500km())
+    }
+
+    /// The external torque on the body now (magnetic + disturbances), N·m, body axes, with the
+    /// coils' dipole `dipole` (body, A·m²).
+    fn external_torque(&self, q: &[f64; 4], dipole: &Vec3d, rho_500km: f64) -> Vec3d {
+        let a = dcm_of(q);
+        let b_body_t = a * self.env.b_teme_nt * 1e-9;
         let d = &self.config.disturbances;
         let mut tau = (dipole + d.residual_dipole_am2).cross(&b_body_t);
         let r_m = self.env.r_teme_km * 1e3;
@@ -397,7 +580,7 @@ impl Simulator {
         if d.area_m2 > 0.0 {
             // exponential atmosphere (scale height 60 km, 4.4e-12 kg/m³ at 500 km: seed 004)
             let h_km = r / 1e3 - 6378.137;
-            let rho = 4.38e-12 * ((500.0 - h_km) / 60.0).exp();
+            let rho = rho_500km * ((500.0 - h_km) / 60.0).exp();
             let v_body = a * (self.env.v_teme_kmps * 1e3);
             let v = v_body.norm();
             if v > 0.0 {
@@ -414,24 +597,94 @@ impl Simulator {
         tau
     }
 
-    /// Advances the truth by `dt_s` with the actuator commands in force.
-    pub fn advance(&mut self, dt_s: f64) -> Result<(), SimError> {
-        let steps = (dt_s / self.config.substep_s).ceil().max(1.0) as usize;
-        let h = dt_s / steps as f64;
-        let i = self.config.inertia;
-        let inv = i.try_inverse().unwrap_or_else(Mat3d::identity);
-        let axes: Vec<Vec3d> = self
+    /// The tiles' wheel axes (body) and whether each tile has a wheel.
+    fn wheel_axes(&self) -> (Vec<Vec3d>, Vec<bool>) {
+        let axes = self
             .config
             .tiles
             .iter()
             .map(|t| t.normal_body().cast::<f64>())
             .collect();
-        let wheel_ok: Vec<bool> = self
+        let ok = self
             .config
             .tiles
             .iter()
             .map(|t| t.equipment.reaction_wheel)
             .collect();
+        (axes, ok)
+    }
+
+    /// One RK4 step of `h` seconds of the rigid body with the wheels' momentum changing at
+    /// `hdot` (kg·m²/s², per tile) and the coils' dipole `dipole` (body) held.
+    fn rk4_substep(&mut self, h: f64, axes: &[Vec3d], hdot: &[f64], dipole: &Vec3d, rho: f64) {
+        let i = self.config.inertia;
+        let inv = i.try_inverse().unwrap_or_else(Mat3d::identity);
+        let hdot_body: Vec3d = axes
+            .iter()
+            .zip(hdot.iter())
+            .fold(Vec3d::zeros(), |a, (z, d)| a + z * *d);
+        let deriv = |q: &[f64; 4], w: &Vec3d, hw: &[f64], sim: &Self| {
+            let h_body: Vec3d = axes
+                .iter()
+                .zip(hw.iter())
+                .fold(Vec3d::zeros(), |a, (z, x)| a + z * *x);
+            let tau = sim.external_torque(q, dipole, rho);
+            let wdot = inv * (tau - w.cross(&(i * w + h_body)) - hdot_body);
+            let qd = qmul(q, &[0.0, w.x, w.y, w.z]);
+            ([0.5 * qd[0], 0.5 * qd[1], 0.5 * qd[2], 0.5 * qd[3]], wdot)
+        };
+        let q0 = self.truth.q;
+        let w0 = self.truth.omega;
+        let hw0 = self.truth.wheel_h.clone();
+        let hw_at = |k: f64| -> Vec<f64> {
+            hw0.iter()
+                .zip(hdot.iter())
+                .map(|(x, d)| x + d * k)
+                .collect()
+        };
+        let add = |q: &[f64; 4], d: &[f64; 4], k: f64| {
+            [
+                q[0] + k * d[0],
+                q[1] + k * d[1],
+                q[2] + k * d[2],
+                q[3] + k * d[3],
+            ]
+        };
+        let (k1q, k1w) = deriv(&q0, &w0, &hw0, self);
+        let (k2q, k2w) = deriv(
+            &add(&q0, &k1q, 0.5 * h),
+            &(w0 + k1w * 0.5 * h),
+            &hw_at(0.5 * h),
+            self,
+        );
+        let (k3q, k3w) = deriv(
+            &add(&q0, &k2q, 0.5 * h),
+            &(w0 + k2w * 0.5 * h),
+            &hw_at(0.5 * h),
+            self,
+        );
+        let (k4q, k4w) = deriv(&add(&q0, &k3q, h), &(w0 + k3w * h), &hw_at(h), self);
+        let mut q = [0.0; 4];
+        for (k, qk) in q.iter_mut().enumerate() {
+            *qk = q0[k] + h / 6.0 * (k1q[k] + 2.0 * k2q[k] + 2.0 * k3q[k] + k4q[k]);
+        }
+        let n = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]).sqrt();
+        self.truth.q = [q[0] / n, q[1] / n, q[2] / n, q[3] / n];
+        self.truth.omega = w0 + (k1w + k2w * 2.0 + k3w * 2.0 + k4w) * (h / 6.0);
+        self.truth.wheel_h = hw_at(h);
+        self.truth.t_s += h;
+    }
+
+    /// Advances the truth by `dt_s` with the actuator commands in force (in the realistic
+    /// truth: those of this step from its actuation instant, [`realistic::StepTiming`]).
+    pub fn advance(&mut self, dt_s: f64) -> Result<(), SimError> {
+        if self.real.is_some() {
+            return self.advance_realistic(dt_s);
+        }
+        let steps = (dt_s / self.config.substep_s).ceil().max(1.0) as usize;
+        let h = dt_s / steps as f64;
+        let (axes, wheel_ok) = self.wheel_axes();
+        let rho = self.density_500km();
         for _ in 0..steps {
             // wheel torques this substep: slew toward the command at the torque limit
             let hdot: Vec<f64> = self
@@ -450,61 +703,105 @@ impl Simulator {
                     )
                 })
                 .collect();
-            let hdot_body: Vec3d = axes
-                .iter()
-                .zip(hdot.iter())
-                .fold(Vec3d::zeros(), |a, (z, d)| a + z * *d);
-            let deriv = |q: &[f64; 4], w: &Vec3d, hw: &[f64], sim: &Self| {
-                let h_body: Vec3d = axes
-                    .iter()
-                    .zip(hw.iter())
-                    .fold(Vec3d::zeros(), |a, (z, x)| a + z * *x);
-                let tau = sim.external_torque(q);
-                let wdot = inv * (tau - w.cross(&(i * w + h_body)) - hdot_body);
-                let qd = qmul(q, &[0.0, w.x, w.y, w.z]);
-                ([0.5 * qd[0], 0.5 * qd[1], 0.5 * qd[2], 0.5 * qd[3]], wdot)
-            };
-            let q0 = self.truth.q;
-            let w0 = self.truth.omega;
-            let hw0 = self.truth.wheel_h.clone();
-            let hw_at = |k: f64| -> Vec<f64> {
-                hw0.iter()
-                    .zip(hdot.iter())
-                    .map(|(x, d)| x + d * k)
-                    .collect()
-            };
-            let add = |q: &[f64; 4], d: &[f64; 4], k: f64| {
-                [
-                    q[0] + k * d[0],
-                    q[1] + k * d[1],
-                    q[2] + k * d[2],
-                    q[3] + k * d[3],
-                ]
-            };
-            let (k1q, k1w) = deriv(&q0, &w0, &hw0, self);
-            let (k2q, k2w) = deriv(
-                &add(&q0, &k1q, 0.5 * h),
-                &(w0 + k1w * 0.5 * h),
-                &hw_at(0.5 * h),
-                self,
-            );
-            let (k3q, k3w) = deriv(
-                &add(&q0, &k2q, 0.5 * h),
-                &(w0 + k2w * 0.5 * h),
-                &hw_at(0.5 * h),
-                self,
-            );
-            let (k4q, k4w) = deriv(&add(&q0, &k3q, h), &(w0 + k3w * h), &hw_at(h), self);
-            let mut q = [0.0; 4];
-            for (k, qk) in q.iter_mut().enumerate() {
-                *qk = q0[k] + h / 6.0 * (k1q[k] + 2.0 * k2q[k] + 2.0 * k3q[k] + k4q[k]);
-            }
-            let n = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]).sqrt();
-            self.truth.q = [q[0] / n, q[1] / n, q[2] / n, q[3] / n];
-            self.truth.omega = w0 + (k1w + k2w * 2.0 + k3w * 2.0 + k4w) * (h / 6.0);
-            self.truth.wheel_h = hw_at(h);
-            self.truth.t_s += h;
+            let dipole = self.commanded_dipole();
+            self.rk4_substep(h, &axes, &hdot, &dipole, rho);
         }
+        self.env = self.environment(self.truth.t_s)?;
+        Ok(())
+    }
+
+    /// [`Simulator::advance`] in the realistic truth: the step's commands take effect at its
+    /// actuation instant; wheels and coils follow their own dynamics ([`realistic::devices`]);
+    /// the gyros' averages and Gauss–Markov biases move on.
+    fn advance_realistic(&mut self, dt_s: f64) -> Result<(), SimError> {
+        let Some(mut real) = self.real.take() else {
+            return Ok(());
+        };
+        let (axes, wheel_ok) = self.wheel_axes();
+        let rho = real.model.solar_activity.density_500km();
+        let pending = real.devices.wheels.iter().any(|w| w.pending_nms.is_some())
+            || real.devices.coils.iter().any(|c| c.pending_am2.is_some());
+        let split = if pending {
+            real.model.timing.actuate_s.clamp(0.0, dt_s)
+        } else {
+            dt_s
+        };
+        let apply = |real: &mut RealState| {
+            for w in &mut real.devices.wheels {
+                if let Some(h) = w.pending_nms.take() {
+                    w.setpoint_nms = h;
+                }
+            }
+            for c in &mut real.devices.coils {
+                if let Some(m) = c.pending_am2.take() {
+                    c.target_am2 = m;
+                }
+            }
+        };
+        let mut omega_integral = Vec3d::zeros();
+        for (segment, apply_first) in [(split, false), (dt_s - split, true)] {
+            if apply_first {
+                apply(&mut real);
+            }
+            if segment <= 0.0 {
+                continue;
+            }
+            let steps = (segment / self.config.substep_s).ceil().max(1.0) as usize;
+            let h = segment / steps as f64;
+            for _ in 0..steps {
+                let model = &real.model;
+                let hdot: Vec<f64> = real
+                    .devices
+                    .wheels
+                    .iter_mut()
+                    .zip(wheel_ok.iter())
+                    .map(|(w, ok)| {
+                        if *ok {
+                            w.advance(&model.wheel, h) / h
+                        } else {
+                            0.0
+                        }
+                    })
+                    .collect();
+                let dipole = real
+                    .devices
+                    .coils
+                    .iter_mut()
+                    .zip(self.config.coils.iter())
+                    .fold(Vec3d::zeros(), |acc, (c, (axis, _))| {
+                        acc + axis * c.advance(&model.coil, h)
+                    });
+                let w0 = self.truth.omega;
+                self.rk4_substep(h, &axes, &hdot, &dipole, rho);
+                for (t, w) in self
+                    .truth
+                    .wheel_h
+                    .iter_mut()
+                    .zip(real.devices.wheels.iter())
+                {
+                    *t = w.h_nms;
+                }
+                omega_integral += (w0 + self.truth.omega) * (0.5 * h);
+            }
+        }
+        apply(&mut real);
+        if dt_s > 0.0 {
+            real.omega_mean = omega_integral / dt_s;
+            real.last_dt_s = dt_s;
+        }
+        // the gyros' bias instability: first-order Gauss–Markov over the step
+        let g = &real.model.gyro;
+        if g.bias_correlation_s > 0.0 {
+            let decay = (-dt_s / g.bias_correlation_s).exp();
+            let kick = g.bias_instability_radps * (1.0 - decay * decay).max(0.0).sqrt();
+            for (k, b) in real.devices.gyro_markov_radps.iter_mut().enumerate() {
+                *b = *b * decay
+                    + kick * gauss(self.config.seed, Stream::GyroMarkov, real.step, k as u64);
+            }
+        }
+        real.step += 1;
+        real.phase = Phase::Start;
+        self.real = Some(real);
         self.env = self.environment(self.truth.t_s)?;
         Ok(())
     }
@@ -536,6 +833,237 @@ impl Simulator {
             .get(tile)
             .map_or_else(Mat3d::identity, |t| t.body_to_tile.matrix().cast::<f64>())
     }
+
+    /// The momentum tile `tile`'s wheel reports, kg·m²/s: in the realistic truth its
+    /// tachometer (whole rpm, [`realistic::WheelModel`]), in the ideal truth the true momentum.
+    ///
+    /// This is the simulator side of the HAL's wheel read-back (issue #18 item 3): once
+    /// [`TileBus`] has `fn read_wheel_momentum(&mut self, tile: usize) -> Result<f32,
+    /// ErrorKind>`, the simulator's implementation is this call. It draws no random number in
+    /// the ideal truth (the ideal runs stay bit for bit what they were) and a pure function of
+    /// the seed, step and tile in the realistic truth (time-outs at the scenario's dropout rate).
+    pub fn wheel_momentum_nms(&mut self, tile: usize) -> Result<f32, ErrorKind> {
+        let has_wheel = self
+            .config
+            .tiles
+            .get(tile)
+            .is_some_and(|t| t.equipment.reaction_wheel);
+        if !has_wheel || self.failed(tile) {
+            return Err(ErrorKind::DeviceAbsent);
+        }
+        match &self.real {
+            None => Ok(self.truth.wheel_h.get(tile).copied().unwrap_or(0.0) as f32),
+            Some(real) => {
+                if self.real_dropout(tile, 3) {
+                    return Err(ErrorKind::Timeout);
+                }
+                let model = &real.model.wheel;
+                Ok(real
+                    .devices
+                    .wheels
+                    .get(tile)
+                    .map_or(0.0, |w| w.readback_nms(model)) as f32)
+            }
+        }
+    }
+
+    /// A realistic read's time-out: a pure function of the seed, the step, the tile and the
+    /// device (0 Sun, 1 magnetometer, 2 gyro, 3 wheel).
+    fn real_dropout(&self, tile: usize, device: u64) -> bool {
+        let p = self.config.noise.dropout;
+        let step = self.real.as_ref().map_or(0, |r| r.step);
+        p > 0.0
+            && uniform(
+                self.config.seed,
+                Stream::Dropout,
+                step,
+                4 * tile as u64 + device,
+            ) < p
+    }
+
+    /// The realistic truth's checks before a read: the tile fails or times out, has the device;
+    /// the step moves to its read phase.
+    fn real_check(&mut self, tile: usize, device: u64) -> Result<(), ErrorKind> {
+        if tile >= self.config.tiles.len() || self.failed(tile) {
+            return Err(ErrorKind::DeviceAbsent);
+        }
+        if self.real_dropout(tile, device) {
+            return Err(ErrorKind::Timeout);
+        }
+        if let Some(real) = self.real.as_mut() {
+            if real.phase == Phase::Start {
+                real.phase = Phase::Read;
+            }
+        }
+        Ok(())
+    }
+
+    /// The attitude (scalar-first) at this step's read instant: the truth now turned by the
+    /// body rate over the read latency.
+    fn q_at_read(&self) -> [f64; 4] {
+        let latency = self.real.as_ref().map_or(0.0, |r| r.model.timing.read_s);
+        let w = self.truth.omega;
+        let angle = w.norm() * latency;
+        if angle < 1e-15 {
+            return self.truth.q;
+        }
+        let axis = w.normalize();
+        let (s, c) = (0.5 * angle).sin_cos();
+        qmul(&self.truth.q, &[c, s * axis.x, s * axis.y, s * axis.z])
+    }
+
+    fn real_read_sun(&mut self, tile: usize) -> Result<Option<[i16; 2]>, ErrorKind> {
+        self.real_check(tile, 0)?;
+        let a_read = dcm_of(&self.q_at_read());
+        let sun_body = a_read * self.env.sun_teme;
+        let fraction = self.env.sun_fraction;
+        let seed = self.config.seed;
+        let Some(real) = self.real.as_mut() else {
+            return Err(ErrorKind::Other);
+        };
+        let step = real.step;
+        if real.albedo_body.as_ref().map(|(k, _)| *k) != Some(step) {
+            let points = self
+                .env
+                .albedo_teme
+                .iter()
+                .map(|(d, w)| (a_read * d, *w))
+                .collect();
+            real.albedo_body = Some((step, points));
+        }
+        let Some(Some(sensor)) = real.devices.sun.get(tile) else {
+            return Err(ErrorKind::DeviceAbsent);
+        };
+        let albedo = real.albedo_body.as_ref().map_or(&[][..], |(_, p)| &p[..]);
+        let noise = (
+            gauss(seed, Stream::SunNoise, step, 2 * tile as u64),
+            gauss(seed, Stream::SunNoise, step, 2 * tile as u64 + 1),
+        );
+        match sensor.read(&real.model.sun_sensor, &sun_body, fraction, albedo, noise) {
+            None => Ok(None),
+            Some((a, b)) => Ok(Some([quantise(a, 1e-4)?, quantise(b, 1e-4)?])),
+        }
+    }
+
+    /// The field (body, nT) tile `tile`'s magnetometer sees at this step's read instant: the
+    /// truth field and, if the model says so, the spacecraft's own.
+    pub fn field_at_magnetometer_nt(&self, tile: usize) -> Vec3d {
+        let b = dcm_of(&self.q_at_read()) * self.env.b_teme_nt;
+        let Some(real) = self.real.as_ref() else {
+            return b;
+        };
+        if !real.model.magnetometer.contamination {
+            return b;
+        }
+        let latency = real.model.timing.read_s;
+        let m = &real.model.magnetics;
+        let turns_area = m.coil_turns * m.coil_side_m * m.coil_side_m;
+        let coil_a: Vec<f64> = real
+            .devices
+            .coils
+            .iter()
+            .map(|c| {
+                if turns_area > 0.0 {
+                    c.at(&real.model.coil, latency) / turns_area
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        let rotor: Vec<f64> = real
+            .devices
+            .wheels
+            .iter()
+            .map(|w| w.angle_rad + w.h_nms / w.inertia_kgm2 * latency)
+            .collect();
+        b + real
+            .devices
+            .magnetics
+            .at_magnetometer_nt(tile, &coil_a, &rotor)
+    }
+
+    fn real_read_magnetometer(&mut self, tile: usize) -> Result<[i16; 2], ErrorKind> {
+        self.real_check(tile, 1)?;
+        let b = self.field_at_magnetometer_nt(tile);
+        let seed = self.config.seed;
+        let Some(real) = self.real.as_ref() else {
+            return Err(ErrorKind::Other);
+        };
+        let Some(Some(sensor)) = real.devices.magnetometer.get(tile) else {
+            return Err(ErrorKind::DeviceAbsent);
+        };
+        let noise = (
+            gauss(seed, Stream::MagNoise, real.step, 2 * tile as u64),
+            gauss(seed, Stream::MagNoise, real.step, 2 * tile as u64 + 1),
+        );
+        let model = &real.model.magnetometer;
+        let [x, y] = sensor.read(model, &b, noise);
+        if x.is_nan() || y.is_nan() || x.abs() > model.range_nt || y.abs() > model.range_nt {
+            return Err(ErrorKind::OutOfRange);
+        }
+        Ok([quantise(x, 10.0)?, quantise(y, 10.0)?])
+    }
+
+    fn real_read_gyro(&mut self, tile: usize) -> Result<i16, ErrorKind> {
+        self.real_check(tile, 2)?;
+        let seed = self.config.seed;
+        let Some(real) = self.real.as_ref() else {
+            return Err(ErrorKind::Other);
+        };
+        let Some(Some(gyro)) = real.devices.gyro.get(tile) else {
+            return Err(ErrorKind::DeviceAbsent);
+        };
+        let model = &real.model.gyro;
+        let sigma = model.arw_rad_per_sqrt_s / real.last_dt_s.max(1e-6).sqrt();
+        let markov = real
+            .devices
+            .gyro_markov_radps
+            .get(tile)
+            .copied()
+            .unwrap_or(0.0);
+        let w = gyro.axis_body.dot(&real.omega_mean)
+            + gyro.bias_radps
+            + markov
+            + sigma * gauss(seed, Stream::GyroNoise, real.step, tile as u64);
+        if w.is_nan() || w.abs() > model.range_radps {
+            return Err(ErrorKind::OutOfRange);
+        }
+        quantise(w, 1e-4)
+    }
+
+    /// A realistic actuator command: at once before any read of the step (the loop's
+    /// coils-off), else at the step's actuation instant.
+    fn real_command(&mut self, wheel: Option<(usize, f64)>, coil: Option<(usize, f64)>) {
+        let Some(real) = self.real.as_mut() else {
+            return;
+        };
+        let now = real.phase == Phase::Start;
+        if !now {
+            real.phase = Phase::Actuate;
+        }
+        if let Some((tile, h)) = wheel {
+            let model = &real.model.wheel;
+            if let Some(w) = real.devices.wheels.get_mut(tile) {
+                let q = w.quantised(model, h);
+                if now {
+                    w.setpoint_nms = q;
+                } else {
+                    w.pending_nms = Some(q);
+                }
+            }
+        }
+        if let Some((index, m)) = coil {
+            let model = &real.model.coil;
+            if let Some(c) = real.devices.coils.get_mut(index) {
+                let target = c.target_of(model, m);
+                if now {
+                    c.target_am2 = target;
+                } else {
+                    c.pending_am2 = Some(target);
+                }
+            }
+        }
+    }
 }
 
 /// Rounds to an int16 count, or `OutOfRange`.
@@ -550,6 +1078,9 @@ fn quantise(value: f64, lsb: f64) -> Result<i16, ErrorKind> {
 
 impl TileBus for Simulator {
     fn read_sun(&mut self, tile: usize) -> Result<Option<[i16; 2]>, ErrorKind> {
+        if self.real.is_some() {
+            return self.real_read_sun(tile);
+        }
         self.tile_check(tile)?;
         if self.env.sun_fraction < 0.5 {
             return Ok(None);
@@ -566,6 +1097,9 @@ impl TileBus for Simulator {
     }
 
     fn read_magnetometer(&mut self, tile: usize) -> Result<[i16; 2], ErrorKind> {
+        if self.real.is_some() {
+            return self.real_read_magnetometer(tile);
+        }
         self.tile_check(tile)?;
         let b_tile = self.tile_matrix(tile) * dcm_of(&self.truth.q) * self.env.b_teme_nt;
         let bias = self
@@ -580,6 +1114,9 @@ impl TileBus for Simulator {
     }
 
     fn read_gyro(&mut self, tile: usize) -> Result<i16, ErrorKind> {
+        if self.real.is_some() {
+            return self.real_read_gyro(tile);
+        }
         self.tile_check(tile)?;
         let z = self.tile_matrix(tile).row(2).transpose();
         let bias = self.gyro_bias.get(tile).copied().unwrap_or(0.0);
@@ -598,6 +1135,7 @@ impl TileBus for Simulator {
         if let Some(c) = self.wheel_cmd.get_mut(tile) {
             *c = h;
         }
+        self.real_command(Some((tile, h)), None);
         Ok(())
     }
 
@@ -613,11 +1151,13 @@ impl TileBus for Simulator {
             if let Some(c) = self.coil_cmd.get_mut(coil) {
                 *c = 0.0;
             }
+            self.real_command(None, Some((coil, 0.0)));
             return Err(ErrorKind::OutOfRange);
         }
         if let Some(c) = self.coil_cmd.get_mut(coil) {
             *c = m;
         }
+        self.real_command(None, Some((coil, m)));
         Ok(())
     }
 }

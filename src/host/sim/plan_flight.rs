@@ -183,6 +183,7 @@ pub fn fly(config: &SimConfig, pb: &Problem, p: &[f64], step_s: f64) -> Result<(
 pub fn thesis_case() -> Result<(SimConfig, Problem), String> {
     let mut config = super::scenarios::thesis_slew(false)
         .map_err(|e| e.to_string())?
+        .with_truth(super::realistic::TruthLevel::Ideal)
         .sim;
     config.inertia = crate::linalg::Mat3d::from_diagonal_element(0.7);
     config.coils = [Vec3d::x(), Vec3d::y(), Vec3d::z()]

@@ -4,7 +4,10 @@
 //!
 //! Each scenario is plain data: the satellite the loop flies, the truth configuration, the
 //! initial state, the ground commands and the target attitude the pointing error is measured
-//! against. [`Scenario::run`] builds the loop, [`Scenario::orbit`] its element set,
+//! against. Every constructor gives the realistic truth ([`super::realistic`]);
+//! [`Scenario::with_truth`] switches to the ideal truth, which for the thesis scenarios is the
+//! thesis's own noise model (ideal sensors, or about 1 % noise: `acs demo` compares with the
+//! thesis's figures in it). [`Scenario::run`] builds the loop, [`Scenario::orbit`] its element set,
 //! [`Scenario::simulator`] the truth, and [`Scenario::fly`] flies any loop over the scenario's
 //! configuration (the pieces another way of running the loop, e.g. on the target, reuses).
 //!
@@ -20,8 +23,10 @@
 //! | truth item | value | source |
 //! |---|---|---|
 //! | orbit, field, Sun, sensors | the simulator's own f64 orbit, IGRF-14 at degree 13, precise Sun, sensor models | [`super`] |
-//! | wheel torque limit | 1e-3 N·m | issue #8's scenarios (unchanged) |
-//! | Sun-sensor field of view | 80° half angle | issue #8's scenarios (unchanged) |
+//! | truth | realistic ([`super::realistic::Realism::DEFAULT`]) unless [`Scenario::with_truth`] says ideal | issue #18 |
+//! | wheel torque limit (ideal truth) | 1e-3 N·m | issue #8's scenarios (unchanged; the realistic truth has its wheel class's) |
+//! | Sun-sensor field of view (ideal truth) | 80° half angle | issue #8's scenarios (unchanged; the realistic truth has its sensor class's) |
+//! | sensor noise (ideal truth) | per scenario ([`SensorNoise`]) | issue #8's scenarios (unchanged; the realistic truth has its device tables) |
 //! | disturbances | `C_d` 2.5, 0.051 m², centre of pressure (20, 0, 70) mm, residual dipole 4e-3 A·m², gravity gradient, `q` 0.6 | seed 004 §2.1 ([`Disturbances::seed004`]) |
 //!
 //! The disturbances: note 000 gives no dimensions, mass, surface or residual dipole for the
@@ -64,6 +69,7 @@ use crate::orbit::sgp4::{Gravity, Sgp4};
 use crate::tiles::{Tiles, CUBE_THESIS};
 use crate::time::{Calendar, Epoch, Utc};
 
+use super::realistic::{Realism, TruthLevel};
 use super::{run, Disturbances, Sample, SensorNoise, SimConfig, SimError, Simulator};
 
 /// The thesis TLE (DTUSAT, note 000 §3.3 and §4.2).
@@ -213,6 +219,24 @@ impl Scenario {
         let tle = crate::tle::Tle::parse(&self.sim.tle.0, &self.sim.tle.1)
             .map_err(|e| SimError::Tle(e.to_string()))?;
         Sgp4::new(&tle, self.gravity).map_err(|e| SimError::Model(format!("{e:?}")))
+    }
+
+    /// The scenario flown against `truth` (every constructor gives the realistic truth).
+    pub fn with_truth(mut self, truth: TruthLevel) -> Self {
+        self.sim.realism = match truth {
+            TruthLevel::Ideal => None,
+            TruthLevel::Realistic => Some(Realism::DEFAULT),
+        };
+        self
+    }
+
+    /// The truth the scenario flies.
+    pub fn truth(&self) -> TruthLevel {
+        if self.sim.realism.is_some() {
+            TruthLevel::Realistic
+        } else {
+            TruthLevel::Ideal
+        }
     }
 
     /// The simulator in the scenario's initial state.
@@ -371,6 +395,7 @@ pub fn thesis_slew(noisy: bool) -> Result<Scenario, SimError> {
         failures: vec![],
         substep_s: 0.05,
         seed: 7,
+        realism: Some(Realism::DEFAULT),
     };
     Ok(Scenario {
         name: if noisy {
@@ -430,6 +455,7 @@ fn flight_truth(
         failures,
         substep_s: 0.1,
         seed,
+        realism: Some(Realism::DEFAULT),
     })
 }
 
@@ -592,7 +618,12 @@ pub fn sun_safe() -> Result<Scenario, SimError> {
     })
 }
 
-/// All built-in scenarios by name.
+/// A built-in scenario by name, flown against `truth`.
+pub fn by_name_with(name: &str, truth: TruthLevel) -> Option<Result<Scenario, SimError>> {
+    by_name(name).map(|s| s.map(|s| s.with_truth(truth)))
+}
+
+/// All built-in scenarios by name (the realistic truth).
 pub fn by_name(name: &str) -> Option<Result<Scenario, SimError>> {
     Some(match name {
         "thesis-slew" => thesis_slew(false),
