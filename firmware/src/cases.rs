@@ -63,9 +63,8 @@ pub fn run<S: Sink>(s: &mut S) {
 }
 
 /// The parts of one ACS step that no other group measures, each called as
-/// `acs::acs_loop::AcsLoop::step` calls it, in the steady state (operators cached): with the
-/// model and determination cases of the other groups they add up to a step while the loop image
-/// itself does not fit the 16-bit address space (README "MSP430 firmware").
+/// `acs::acs_loop::AcsLoop::step` calls it, in the steady state (operators cached): a profile of
+/// the step, which group `step` measures as one call.
 #[inline(always)]
 fn run_step_parts<S: Sink>(s: &mut S) {
     use acs::control::wheels::{Allocator, Wheel};

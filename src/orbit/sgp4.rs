@@ -62,8 +62,8 @@
 //! [`Sgp4::from_words`] reads them back, checked, on board: propagation is then bit for bit that
 //! of the element set that wrote them (`tests/sgp4.rs`, every near-Earth set of the reference
 //! files), and the board needs neither the TLE parser nor [`Sgp4::new`]: the flight image
-//! without them is 9 480 B smaller (firmware feature `ground-init`, `firmware/tools/loop-image s
-//! ground-init`).
+//! without them is 11.8 KB smaller (the flight image; with `Sgp4::new` on board, firmware feature
+//! `onboard-init`: `firmware/tools/loop-image s onboard-init`).
 //!
 //! # Validity and errors
 //! Near-Earth element sets only (un-Kozai'd period below 225 min); a deep-space set gives
