@@ -1185,6 +1185,41 @@ pub struct Sample {
     pub report: StepReport,
 }
 
+impl Sample {
+    /// The sample of the step just taken at `t` (s): the truth now, the loop's `report`, and the
+    /// pointing error against `target` (reference → body, scalar-first), if any.
+    pub fn of_step(sim: &Simulator, t: f64, report: StepReport, target: Option<[f64; 4]>) -> Self {
+        let truth = sim.truth();
+        let h_body = sim
+            .config
+            .tiles
+            .iter()
+            .map(|t| t.normal_body().cast::<f64>())
+            .zip(truth.wheel_h.iter())
+            .fold(Vec3d::zeros(), |a, (z, h)| a + z * *h);
+        let pointing_error_deg = target.map(|q| {
+            let q32 = Quaternion {
+                q0: q[0] as f32,
+                q1: q[1] as f32,
+                q2: q[2] as f32,
+                q3: q[3] as f32,
+            };
+            angle_between_deg(&truth.q, &q32)
+        });
+        Sample {
+            t_s: t,
+            mode: report.mode,
+            omega_true: truth.omega,
+            pointing_error_deg,
+            estimate_error_deg: report.attitude.map(|q| angle_between_deg(&truth.q, &q)),
+            h_wheels_body: h_body,
+            dipole_am2: report.dipole_body_am2,
+            sun_fraction: sim.env().sun_fraction,
+            report,
+        }
+    }
+}
+
 /// Runs the loop against the simulator for `duration_s` at `dt_s`, applying `commands` (time
 /// in s from the start) and measuring the pointing error against `target(t)`.
 pub fn run<const N: usize, const F: usize>(
@@ -1213,37 +1248,7 @@ pub fn run<const N: usize, const F: usize>(
         }
         let report = acs.step(sim, now, dt_s as f32);
         last_attitude = report.attitude;
-        let truth = sim.truth().clone();
-        let axes: Vec<Vec3d> = sim
-            .config
-            .tiles
-            .iter()
-            .map(|t| t.normal_body().cast::<f64>())
-            .collect();
-        let h_body = axes
-            .iter()
-            .zip(truth.wheel_h.iter())
-            .fold(Vec3d::zeros(), |a, (z, h)| a + z * *h);
-        let pointing_error_deg = target(t).map(|q| {
-            let q32 = Quaternion {
-                q0: q[0] as f32,
-                q1: q[1] as f32,
-                q2: q[2] as f32,
-                q3: q[3] as f32,
-            };
-            angle_between_deg(&truth.q, &q32)
-        });
-        out.push(Sample {
-            t_s: t,
-            mode: report.mode,
-            omega_true: truth.omega,
-            pointing_error_deg,
-            estimate_error_deg: report.attitude.map(|q| angle_between_deg(&truth.q, &q)),
-            h_wheels_body: h_body,
-            dipole_am2: report.dipole_body_am2,
-            sun_fraction: sim.env().sun_fraction,
-            report,
-        });
+        out.push(Sample::of_step(sim, t, report, target(t)));
         sim.advance(dt_s)?;
     }
     Ok(out)

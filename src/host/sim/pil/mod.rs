@@ -64,11 +64,10 @@ use self::elf::{Elf, EM_MSP430};
 use self::mspdebug::{Mspdebug, MspdebugError, Registers};
 use self::uplink::{mode_code, mode_name, Uplink, UplinkMailbox};
 use super::scenarios::Scenario;
-use super::{angle_between_deg, Sample, SimError, Simulator};
-use crate::acs_loop::{Command, StepReport};
+use super::{Sample, SimError, Simulator};
+use crate::acs_loop::Command;
 use crate::attitude::Quaternion;
 use crate::flight::{FlightLoop, CONFIG, CONTROL_PERIOD_S, TILES};
-use crate::linalg::Vec3d;
 use crate::orbit::sgp4::{Sgp4, ELEMENT_WORDS};
 use crate::time::{Epoch, TimeSpan, Utc};
 
@@ -618,37 +617,6 @@ impl Target {
     }
 }
 
-/// The truth-side sample of a step (as the host simulator's `run` logs it).
-fn sample(sim: &Simulator, t: f64, report: StepReport, target: Option<[f64; 4]>) -> Sample {
-    let truth = sim.truth();
-    let h_body = sim
-        .config
-        .tiles
-        .iter()
-        .map(|t| t.normal_body().cast::<f64>())
-        .zip(truth.wheel_h.iter())
-        .fold(Vec3d::zeros(), |a, (z, h)| a + z * *h);
-    let pointing_error_deg = target.map(|q| {
-        let q32 = Quaternion {
-            q0: q[0] as f32,
-            q1: q[1] as f32,
-            q2: q[2] as f32,
-            q3: q[3] as f32,
-        };
-        angle_between_deg(&truth.q, &q32)
-    });
-    Sample {
-        t_s: t,
-        mode: report.mode,
-        omega_true: truth.omega,
-        pointing_error_deg,
-        estimate_error_deg: report.attitude.map(|q| angle_between_deg(&truth.q, &q)),
-        h_wheels_body: h_body,
-        dipole_am2: report.dipole_body_am2,
-        sun_fraction: sim.env().sun_fraction,
-        report,
-    }
-}
 
 /// A processor-in-the-loop run.
 #[derive(Clone, Debug)]
@@ -748,7 +716,7 @@ pub fn run(
         log.push((k, image.mode, cycles));
         let kinds: Vec<u16> = encoded.iter().map(|(kind, _)| *kind).collect();
         let differences = compare(&host, &image, &kinds);
-        samples.push(sample(&sim, t, report, scenario.target));
+        samples.push(Sample::of_step(&sim, t, report, scenario.target));
         progress(k + 1);
         if !differences.is_empty() {
             mismatch = Some(Mismatch {
