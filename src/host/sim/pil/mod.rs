@@ -617,7 +617,6 @@ impl Target {
     }
 }
 
-
 /// A processor-in-the-loop run.
 #[derive(Clone, Debug)]
 pub struct PilRun {
