@@ -130,11 +130,15 @@ pub struct Faults {
     pub attitude: bool,
     /// A wheel or coil command was scaled down to its limit.
     pub saturated: bool,
+    /// A control law, the momentum dumping or an allocator refused its input (NaN, infinite
+    /// or degenerate): its command is withheld, never replaced by a zero command unreported;
+    /// the coils stay off and the wheels hold the momentum in force.
+    pub law: bool,
 }
 
 impl Faults {
     /// The flags as a telemetry word: bit 0 `device_read`, 1 `actuator`, 2 `orbit`, 3 `model`,
-    /// 4 `field`, 5 `rate`, 6 `attitude`, 7 `saturated`.
+    /// 4 `field`, 5 `rate`, 6 `attitude`, 7 `saturated`, 8 `law`.
     pub fn bits(&self) -> u16 {
         [
             self.device_read,
@@ -145,6 +149,7 @@ impl Faults {
             self.rate,
             self.attitude,
             self.saturated,
+            self.law,
         ]
         .iter()
         .rev()
@@ -384,6 +389,12 @@ struct Readings<const N: usize> {
     sun_seen: u32,
     mag_read: u32,
     gyro_read: u32,
+}
+
+/// A law's command, or none (zero) with the refusal reported in `faults.law`.
+fn reported(command: Option<Vec3>, faults: &mut Faults) -> Vec3 {
+    faults.law |= command.is_none();
+    command.unwrap_or_else(Vec3::zeros)
 }
 
 /// Bit `i` of `mask` (false beyond 31).
@@ -737,7 +748,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         report.sun_fraction = models.illumination.map(|i| i.fraction);
         let dt = self.sense(bus, &models, &now, dt_s, &mut faults, report);
         self.change_mode(report);
-        let (dipole, h_target) = self.laws(report, dt, &now);
+        let (dipole, h_target) = self.laws(report, dt, &now, &mut faults);
         let (dipole, h_wheels) = self.actuate(bus, report, dipole, h_target, &mut faults);
         report.mode = self.mode;
         report.dipole_body_am2 = dipole;
@@ -919,9 +930,16 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
     }
 
     /// Step phase 5b: the mode's law. Returns the coil dipole (body, A·m²) and the wheel
-    /// momentum to hold (body, kg·m²/s; `None`: hold the momentum in force).
+    /// momentum to hold (body, kg·m²/s; `None`: hold the momentum in force). A law that
+    /// refuses its input sets `faults.law` and commands nothing (coils off, wheels held).
     #[inline(never)]
-    fn laws(&mut self, det: &StepReport, dt: f32, now: &Epoch<Utc>) -> (Vec3, Option<Vec3>) {
+    fn laws(
+        &mut self,
+        det: &StepReport,
+        dt: f32,
+        now: &Epoch<Utc>,
+        faults: &mut Faults,
+    ) -> (Vec3, Option<Vec3>) {
         // by reference: on the MSP430 each copy of an option is a `memcpy` call
         let (omega, b_body_nt) = (det.omega_body_radps.as_ref(), det.b_body_nt.as_ref());
         let mut dipole = Vec3::zeros();
@@ -934,14 +952,13 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
                         // the derivative form must not difference against a sample taken
                         // before a gyro outage: forget it while the gyro form runs
                         self.bdot.reset();
-                        bdot_from_rates(&self.config.bdot, w, b).unwrap_or_else(|_| Vec3::zeros())
+                        reported(bdot_from_rates(&self.config.bdot, w, b).ok(), faults)
                     }
-                    (None, Some(b)) => self
-                        .bdot
-                        .update(&self.config.bdot, b, dt)
-                        .ok()
-                        .flatten()
-                        .unwrap_or_else(Vec3::zeros),
+                    // `Ok(None)`: the first sample of the derivative form, nothing to command
+                    (None, Some(b)) => match self.bdot.update(&self.config.bdot, b, dt) {
+                        Ok(m) => m.unwrap_or_else(Vec3::zeros),
+                        Err(_) => reported(None, faults),
+                    },
                     _ => Vec3::zeros(),
                 };
             }
@@ -954,6 +971,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
                         w,
                     )
                     .ok();
+                    faults.law |= torque.is_none();
                 }
             }
             Mode::Slew => {
@@ -987,6 +1005,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
                     &h_w,
                 )
                 .ok();
+                faults.law |= torque.is_none();
             }
         }
         // wheels: a torque law integrates into momentum (ḣ = −τ); a slew sets momentum
@@ -995,7 +1014,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
                 let h_w = h_now.unwrap_or_else(|| self.wheels_body());
                 h_target = Some(crate::linalg::sub_scaled(&h_w, &tau, dt));
             } else if let Some(b) = b_body_nt {
-                dipole = dipole_for_torque(&tau, b).unwrap_or_else(|_| Vec3::zeros());
+                dipole = reported(dipole_for_torque(&tau, b).ok(), faults);
             }
         }
         (dipole, h_target)
@@ -1048,8 +1067,8 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
                     self.config.dumping_gain_per_s,
                     &b,
                 )
-                .unwrap_or_else(|_| Vec3::zeros());
-                dipole += dump;
+                .ok();
+                dipole += reported(dump, faults);
             }
         }
         (self.command_coils(bus, &dipole, faults), h_wheels)
@@ -1103,8 +1122,16 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
             };
         }
         // the allocator gives the wheels −W⁺L: ask for the body momentum −h so they hold +h;
-        // with no working wheel every wheel is commanded to stop
-        let alloc = cached_allocation(&mut self.wheel_allocator, &wheels, &(-h)).ok();
+        // with no working wheel every wheel is commanded to stop; on any other refusal (a NaN
+        // target...) no wheel is commanded: they hold the momentum in force, reported
+        let alloc = match cached_allocation(&mut self.wheel_allocator, &wheels, &(-h)) {
+            Ok(a) => Some(a),
+            Err(WheelError::NoWorkingWheel) => None,
+            Err(_) => {
+                faults.law = true;
+                return false;
+            }
+        };
         for (i, (cmd, (tile, wheel))) in self
             .wheel_h
             .iter_mut()
@@ -1138,8 +1165,13 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         for (c, cfg) in coils.iter_mut().zip(self.config.coils.iter()) {
             *c = *cfg;
         }
-        let Ok(alloc) = cached_allocation(&mut self.coil_allocator, &coils, &(-m)) else {
-            return Vec3::zeros();
+        let alloc = match cached_allocation(&mut self.coil_allocator, &coils, &(-m)) {
+            Ok(a) => a,
+            Err(e) => {
+                // the coils stay off (`safe`); a refused dipole is reported
+                faults.law |= !matches!(e, WheelError::NoWorkingWheel);
+                return Vec3::zeros();
+            }
         };
         faults.saturated |= alloc.scale < 1.0;
         let mut produced = Vec3::zeros();

@@ -725,3 +725,150 @@ fn restored_tile_returns_to_service() {
         bus.0
     );
 }
+
+/// A tile bus with constant readings: the Sun on tile 1's normal (tile 0 has no ACS device), a field and rates that differ
+/// per tile, magnetometers scaled by `field` (0: a stuck-at-zero field); it records the last
+/// command of every wheel and coil.
+struct ConstantBus {
+    field: i16,
+    wheels: [Option<f32>; 6],
+    coils: [Option<f32>; 6],
+}
+
+impl acs::hal::TileBus for ConstantBus {
+    fn read_sun(&mut self, tile: usize) -> Result<Option<[i16; 2]>, acs::hal::ErrorKind> {
+        Ok((tile == 1).then_some([0, 0]))
+    }
+    fn read_magnetometer(&mut self, tile: usize) -> Result<[i16; 2], acs::hal::ErrorKind> {
+        Ok([
+            self.field * (1 + tile as i16 * 3),
+            -2 * self.field + tile as i16 * self.field,
+        ])
+    }
+    fn read_gyro(&mut self, tile: usize) -> Result<i16, acs::hal::ErrorKind> {
+        Ok(20 - tile as i16 * 7)
+    }
+    fn set_wheel_momentum(&mut self, tile: usize, h_nms: f32) -> Result<(), acs::hal::ErrorKind> {
+        self.wheels[tile] = Some(h_nms);
+        Ok(())
+    }
+    fn set_dipole(&mut self, tile: usize, m: f32) -> Result<(), acs::hal::ErrorKind> {
+        self.coils[tile] = Some(m);
+        Ok(())
+    }
+}
+
+/// Issue 19: a law that refuses its input is reported, not turned into a zero command: a
+/// tracking target that is not a rotation (NaN) sets `faults.law`, and the wheels hold the
+/// momentum they had (they were commanded to zero on any allocation error before).
+#[test]
+fn refused_law_is_reported_and_the_wheels_hold() {
+    use acs::acs_loop::Command;
+    use acs::attitude::Quaternion;
+    use acs::time::TimeSpan;
+
+    let (_, tle, orbit) = tracking_setup();
+    let mut acs = FlightLoop::new(&CONFIG, orbit).unwrap();
+    let mut bus = ConstantBus {
+        field: 100,
+        wheels: [None; 6],
+        coils: [None; 6],
+    };
+    let t0 = tle.epoch.add(TimeSpan::new(60, 0));
+    let target = Quaternion::new_normalize(0.5, 0.5, -0.5, 0.5).unwrap();
+    acs.command(Command::Track { target }, None, t0).unwrap();
+    let mut report = acs::acs_loop::StepReport::empty(Mode::Tracking);
+    for k in 0..5 {
+        acs.step_into(&mut bus, t0.add(TimeSpan::new(k, 0)), 1.0, &mut report);
+        assert!(!report.faults.law, "{:?}", report.faults);
+    }
+    assert!(report.attitude.is_some(), "{report:?}");
+    let held = bus.wheels;
+    assert!(held.iter().flatten().any(|h| *h != 0.0), "{held:?}");
+    let nan = Quaternion {
+        q0: f32::NAN,
+        q1: 0.0,
+        q2: 0.0,
+        q3: 0.0,
+    };
+    acs.command(Command::Track { target: nan }, None, t0)
+        .unwrap();
+    acs.step_into(&mut bus, t0.add(TimeSpan::new(5, 0)), 1.0, &mut report);
+    assert!(report.faults.law, "{:?}", report.faults);
+    assert_eq!(report.faults.bits() & 0x100, 0x100);
+    assert_eq!(bus.wheels, held, "the wheels must hold their momentum");
+    assert!(bus.coils.iter().flatten().all(|m| m.is_finite()));
+    // a valid target again: the fault clears
+    acs.command(Command::Track { target }, None, t0).unwrap();
+    acs.step_into(&mut bus, t0.add(TimeSpan::new(6, 0)), 1.0, &mut report);
+    assert!(!report.faults.law, "{:?}", report.faults);
+}
+
+/// Issue 19: magnetometers stuck at zero (a zero field) leave the momentum dumping without a
+/// coil solution: the refusal is reported and the coils stay off, with no NaN.
+#[test]
+fn zero_field_is_reported() {
+    use acs::time::TimeSpan;
+
+    let (_, tle, orbit) = tracking_setup();
+    let mut acs = FlightLoop::new(&CONFIG, orbit).unwrap();
+    acs.command(acs::acs_loop::Command::SunSafe, None, tle.epoch)
+        .unwrap();
+    let mut bus = ConstantBus {
+        field: 0,
+        wheels: [None; 6],
+        coils: [None; 6],
+    };
+    let t0 = tle.epoch.add(TimeSpan::new(60, 0));
+    let mut report = acs::acs_loop::StepReport::empty(Mode::SunSafe);
+    for k in 0..3 {
+        acs.step_into(&mut bus, t0.add(TimeSpan::new(k, 0)), 1.0, &mut report);
+    }
+    assert_eq!(report.mode, Mode::SunSafe);
+    assert!(report.faults.law, "{report:?}");
+    assert_eq!(report.dipole_body_am2, nalgebra::Vector3::zeros());
+    assert!(
+        bus.coils.iter().flatten().all(|m| *m == 0.0),
+        "{:?}",
+        bus.coils
+    );
+    assert!(
+        bus.wheels.iter().flatten().all(|h| h.is_finite()),
+        "{:?}",
+        bus.wheels
+    );
+}
+
+/// Issue 19: an allocator that refuses (here every wheel's limit is negative, which the
+/// allocator refuses as an invalid wheel) does not send the wheels to zero: no wheel is
+/// commanded, they hold the momentum in force, and the refusal is reported (before, every wheel
+/// was commanded to zero momentum, unreported).
+#[test]
+fn refused_allocation_holds_the_wheels() {
+    use acs::acs_loop::AcsConfig;
+    use acs::time::TimeSpan;
+
+    let (_, tle, orbit) = tracking_setup();
+    let config = AcsConfig {
+        wheel_limit_nms: -1.0,
+        ..CONFIG.clone()
+    };
+    let mut acs =
+        acs::acs_loop::AcsLoop::<6, { acs::flight::FIELD_COEFFS }>::new(&config, orbit).unwrap();
+    acs.command(acs::acs_loop::Command::SunSafe, None, tle.epoch)
+        .unwrap();
+    let mut bus = ConstantBus {
+        field: 100,
+        wheels: [None; 6],
+        coils: [None; 6],
+    };
+    let mut report = acs::acs_loop::StepReport::empty(Mode::SunSafe);
+    acs.step_into(
+        &mut bus,
+        tle.epoch.add(TimeSpan::new(60, 0)),
+        1.0,
+        &mut report,
+    );
+    assert!(report.faults.law, "{report:?}");
+    assert_eq!(bus.wheels, [None; 6], "no wheel may be sent to zero");
+}
