@@ -134,11 +134,15 @@ pub struct Faults {
     /// or degenerate): its command is withheld, never replaced by a zero command unreported;
     /// the coils stay off and the wheels hold the momentum in force.
     pub law: bool,
+    /// The time since the previous step was not within (0, 2] control periods (a clock
+    /// correction, a reset, a missed period): the attitude filter and the B-dot derivative
+    /// restarted, and the laws integrated one nominal period.
+    pub clock: bool,
 }
 
 impl Faults {
     /// The flags as a telemetry word: bit 0 `device_read`, 1 `actuator`, 2 `orbit`, 3 `model`,
-    /// 4 `field`, 5 `rate`, 6 `attitude`, 7 `saturated`, 8 `law`.
+    /// 4 `field`, 5 `rate`, 6 `attitude`, 7 `saturated`, 8 `law`, 9 `clock`.
     pub fn bits(&self) -> u16 {
         [
             self.device_read,
@@ -150,6 +154,7 @@ impl Faults {
             self.attitude,
             self.saturated,
             self.law,
+            self.clock,
         ]
         .iter()
         .rev()
@@ -835,7 +840,21 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         };
         let elapsed = self.last_time.map(|t| span_s(now, &t));
         self.last_time = Some(*now);
-        let dt = elapsed.unwrap_or(dt_s);
+        // A step is one control period: a gap of any other size or sign (a clock correction, a
+        // reset) must not be integrated into the wheels (a +60 s correction once kicked a
+        // tracking satellite to 1.8 °/s). It restarts the filter and the B-dot derivative,
+        // reported, and the laws integrate one nominal period.
+        let period = self.config.control_period_s;
+        let dt = match elapsed {
+            None => dt_s,
+            Some(e) if e > 0.0 && e <= period + period => e,
+            Some(_) => {
+                faults.clock = true;
+                self.estimate = None;
+                self.bdot.reset();
+                period
+            }
+        };
         let filter = FilterConfig {
             gain: self.config.filter_gain,
             max_propagation_s: self.config.max_propagation_s,

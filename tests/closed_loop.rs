@@ -872,3 +872,71 @@ fn refused_allocation_holds_the_wheels() {
     assert!(report.faults.law, "{report:?}");
     assert_eq!(bus.wheels, [None; 6], "no wheel may be sent to zero");
 }
+
+/// Issue 19, time base: a jump of the on-board clock (+60 s, then −30 s) is not integrated into
+/// the wheels. Before, the step took `now − last` of any size or sign as its time step, and a
+/// +60 s correction moved the wheels by 60 periods' worth of torque at once; now a gap outside
+/// (0, 2] periods restarts the filter, is reported (`Faults::clock`) and integrates one period:
+/// the wheels move as much as they do in one period of a loop started just before (a twin;
+/// measured within 1 %, the rest the gyroscopic term of the wheels' different stores).
+#[test]
+fn clock_jump_is_not_integrated_into_the_wheels() {
+    use acs::acs_loop::Command;
+    use acs::time::TimeSpan;
+
+    let (_, tle, orbit) = tracking_setup();
+    let t0 = tle.epoch.add(TimeSpan::new(60, 0));
+    // the target: the attitude the constant readings give at t0 (small errors, no saturation)
+    let target = {
+        let mut probe = FlightLoop::new(&CONFIG, orbit.clone()).unwrap();
+        let mut report = acs::acs_loop::StepReport::empty(Mode::SunSafe);
+        let mut bus = ConstantBus {
+            field: 100,
+            wheels: [None; 6],
+            coils: [None; 6],
+        };
+        probe.step_into(&mut bus, t0, 1.0, &mut report);
+        report.attitude.unwrap()
+    };
+    let start = || {
+        let mut acs = FlightLoop::new(&CONFIG, orbit.clone()).unwrap();
+        acs.command(Command::Track { target }, None, t0).unwrap();
+        let bus = ConstantBus {
+            field: 100,
+            wheels: [None; 6],
+            coils: [None; 6],
+        };
+        (acs, bus)
+    };
+    // the largest change of a wheel command in the step at t0 + t s, and the step's faults
+    let step = |acs: &mut FlightLoop, bus: &mut ConstantBus, t: i32| {
+        let before = bus.wheels;
+        let mut report = acs::acs_loop::StepReport::empty(Mode::Tracking);
+        acs.step_into(bus, t0.add(TimeSpan::new(t, 0)), 1.0, &mut report);
+        let change = before
+            .iter()
+            .zip(bus.wheels.iter())
+            .map(|(a, b)| (b.unwrap_or(0.0) - a.unwrap_or(0.0)).abs())
+            .fold(0.0f32, f32::max);
+        (change, report.faults)
+    };
+    let (mut acs, mut bus) = start();
+    for t in 0..5 {
+        assert!(!step(&mut acs, &mut bus, t).1.clock);
+    }
+    for t in [64, 34] {
+        let (change, faults) = step(&mut acs, &mut bus, t);
+        assert!(faults.clock, "{faults:?}");
+        let (mut twin, mut twin_bus) = start();
+        step(&mut twin, &mut twin_bus, t - 1);
+        let (one_period, twin_faults) = step(&mut twin, &mut twin_bus, t);
+        assert!(!twin_faults.clock);
+        assert!(one_period > 0.0);
+        assert!(
+            change <= 1.1 * one_period,
+            "a clock jump to {t} s moved a wheel by {change} N·m·s (one period: {one_period})"
+        );
+    }
+    // one period a step again: no fault
+    assert!(!step(&mut acs, &mut bus, 35).1.clock);
+}

@@ -128,12 +128,9 @@ pub fn tracking_torque(
     {
         return Err(TrackingError::NotFinite);
     }
-    if gains
-        .kp_nm
-        .iter()
-        .chain(gains.kd_nms.iter())
-        .any(|k| *k < 0.0)
-    {
+    // (finite here) component by component: an iterator chain costs 248 B on the MSP430
+    let negative = |v: &Vec3| v.x < 0.0 || v.y < 0.0 || v.z < 0.0;
+    if negative(&gains.kp_nm) || negative(&gains.kd_nms) {
         return Err(TrackingError::NegativeGain);
     }
     let e = attitude_error(q, q_target);
