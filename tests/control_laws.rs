@@ -313,6 +313,28 @@ fn tracking_converges_from_a_large_error_and_takes_the_short_way() {
         &Vec3::zeros()
     )
     .is_err());
+    // a negative gain on any axis, proportional or derivative, is refused
+    for (k, v) in (0..6).map(|k| (k, -1e-9f32)) {
+        let mut g = gains;
+        if k < 3 {
+            g.kp_nm[k] = v;
+        } else {
+            g.kd_nms[k - 3] = v;
+        }
+        assert_eq!(
+            tracking_torque(
+                &g,
+                &inertia,
+                &small,
+                &Vec3::zeros(),
+                &Quaternion::IDENTITY,
+                &Vec3::zeros(),
+                &Vec3::zeros()
+            ),
+            Err(acs::control::tracking::TrackingError::NegativeGain),
+            "gain {k}"
+        );
+    }
 }
 
 #[test]
