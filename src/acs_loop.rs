@@ -118,7 +118,8 @@ pub struct Faults {
     pub device_read: bool,
     /// At least one actuator refused or failed a command.
     pub actuator: bool,
-    /// The orbit could not be propagated (decayed, out of range...).
+    /// The orbit could not be propagated (decayed, out of range...) or the loop has no element
+    /// set.
     pub orbit: bool,
     /// The Sun or field model failed (date out of range...).
     pub model: bool,
@@ -316,7 +317,7 @@ pub struct AcsLoop<'c, const N: usize = MAX_TILES, const F: usize = FULL_COEFFS>
     config: &'c AcsConfig<N>,
     /// Bit `i` set: tile `i` is out of service (failed at run time or configured failed).
     failed: u32,
-    orbit: Sgp4,
+    orbit: Option<Sgp4>,
     mode: Mode,
     bdot: BdotState,
     slew: Option<SlewProgress>,
@@ -450,9 +451,12 @@ struct Models {
 }
 
 impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
-    /// A loop in `Detumble` for the given configuration and orbit.
+    /// A loop in `Detumble` for the given configuration and orbit (an [`Sgp4`], or `None`: a
+    /// loop without an element set, as after a corrupt one at start-up, still detumbles and
+    /// keeps the Sun on its panel, the laws that need no reference, with [`Faults::orbit`] set
+    /// each step until [`Self::set_orbit`] gives it one).
     #[cfg_attr(target_arch = "msp430", optimize(size))]
-    pub fn new(config: &'c AcsConfig<N>, orbit: Sgp4) -> Result<Self, AcsError> {
+    pub fn new(config: &'c AcsConfig<N>, orbit: impl Into<Option<Sgp4>>) -> Result<Self, AcsError> {
         let gain_ok = config.filter_gain > 0.0 && config.filter_gain <= 1.0;
         let finite = gain_ok
             && config.max_propagation_s.is_finite()
@@ -482,7 +486,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         Ok(Self {
             config,
             failed,
-            orbit,
+            orbit: orbit.into(),
             mode: Mode::Detumble,
             bdot: BdotState::default(),
             slew: None,
@@ -504,7 +508,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
     /// [`Sgp4::from_words`] first, so that a refused set leaves the one in use); the rest of the
     /// state is kept.
     pub fn set_orbit(&mut self, orbit: Sgp4) {
-        self.orbit = orbit;
+        self.orbit = Some(orbit);
     }
 
     /// The current mode.
@@ -782,8 +786,8 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
     fn models(&self, now: &Epoch<Utc>, faults: &mut Faults) -> Models {
         let orbit = self
             .orbit
-            .propagate(now.span_since(&self.orbit.epoch()))
-            .ok();
+            .as_ref()
+            .and_then(|o| o.propagate(now.span_since(&o.epoch())).ok());
         faults.orbit = orbit.is_none();
         let sun = thesis::sun(now).ok();
         let gmst = now.to_ut1(None).ok().map(|ut1| gmst_rad(&ut1));

@@ -940,3 +940,44 @@ fn clock_jump_is_not_integrated_into_the_wheels() {
     // one period a step again: no fault
     assert!(!step(&mut acs, &mut bus, 35).1.clock);
 }
+
+/// Issue 19, firmware faults: a loop without an element set (a corrupt one at start-up) is
+/// built and flies what needs no reference (detumble, sun-safe), reports `Faults::orbit` every
+/// step, and takes an element set later.
+#[test]
+fn loop_without_elements_detumbles_and_takes_a_set_later() {
+    use acs::time::TimeSpan;
+
+    let (_, tle, orbit) = tracking_setup();
+    let mut acs = FlightLoop::new(&CONFIG, None).unwrap();
+    let mut bus = ConstantBus {
+        field: 100,
+        wheels: [None; 6],
+        coils: [None; 6],
+    };
+    let t0 = tle.epoch.add(TimeSpan::new(60, 0));
+    let mut report = acs::acs_loop::StepReport::empty(Mode::Detumble);
+    for t in 0..3 {
+        acs.step_into(&mut bus, t0.add(TimeSpan::new(t, 0)), 1.0, &mut report);
+        assert!(report.faults.orbit, "{report:?}");
+        assert!(report.b_body_nt.is_some() && report.omega_body_radps.is_some());
+    }
+    // the rates are low: out of detumble into sun-safe, which needs no reference either: the
+    // Sun seen by tile 1 and the gyros drive the wheels
+    assert_eq!(report.mode, Mode::SunSafe);
+    assert!(report.sun_body.is_some());
+    assert!(
+        bus.wheels.iter().flatten().any(|h| *h != 0.0),
+        "{:?}",
+        bus.wheels
+    );
+    assert!(bus
+        .wheels
+        .iter()
+        .chain(bus.coils.iter())
+        .flatten()
+        .all(|x| x.is_finite()));
+    acs.set_orbit(orbit);
+    acs.step_into(&mut bus, t0.add(TimeSpan::new(3, 0)), 1.0, &mut report);
+    assert!(!report.faults.orbit, "{report:?}");
+}

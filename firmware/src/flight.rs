@@ -55,13 +55,16 @@ pub fn reset_clock() -> Option<Epoch<Utc>> {
 pub const PERIOD: TimeSpan = TimeSpan::from_whole_seconds(CONTROL_PERIOD_S as i32);
 
 /// Builds the loop over the flight configuration and the element set at reset
-/// ([`flight_orbit`]) in `slot`, or leaves `None` there if a part of it is invalid. In place
-/// and out of line: the loop is not returned by value, and the element set's temporaries live
-/// in this frame only while the loop is built (not under the steps).
+/// ([`flight_orbit`]) in `slot`, or leaves `None` there if the configuration is invalid. An
+/// element set that does not check out does not stop the loop: it is built without one and
+/// detumbles and keeps the Sun on its panel (the laws that need no reference), reporting
+/// `Faults::orbit`, until the ground uplinks a set. In place and out of line: the loop is not
+/// returned by value, and the element set's temporaries live in this frame only while the loop
+/// is built (not under the steps).
 #[inline(never)]
 #[cfg_attr(target_arch = "msp430", optimize(size))]
 pub fn init_loop(slot: &mut Option<FlightLoop>) {
-    *slot = flight_orbit().and_then(|orbit| FlightLoop::new(&CONFIG, orbit).ok());
+    *slot = FlightLoop::new(&CONFIG, flight_orbit()).ok();
 }
 
 /// SGP4 on the flight element set initialised on the ground: the board checks and reads the

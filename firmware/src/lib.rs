@@ -1,12 +1,12 @@
 //! # acs-firmware: the acs flight code on an MSP430 (msp430-none-elf)
 //!
-//! - [`rt`]: reset handler (stack pointer, watchdog off, `.data` copy, `.bss` zero, stack
+//! - [`rt`]: reset handler (stack pointer, watchdog started, `.data` copy, `.bss` zero, stack
 //!   painting for the high-water mark) and the interrupt vector table.
 //! - [`tiles`]: the tile bus in the HAL's raw formats over RAM mailboxes that the simulator, the
 //!   processor-in-the-loop host or a debugger read and write.
 //! - [`flight`]: the flight loop's set-up, the ground uplink and the published step results.
 //! - [`safe_state`]: the hook that puts every actuator in its safe state; unexpected interrupts
-//!   call it and then halt.
+//!   call it and then halt, and the watchdog resets the part ([`kick_watchdog`]).
 //!
 //! The binaries: `acs-firmware` (the flight loop, `src/main.rs`) and `bench` (the cycle benchmark
 //! driven by `firmware/msp430-bench` in `mspdebug`'s simulator).
@@ -45,9 +45,10 @@ pub extern "C" fn fw_period_start() {
     unsafe { core::arch::asm!("nop") };
 }
 
-/// Halts the core for good: interrupts off, then an endless loop (on the real part the watchdog
-/// is off, so this stays here until a power cycle or a ground reset). The benchmark and the
-/// simulator stop on the symbol `fw_halt`.
+/// Stops the core: interrupts off, then an endless loop without kicking the watchdog, which
+/// resets the part within its interval (1 s, [`rt::WDT_KICK`]): the flight image starts again
+/// (reset, element set, the loop in detumble). The benchmark and the simulator stop on the
+/// symbol `fw_halt`.
 #[no_mangle]
 #[inline(never)]
 pub extern "C" fn fw_halt() -> ! {
@@ -56,6 +57,15 @@ pub extern "C" fn fw_halt() -> ! {
     loop {
         core::hint::spin_loop();
     }
+}
+
+/// Restarts the watchdog's interval ([`rt::WDT_KICK`]): the flight loop calls it before and
+/// after every step, so that the part is reset only if the loop stops stepping.
+#[inline(always)]
+pub fn kick_watchdog() {
+    // SAFETY: 0x0120 is the MSP430x4xx's WDTCTL register (SLAU056); a 16-bit volatile write
+    // with the password restarts the counter and changes nothing else.
+    unsafe { core::ptr::write_volatile(0x0120 as *mut u16, rt::WDT_KICK) };
 }
 
 /// Entered from an unexpected interrupt vector (see [`rt`]): safe state, then halt.

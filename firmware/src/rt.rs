@@ -2,7 +2,10 @@
 //!
 //! `Reset` (vector 0xFFFE) runs with no stack and no initialised memory:
 //! 1. stack pointer R1 = `_stack_top` (top of RAM, from `link.x`/`memory.x`);
-//! 2. watchdog held: `WDTCTL` (0x0120) = `WDTPW | WDTHOLD` (0x5A80);
+//! 2. watchdog running from reset: `WDTCTL` (0x0120) = [`WDT_KICK`] (watchdog mode, ACLK,
+//!    32 768 counts: 1 s with the 32 768 Hz crystal), kicked by the loop ([`crate::kick_watchdog`])
+//!    before and after every step; an image that stops stepping (a fatal error, [`crate::fw_halt`])
+//!    is reset within 1 s and starts again;
 //! 3. `.data` copied from its load image in flash (`__sidata`) to RAM (`__sdata..__edata`);
 //! 4. `.bss` zeroed (`__sbss..__ebss`);
 //! 5. the stack area `__ebss.._stack_top` painted with [`STACK_PAINT`], so that the stack
@@ -15,6 +18,13 @@
 /// The 16-bit pattern the reset handler writes over the whole free stack area.
 pub const STACK_PAINT: u16 = 0xA55A;
 
+/// The `WDTCTL` word that starts the watchdog and clears its counter: `WDTPW` (0x5A00) |
+/// `WDTCNTCL` (0x0008) | `WDTSSEL` (0x0004, ACLK), interval ÷32 768 (`WDTIS` = 0), watchdog
+/// mode (a reset, not an interrupt, when it expires): 1 s at ACLK = 32 768 Hz (MSP430x4xx
+/// family user's guide, SLAU056, "Watchdog Timer+"). In mspdebug's simulator, whose ACLK is
+/// MCLK/256, 8 388 608 MCLK cycles.
+pub const WDT_KICK: u16 = 0x5A0C;
+
 core::arch::global_asm!(
     r#"
     .section .text.reset,"ax",@progbits
@@ -22,7 +32,7 @@ core::arch::global_asm!(
     .type Reset,@function
 Reset:
     mov #_stack_top, r1
-    mov #0x5a80, &0x0120
+    mov #{wdt}, &0x0120
     mov #__sidata, r12
     mov #__sdata, r13
     mov #__edata, r14
@@ -61,4 +71,5 @@ DefaultHandler:
     .word Reset
 "#,
     paint = const STACK_PAINT,
+    wdt = const WDT_KICK,
 );

@@ -133,6 +133,9 @@ fn pil_run(args: &Args, scenario: &scenarios::Scenario) -> Result<(), CliError> 
         println!("pil_stack_bytes: {b}");
     }
     println!("pil_flash_bytes: {}", s.flash_bytes);
+    if let Some(c) = s.watchdog_recovery_cycles {
+        println!("pil_watchdog_recovery_cycles: {c}");
+    }
     println!("pil_steps_per_s: {:.1}", run.steps_per_s);
     println!("pil_json: {}", args.pil_json.display());
     match run.mismatch {

@@ -143,6 +143,8 @@ pub struct ImageMap {
     mailboxes: Vec<(&'static str, u32)>,
     period_start: u32,
     halt: u32,
+    /// The reset handler (`Reset`), where a watchdog reset enters.
+    reset: Option<u32>,
     take_uplink: u32,
     /// `__ebss` and `_stack_top`: the painted stack area.
     stack: Option<(u32, u32)>,
@@ -192,6 +194,7 @@ impl ImageMap {
             mailboxes,
             period_start: function("fw_period_start")?,
             halt: function("fw_halt")?,
+            reset: elf.symbol("Reset").map(|s| s.addr),
             take_uplink: take_uplink.addr,
             stack,
             flash_bytes: elf.flash_bytes(),
@@ -395,12 +398,16 @@ pub struct PilSummary {
     pub stack_bytes: Option<u32>,
     /// Flash bytes of the image.
     pub flash_bytes: u32,
+    /// MCLK cycles from a forced halt (`fw_halt`, the fatal-error path) after the run to the
+    /// image's next period start, through the watchdog's reset and a new start-up (`None`: not
+    /// tried, the run stopped on a mismatch).
+    pub watchdog_recovery_cycles: Option<u64>,
 }
 
 impl PilSummary {
     /// The summary as `pil.json`, its keys in the order of the contract (`scenario`, `steps`,
     /// `mismatches`, `cycles_max`, `cycles_mean`), then `cycles_by_mode`, `stack_bytes`,
-    /// `flash_bytes`.
+    /// `flash_bytes`, `watchdog_recovery_cycles`.
     pub fn to_json(&self) -> String {
         let by_mode: Vec<String> = self
             .cycles_by_mode
@@ -413,8 +420,11 @@ impl PilSummary {
         let stack = self
             .stack_bytes
             .map_or_else(|| "null".to_string(), |b| b.to_string());
+        let recovery = self
+            .watchdog_recovery_cycles
+            .map_or_else(|| "null".to_string(), |c| c.to_string());
         format!(
-            "{{\n  \"scenario\": {name},\n  \"steps\": {},\n  \"mismatches\": {},\n  \"cycles_max\": {},\n  \"cycles_mean\": {},\n  \"cycles_by_mode\": {{{}}},\n  \"stack_bytes\": {stack},\n  \"flash_bytes\": {}\n}}\n",
+            "{{\n  \"scenario\": {name},\n  \"steps\": {},\n  \"mismatches\": {},\n  \"cycles_max\": {},\n  \"cycles_mean\": {},\n  \"cycles_by_mode\": {{{}}},\n  \"stack_bytes\": {stack},\n  \"flash_bytes\": {},\n  \"watchdog_recovery_cycles\": {recovery}\n}}\n",
             self.steps,
             self.mismatches,
             self.cycles_max,
@@ -446,10 +456,29 @@ impl Default for PilOptions {
     }
 }
 
+/// The watchdog's interval in mspdebug's simulator, MCLK cycles: 32 768 ACLK counts, its ACLK
+/// being MCLK/256 (`firmware/src/rt.rs`, `WDT_KICK`).
+pub const WATCHDOG_CYCLES: u64 = 32_768 * 256;
+
+/// The `WDTCTL` word the image starts and kicks its watchdog with (`firmware/src/rt.rs`).
+pub const WDT_KICK: u16 = 0x5A0C;
+
+/// `WDTCTL`'s address.
+const WDTCTL: u32 = 0x0120;
+
 /// The flight image in the simulator, stopped at a `fw_period_start`.
+///
+/// The run is made without mspdebug's watchdog device: its WDT+ (0.22, `simio/simio_wdt.c`)
+/// never restarts its count on a kick (it masks `WDTCNTCL` off the written word before testing
+/// it), so it would reset any image after 8.4 M cycles however often it is kicked. What the run
+/// checks instead is the word the image last wrote to `WDTCTL` ([`Target::watchdog_word`]),
+/// and, with the device added, that a halt is followed by a reset and a new start-up
+/// ([`Target::halt_and_recover`]).
 pub struct Target {
     dbg: Mspdebug,
     map: ImageMap,
+    /// The break point at `fw_halt`.
+    halt_break: u32,
     /// MCLK count at the current `fw_period_start` stop.
     cycles: u64,
 }
@@ -479,10 +508,11 @@ impl Target {
         dbg.command("simio add tracer t")?;
         dbg.command("simio add hwmult m")?;
         dbg.set_break(map.period_start)?;
-        dbg.set_break(map.halt)?;
+        let halt_break = dbg.set_break(map.halt)?;
         let mut target = Self {
             dbg,
             map,
+            halt_break,
             cycles: 0,
         };
         target.run_to_period_start("at start-up")?;
@@ -517,6 +547,46 @@ impl Target {
         self.stopped_at(regs[0], self.map.period_start, what)?;
         self.cycles = self.dbg.cycles()?;
         Ok(())
+    }
+
+    /// The word the image last wrote to `WDTCTL` (plain memory without the watchdog device).
+    pub fn watchdog_word(&mut self) -> Result<u16, PilError> {
+        let b = self.dbg.read(WDTCTL, 2)?;
+        Ok(u16::from_le_bytes([b[0], b[1]]))
+    }
+
+    /// The fatal-error path, tried: adds the watchdog device, runs one period (the image's
+    /// kicks set the device as the image runs it, [`WDT_KICK`]), sends the image to `fw_halt`
+    /// (interrupts off, no more steps, no more kicks) and runs it: the watchdog must reset it
+    /// (the reset handler entered within [`WATCHDOG_CYCLES`]) and the image start again, up to
+    /// its first period start. The MCLK cycles from the halt to that period start.
+    pub fn halt_and_recover(&mut self) -> Result<u64, PilError> {
+        let reset = self
+            .map
+            .reset
+            .ok_or_else(|| PilError::Input("the image has no `Reset` handler symbol".into()))?;
+        self.dbg.command("simio add wdt w")?;
+        self.run_to_period_start("with the watchdog device")?;
+        self.dbg.delete_break(self.halt_break)?;
+        let reset_break = self.dbg.set_break(reset)?;
+        let mut regs = self.dbg.registers()?;
+        regs[0] = self.map.halt as u16;
+        self.dbg.set_registers(&regs)?;
+        let halted = self.dbg.cycles()?;
+        let at = self.dbg.run()?;
+        self.stopped_at(at[0], reset, "after a halt (the watchdog's reset)")?;
+        let to_reset = self.dbg.cycles()?.saturating_sub(halted);
+        self.dbg.delete_break(reset_break)?;
+        self.halt_break = self.dbg.set_break(self.map.halt)?;
+        if to_reset > WATCHDOG_CYCLES {
+            return Err(PilError::Image(format!(
+                "the watchdog reset the halted image after {to_reset} cycles, more than its \
+                 interval ({WATCHDOG_CYCLES})"
+            )));
+        }
+        self.run_to_period_start("after the watchdog's reset")?;
+        self.dbg.command("simio del w")?;
+        Ok(self.cycles.saturating_sub(halted))
     }
 
     fn write_uplink(&mut self, kind: u16, args: &[u32]) -> Result<(), PilError> {
@@ -731,13 +801,22 @@ pub fn run(
     }
     let elapsed = started.elapsed().as_secs_f64();
     let stack_bytes = target.stack_high_water()?;
-    let summary = summarise(
+    let mut summary = summarise(
         scenario.name,
         &log,
         usize::from(mismatch.is_some()),
         stack_bytes,
         target.map().flash_bytes,
     );
+    if mismatch.is_none() {
+        let word = target.watchdog_word()?;
+        if word != WDT_KICK {
+            return Err(PilError::Image(format!(
+                "WDTCTL holds 0x{word:04x} after the run, not the kick 0x{WDT_KICK:04x}"
+            )));
+        }
+        summary.watchdog_recovery_cycles = Some(target.halt_and_recover()?);
+    }
     Ok(PilRun {
         samples,
         summary,
@@ -782,6 +861,7 @@ pub fn summarise(
         cycles_by_mode,
         stack_bytes,
         flash_bytes,
+        watchdog_recovery_cycles: None,
     }
 }
 
