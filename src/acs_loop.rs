@@ -139,11 +139,14 @@ pub struct Faults {
     /// correction, a reset, a missed period): the attitude filter and the B-dot derivative
     /// restarted, and the laws integrated one nominal period.
     pub clock: bool,
+    /// The date is past the field model's last epoch: its secular variation extrapolated
+    /// ([`crate::env::igrf::Igrf::is_extrapolated`]; the flight tables: 2030.0 to 2035.0).
+    pub extrapolated: bool,
 }
 
 impl Faults {
     /// The flags as a telemetry word: bit 0 `device_read`, 1 `actuator`, 2 `orbit`, 3 `model`,
-    /// 4 `field`, 5 `rate`, 6 `attitude`, 7 `saturated`, 8 `law`, 9 `clock`.
+    /// 4 `field`, 5 `rate`, 6 `attitude`, 7 `saturated`, 8 `law`, 9 `clock`, 10 `extrapolated`.
     pub fn bits(&self) -> u16 {
         [
             self.device_read,
@@ -156,6 +159,7 @@ impl Faults {
             self.saturated,
             self.law,
             self.clock,
+            self.extrapolated,
         ]
         .iter()
         .rev()
@@ -796,7 +800,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
             _ => None,
         };
         // the field model fails on its own (a date outside its tables) or at the point
-        let field = self.field_teme(now, orbit.as_ref().map(|o| &o.r_teme_km), gmst);
+        let field = self.field_teme(now, orbit.as_ref().map(|o| &o.r_teme_km), gmst, faults);
         let field_model_failed = matches!(
             field,
             Err(IgrfError::DateOutOfRange { .. }
@@ -1115,6 +1119,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         now: &Epoch<Utc>,
         r_teme_km: Option<&Vec3>,
         gmst: Option<f32>,
+        faults: &mut Faults,
     ) -> Result<Option<Vec3>, IgrfError> {
         let mut slot: Option<Igrf<F>> = None;
         let field = Igrf::emplace_epoch(
@@ -1123,6 +1128,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
             now,
             self.config.igrf_degree,
         )?;
+        faults.extrapolated = field.is_extrapolated();
         match (r_teme_km, gmst) {
             (Some(r), Some(g)) => field.teme(r, g).map(Some),
             _ => Ok(None),

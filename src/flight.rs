@@ -13,7 +13,7 @@
 //! | inertia | diag(0.010, 0.012, 0.014) kg·m², body axes principal | AraMiS 1U class, seed 000 §4.2 order of magnitude |
 //! | wheels | one per power tile, ±1 mN·m·s | seed 000 §9 (tile wheel) |
 //! | coils | three, along body x, y, z, ±0.2 A·m² | seed 002 §8 (coil sizing) |
-//! | field model | IGRF-14 degree 8, 2025–2030 ([`crate::env::igrf::FLIGHT`]: only the tables it evaluates) | issue #17 product decision |
+//! | field model | IGRF-14 degree 8, 2025–2030, extrapolated to 2035 (flagged) ([`crate::env::igrf::FLIGHT`]: only the tables it evaluates) | issue #17 product decision |
 //! | Sun and shadow models | the thesis's Sun (Schlyter, 46.9″) and the cylindrical shadow, in the loop ([`crate::acs_loop`]) | issue #17: flash |
 //! | control period | 1 s | seed 000 §1.5 |
 //! | tracking | `ω_n` = [`TRACKING_BANDWIDTH_RADPS`] = 0.5 rad/s, `ζ` = 0.9 | below |

@@ -981,3 +981,44 @@ fn loop_without_elements_detumbles_and_takes_a_set_later() {
     acs.step_into(&mut bus, t0.add(TimeSpan::new(3, 0)), 1.0, &mut report);
     assert!(!report.faults.orbit, "{report:?}");
 }
+
+/// Issue 19, models past their validity: after 2030.0 the loop keeps its field reference (the
+/// flight tables' secular variation extrapolated, `Faults::extrapolated`, bit 10), and loses it
+/// only after 2035.0 (`Faults::model`).
+#[test]
+fn field_reference_past_the_tables_is_extrapolated_and_flagged() {
+    use acs::time::{Calendar, Epoch, Utc};
+
+    let at = |year: i32| {
+        Epoch::<Utc>::from_calendar(Calendar {
+            year,
+            month: 7,
+            day: 1,
+            hour: 0,
+            minute: 0,
+            second: 0,
+            nano: 0,
+        })
+        .unwrap()
+    };
+    for (year, extrapolated, model) in [
+        (2029, false, false),
+        (2031, true, false),
+        (2036, false, true),
+    ] {
+        let mut acs = FlightLoop::new(&CONFIG, None).unwrap();
+        let mut bus = ConstantBus {
+            field: 100,
+            wheels: [None; 6],
+            coils: [None; 6],
+        };
+        let mut report = acs::acs_loop::StepReport::empty(Mode::Detumble);
+        acs.step_into(&mut bus, at(year), 1.0, &mut report);
+        assert_eq!(
+            report.faults.extrapolated, extrapolated,
+            "{year}: {report:?}"
+        );
+        assert_eq!(report.faults.model, model, "{year}: {report:?}");
+        assert_eq!(report.faults.bits() & 0x400 != 0, extrapolated);
+    }
+}

@@ -983,3 +983,56 @@ fn flight_tables_match_recent() {
     );
     assert!(slot.is_none());
 }
+
+/// Issue 19, models past their validity: the flight tables extrapolate their secular variation
+/// for five years past 2030.0, flagged (`is_extrapolated`), and refuse dates after 2035.0; the
+/// full and recent models still refuse 2030.001. The extrapolated field is the straight line
+/// through the in-range fields of 2025.0 and 2030.0 (the model is linear in time over its last
+/// interval), to the f32 synthesis error of three evaluations.
+#[test]
+fn flight_tables_extrapolate_five_years_flagged() {
+    let eight = Degree::new(8).unwrap();
+    let flight = |year: f32| Igrf::<80>::from_year(&FLIGHT, year, eight);
+    assert!(!flight(2030.0).unwrap().is_extrapolated());
+    assert!(!flight(2027.3).unwrap().is_extrapolated());
+    assert!(flight(2030.01).unwrap().is_extrapolated());
+    assert!(flight(2035.0).unwrap().is_extrapolated());
+    for year in [2035.01_f32, 2024.99, 1e30] {
+        assert!(
+            matches!(
+                flight(year),
+                Err(IgrfError::DateOutOfRange { last_year, .. }) if last_year == 2035.0
+            ),
+            "{year}"
+        );
+    }
+    for model in [&FULL, &RECENT] {
+        assert!(matches!(
+            Igrf::new(model, 2030.001, Degree::FULL),
+            Err(IgrfError::DateOutOfRange { last_year, .. }) if last_year == 2030.0
+        ));
+        assert!(!Igrf::new(model, 2030.0, Degree::FULL)
+            .unwrap()
+            .is_extrapolated());
+    }
+    let (b25, b30) = (flight(2025.0).unwrap(), flight(2030.0).unwrap());
+    let mut worst = 0.0_f64;
+    for p in reference_points() {
+        let (r, colat, lon) = (p.r_km as f32, rad(p.colat_deg), rad(p.lon_deg));
+        let at = |f: &Igrf<80>| {
+            let b = f.geocentric(r, colat, lon).unwrap();
+            [b.br_nt, b.btheta_nt, b.bphi_nt].map(f64::from)
+        };
+        let (a, b) = (at(&b25), at(&b30));
+        for (year, k) in [(2032.5_f32, 1.5), (2035.0, 2.0)] {
+            let got = at(&flight(year).unwrap());
+            for i in 0..3 {
+                worst = worst.max((got[i] - (a[i] + k * (b[i] - a[i]))).abs());
+            }
+        }
+    }
+    println!("flight tables extrapolated to 2032.5 and 2035.0: {worst:.4} nT from the line");
+    // three f32 syntheses, each within 0.02 nT of f64 (`f32_error_against_f64_synthesis`),
+    // the line's weights up to 2: at most 0.02·(2 + 1 + 1) = 0.08 nT
+    assert!(worst < 0.08, "{worst} nT");
+}

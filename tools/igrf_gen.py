@@ -59,6 +59,8 @@ decimal.getcontext().prec = 50
 
 # Degree of the flight tables (`FLIGHT`): the on-board field model (`acs::flight::IGRF_DEGREE`).
 FLIGHT_DEGREE = 8
+# years the flight tables are extrapolated past their last epoch (issue #19)
+FLIGHT_EXTRAPOLATE_YEARS = 5
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
@@ -235,7 +237,7 @@ def generate(shc_path):
     current = list(range(len(epochs) - 2, len(epochs)))
     tables_of(current, FLIGHT_DEGREE)
 
-    def model(name, idx, doc, degree=n_max):
+    def model(name, idx, doc, degree=n_max, extrapolate=0):
         first, last = epochs[idx[0]], epochs[idx[-1]]
         ks = range(idx[0], idx[-1])
         n_tables = len({intervals[k][0] for k in ks}) + len(ks)
@@ -251,6 +253,7 @@ def generate(shc_path):
         w(f"    first_year: {int(first)},")
         w(f"    step_years: {int(step)},")
         w(f"    degree: {degree},")
+        w(f"    extrapolate_years: {float(extrapolate)!r},")
         w("    intervals: &[")
         for k in ks:
             a_, o = intervals[k]
@@ -270,8 +273,11 @@ def generate(shc_path):
           f"The flight tables: the current model and its secular-variation prediction (the last "
           f"interval of [`RECENT`]: a mission flown after its epoch needs no earlier one) "
           f"truncated at degree {FLIGHT_DEGREE} "
-          "(the flight image carries only what it evaluates; issue #17).",
-          FLIGHT_DEGREE)
+          "(the flight image carries only what it evaluates; issue #17). Past its last epoch "
+          f"the secular variation is extrapolated for {FLIGHT_EXTRAPOLATE_YEARS} more years, "
+          "flagged ([`super::Igrf::is_extrapolated`]; issue #19): a mission must not lose its field "
+          "reference on the day the tables end.",
+          FLIGHT_DEGREE, FLIGHT_EXTRAPOLATE_YEARS)
     return "\n".join(out) + "\n"
 
 

@@ -169,6 +169,9 @@ pub struct Model {
     step_years: u16,
     /// Highest degree of the tables (their layout: [`coefficient_count`] entries each).
     degree: u8,
+    /// Years past [`Model::last_year`] over which the last interval (the secular-variation
+    /// prediction) is extrapolated, flagged ([`Igrf::is_extrapolated`]); 0: refused.
+    extrapolate_years: f32,
     intervals: &'static [Interval],
 }
 
@@ -188,10 +191,13 @@ struct Interval {
 struct Span {
     anchor: &'static [f32],
     delta: &'static [f32],
-    /// Fraction of the interval from the anchor epoch to the date.
+    /// Fraction of the interval from the anchor epoch to the date (outside [0, 1] when
+    /// extrapolated).
     fraction: f32,
     /// Degree of the tables' layout (the model's).
     table_degree: usize,
+    /// The date is past the model's last epoch ([`Model::extrapolate_years`]).
+    extrapolated: bool,
 }
 
 /// The tables of one interval of a [`Model`] for one term (n, m), as stored
@@ -257,16 +263,19 @@ impl Model {
             });
         }
         let step = f32::from(self.step_years);
-        let span = self.last_year() - self.first_year();
+        // the tables' years, and those the last interval is extrapolated to
+        let tables = step * self.intervals.len() as f32;
+        let span = tables + self.extrapolate_years;
         let out_of_range = IgrfError::DateOutOfRange {
             decimal_year,
             first_year: self.first_year(),
-            last_year: self.last_year(),
+            last_year: self.first_year() + span,
         };
-        if years.is_nan() || years < 0.0 || years > span {
+        if years.is_nan() || 0.0 > years || years > span {
             return Err(out_of_range);
         }
-        // Interval k covers [k·step, (k+1)·step] years; the last date belongs to the last one.
+        // Interval k covers [k·step, (k+1)·step] years; the last date belongs to the last one,
+        // and so do the dates it is extrapolated to (a fraction beyond its end).
         // 0 <= years/step <= intervals (at most a few dozen): the cast is exact.
         let k = (fmath::floor(years / step) as usize).min(self.intervals.len().saturating_sub(1));
         let Some(interval) = self.intervals.get(k) else {
@@ -284,6 +293,7 @@ impl Model {
             delta: interval.delta,
             fraction: from_anchor / step,
             table_degree: usize::from(self.degree),
+            extrapolated: years > tables,
         })
     }
 
@@ -491,6 +501,8 @@ pub struct Igrf<const COEFFS: usize = FULL_COEFFS> {
     /// n ≤ degree: m = 0: g_1^0..g_N^0; then for m = 1..N the pairs (g, h) for n = m..N.
     coeffs: [f32; COEFFS],
     degree: Degree,
+    /// The date is past the model's last epoch: the secular variation extrapolated.
+    extrapolated: bool,
 }
 
 impl Igrf {
@@ -611,6 +623,7 @@ impl<const COEFFS: usize> Igrf<COEFFS> {
                 let field = slot.insert(Self {
                     coeffs: [0.0_f32; COEFFS],
                     degree,
+                    extrapolated: false,
                 });
                 field.fill(&span);
                 Ok(field)
@@ -665,6 +678,7 @@ impl<const COEFFS: usize> Igrf<COEFFS> {
         let mut field = Self {
             coeffs: [0.0_f32; COEFFS],
             degree,
+            extrapolated: false,
         };
         field.fill(&span);
         Ok(field)
@@ -686,6 +700,7 @@ impl<const COEFFS: usize> Igrf<COEFFS> {
     /// `γ = N g`: one multiplication and one addition per coefficient).
     #[inline(never)]
     fn fill(&mut self, span: &Span) {
+        self.extrapolated = span.extrapolated;
         // Column by column: the truncated column order is the tables' one without the degrees
         // above `degree`.
         let degree = usize::from(self.degree.get());
@@ -724,6 +739,13 @@ impl<const COEFFS: usize> Igrf<COEFFS> {
     /// The degree of this evaluation.
     pub fn degree(&self) -> Degree {
         self.degree
+    }
+
+    /// True if the date is past the model's last epoch, its secular variation extrapolated
+    /// (only a model that allows it, [`FLIGHT`]: IGRF's secular variation is a five-year
+    /// prediction, and its accuracy past it is not measured here).
+    pub fn is_extrapolated(&self) -> bool {
+        self.extrapolated
     }
 
     /// Field at geocentric radius `r_km`, colatitude `colat_rad` (0..=π) and east longitude

@@ -4344,6 +4344,7 @@ pub static FULL: Model = Model {
     first_year: 1900,
     step_years: 5,
     degree: 13,
+    extrapolate_years: 0.0,
     intervals: &[
         Interval { anchor: &EPOCH_1905, delta: &DELTA_1905_1900, from_end: true },
         Interval { anchor: &EPOCH_1905, delta: &DELTA_1905_1910, from_end: false },
@@ -4382,13 +4383,14 @@ pub static RECENT: Model = Model {
     first_year: 2020,
     step_years: 5,
     degree: 13,
+    extrapolate_years: 0.0,
     intervals: &[
         Interval { anchor: &EPOCH_2025, delta: &DELTA_2025_2020, from_end: true },
         Interval { anchor: &EPOCH_2025, delta: &DELTA_2025_2030, from_end: false },
     ],
 };
 
-/// The flight tables: the current model and its secular-variation prediction (the last interval of [`RECENT`]: a mission flown after its epoch needs no earlier one) truncated at degree 8 (the flight image carries only what it evaluates; issue #17).
+/// The flight tables: the current model and its secular-variation prediction (the last interval of [`RECENT`]: a mission flown after its epoch needs no earlier one) truncated at degree 8 (the flight image carries only what it evaluates; issue #17). Past its last epoch the secular variation is extrapolated for 5 more years, flagged ([`super::Igrf::is_extrapolated`]; issue #19): a mission must not lose its field reference on the day the tables end.
 ///
 /// IGRF 14: epochs 2025.0 to 2030.0 every 5 years, degree 8 (2 tables of 80 f32, 640 bytes of flash, plus 48 bytes of constants shared by all models).
 pub static FLIGHT: Model = Model {
@@ -4396,6 +4398,7 @@ pub static FLIGHT: Model = Model {
     first_year: 2025,
     step_years: 5,
     degree: 8,
+    extrapolate_years: 5.0,
     intervals: &[
         Interval { anchor: &EPOCH_2025_N8, delta: &DELTA_2025_2030_N8, from_end: false },
     ],
