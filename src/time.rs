@@ -39,8 +39,8 @@
 //! Everything a flight computer calls is i32/u32 arithmetic (each function states why its values
 //! fit): on the MSP430 a 64-bit division is a library call of about 3.4 KB of code and thousands of
 //! cycles, a 64-bit product about 900 cycles. GMST's 64-bit binary angle is two 32-bit words
-//! formed from 16 × 16-bit products. UTC → TT costs 792 MSP430 cycles, GMST 8 650 (README
-//! "MSP430 firmware and cycle budget"). The f64 functions are for host code.
+//! formed from 16 × 16-bit products. UTC → TT costs 792 MSP430 cycles, GMST 8 650
+//! (`docs/firmware.md`, "MSP430 firmware and cycle budget"). The f64 functions are for host code.
 //!
 //! # Accuracy (measured, `cargo test --test time -- --nocapture`)
 //! - [`gmst_rad`] (f32) against Vallado's `gstime` in f64 over 1990–2050: max error

@@ -161,7 +161,7 @@ fn propagate_output_reads_back() {
 }
 
 /// `acs sim plan-flight-wheels` plans seed 001's wheel-assisted manoeuvre and flies it: the
-/// flown error is the planned one plus the zero-order hold (README "Flying a plan").
+/// flown error is the planned one plus the zero-order hold (`docs/planning.md`, "Flying a plan").
 #[test]
 fn sim_plan_flight_wheels_reports_planned_and_flown_errors() {
     let dir = std::env::temp_dir().join(format!("acs-cli-pfw-{}", std::process::id()));

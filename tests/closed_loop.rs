@@ -1,10 +1,10 @@
-//! Closed-loop results (README "Closed loop"), with fixed random seeds: the flight loop flying
+//! Closed-loop results (`docs/closed-loop.md`), with fixed random seeds: the flight loop flying
 //! simulated tiles. `detumble`, `sun-safe`, `tracking`, `failed-tile` and `slew` fly the flight
 //! configuration (`acs::flight::CONFIG` through `FlightLoop`, what the firmware flies); the
 //! thesis slews fly the thesis's satellite (`acs::host::sim::scenarios`). Run with
 //! `cargo test --release --test closed_loop -- --nocapture` to see the figures: each
-//! requirement of README's table prints one `REQUIREMENT MET` or `REQUIREMENT NOT MET` line per
-//! truth.
+//! requirement of `docs/closed-loop.md`'s table prints one `REQUIREMENT MET` or
+//! `REQUIREMENT NOT MET` line per truth.
 //!
 //! Every scenario flies twice (issue #18): against the ideal truth (the simulator before the
 //! realistic truth; for the thesis scenarios the thesis's own noise model), where the
@@ -42,7 +42,7 @@ fn report(name: &str, truth: TruthLevel, samples: &[Sample]) {
     );
 }
 
-/// Prints one line per README requirement and truth: whether it is met and the figure.
+/// Prints one line per requirement (`docs/closed-loop.md`) and truth: whether it is met and the figure.
 fn requirement(name: &str, truth: TruthLevel, requirement: &str, met: bool, figure: &str) {
     let verdict = if met { "MET" } else { "NOT MET" };
     println!(
@@ -247,7 +247,7 @@ fn field_truncation(scenario: &Scenario) -> (f64, f64) {
     (max_nt, max_deg)
 }
 
-/// README's tracking requirement, < 0.1° within one orbit and after, is **not met** with the
+/// The tracking requirement, < 0.1° within one orbit and after, is **not met** with the
 /// flight configuration: its degree-8 field model alone turns the attitude about the Sun line
 /// by up to 0.11° on this orbit (degrees 9–13 are up to 105 nT at 500 km), and the sensors'
 /// noise adds to it. The test asserts what the loop achieves in the ideal truth: it settles
@@ -326,7 +326,7 @@ fn tracking_with_wheels_and_noisy_tiles() {
     }
 }
 
-/// The flight configuration's slew (no README requirement: the figures are printed): the
+/// The flight configuration's slew (no requirement: the figures are printed): the
 /// open-loop plan completes within the commanded time and tracking then converges (asserted in
 /// the ideal truth).
 #[test]

@@ -409,7 +409,7 @@ fn recent_model_equals_full_model() {
 fn truncation_error_of_lower_degrees_in_leo() {
     let full = Igrf::new(&RECENT, 2025.0, Degree::FULL).unwrap();
     // Bounds: the measured maxima at 400 km (685.9, 289.9, 170.1 and 35.9 nT) rounded up;
-    // degree 6 is the one that meets the MSP430 cycle budget of #9 (README).
+    // degree 6 is the one that meets the MSP430 cycle budget of #9 (`docs/firmware.md`).
     for (degree, bound_nt) in [(6_u8, 690.0_f64), (7, 295.0), (8, 175.0), (10, 40.0)] {
         let low = Igrf::new(&RECENT, 2025.0, Degree::new(degree).unwrap()).unwrap();
         for alt_km in [400.0_f32, 600.0, 800.0] {

@@ -1,7 +1,7 @@
 //! Sun models against JPL DE421 (`tests/data/sun/sun_de421.csv`) and the thesis's numbers.
 //!
-//! Run with `cargo test --test sun -- --nocapture` to read the error statistics quoted in the
-//! README.
+//! Run with `cargo test --test sun -- --nocapture` to read the error statistics quoted in
+//! `docs/accuracy.md`.
 
 mod common;
 

@@ -496,7 +496,7 @@ pub fn run_flight<S: Sink>(s: &mut S) {
         s.end();
         s.out(ea);
     }
-    // ---- orbit (SGP4 alone in its image: see README, it does not fit with anything else)
+    // ---- orbit (SGP4 alone in its image: see docs/firmware.md, it does not fit with anything else)
     if cfg!(feature = "group-sgp4") {
         let tle = crate::elements::test_tle();
         s.begin("SGP4 init");
@@ -519,7 +519,7 @@ pub fn run_flight<S: Sink>(s: &mut S) {
 
     // The `sgp4` crate (f64, Vallado's code), the same elements, WGS-72, AFSPC mode: its image
     // does not fit the FG439 (nor the 16-bit address space): `--groups sgp4-peer` reports by how
-    // much (README #9).
+    // much (docs/firmware.md, #9).
     #[cfg(feature = "group-sgp4-peer")]
     {
         use core::f64::consts::PI;

@@ -134,7 +134,7 @@ pub fn allocate<const N: usize>(
 /// The pseudoinverse `(W Wᵀ)⁺` of one wheel set, computed once ([`Allocator::new`]) and applied
 /// to every command ([`Allocator::allocate`]): an allocation is then `N` dot products and the
 /// saturation, instead of a 3×3 pseudoinverse each time (on the MSP430, measured by
-/// `firmware/msp430-bench`: README "MSP430 firmware").
+/// `firmware/msp430-bench`: `docs/firmware.md`).
 ///
 /// It is valid for the axes and the working set it was built from; [`Allocator::allocate`]
 /// refuses ([`WheelError::StaleAllocator`]) a wheel set whose working set differs. The limits

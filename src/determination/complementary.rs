@@ -27,7 +27,7 @@
 //! turns by `2·atan(k·sin(θ/2))` within 2.1e-8 rad.
 //!
 //! **Cost** on the MSP430: `firmware/msp430-bench --groups parts`, case "step: attitude filter"
-//! (README "MSP430 firmware").
+//! (`docs/firmware.md`).
 
 use crate::attitude::Quaternion;
 use crate::linalg::Vec3;

@@ -43,7 +43,7 @@
 //! Needs two non-parallel directions: the chosen adjugate column, which equals
 //! `|q_k|·Π_{j≠max}(λ_max − λ_j)` (≥ half the product of the eigenvalue gaps), must be at least
 //! [`MIN_PIVOT`]. Measured on the 200 problems of `tests/data/attitude/wahba.json`: see the
-//! README and `cargo test --test determination wahba -- --nocapture`.
+//! `docs/accuracy.md` and `cargo test --test determination wahba -- --nocapture`.
 
 use nalgebra::Vector4;
 

@@ -26,7 +26,7 @@
 //! 21 km less, which moves a LEO shadow edge by up to about 3 s) without atmosphere (refraction
 //! and absorption make the real penumbra a few seconds longer), the Sun a uniform disc (no limb
 //! darkening) of radius [`SUN_RADIUS_KM`]. The f32 evaluation agrees with an f64 numerical
-//! integration over the solar disc to the figure in the README (`cargo test --test eclipse --
+//! integration over the solar disc to the figure in `docs/accuracy.md` (`cargo test --test eclipse --
 //! --nocapture`).
 //!
 //! Inputs that are not finite, a zero Sun vector or a position inside the Earth give an

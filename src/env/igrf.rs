@@ -49,7 +49,7 @@
 //! addition per coefficient, from an anchor epoch and the change to the interval's other end),
 //! the Schmidt factors never at run time (the tables hold `N_n^m g_n^m`, `N_n^m h_n^m`, each
 //! the f32 nearest to the exact product).
-//! Measured cost on the MSP430: README "MSP430 firmware and cycle budget (#9)".
+//! Measured cost on the MSP430: `docs/firmware.md`, "MSP430 firmware and cycle budget (#9)".
 //!
 //! **Time.** Linear interpolation of the coefficients between the 5-year epochs of the model;
 //! after the last main-field model (2025.0 for IGRF-14) the secular variation is extrapolated:
@@ -60,7 +60,7 @@
 //! than 0.003 nT.
 //!
 //! **Degree.** [`Degree`] selects N ≤ 13; the cost scales with about N²/2 terms. Truncation
-//! error against degree 13 at 400–800 km: see the README (measured by `tests/igrf.rs`).
+//! error against degree 13 at 400–800 km: see `docs/accuracy.md` (measured by `tests/igrf.rs`).
 //!
 //! # Symbols
 //! | code | paper | meaning |
@@ -119,7 +119,7 @@
 //! B_φ (`f32_error_against_f64_synthesis`). Frames: the TEME output adds the
 //! rotation by GMST, whose f32 error (2.4e-7 rad, [`crate::time::gmst_rad`]) moves a 50 000 nT
 //! vector by 0.012 nT. Truncation at degree 8 / 10 costs up to 170 / 36 nT (0.37° / 0.08°) at
-//! 400 km, less higher up (README). Staleness: the secular variation is at most 165 nT/yr at
+//! 400 km, less higher up (`docs/accuracy.md`). Staleness: the secular variation is at most 165 nT/yr at
 //! 400 km, so coefficients evaluated 10 min ago are within 0.003 nT, a day ago within 0.45 nT
 //! (`refresh_interval` in `tests/igrf.rs`). Cost (f32 operations): see "Algorithm" (104 terms
 //! at degree 13, 65 at 10, 44 at 8).
@@ -330,7 +330,7 @@ impl Model {
 pub const RECURSION_TABLE_BYTES: usize = core::mem::size_of::<[f32; N_MAX - 1]>();
 
 /// Maximum degree N of the expansion, 1..=13. Lower degrees are cheaper (about N²/2 terms)
-/// and, in low Earth orbit, accurate to a few tens of nT (README).
+/// and, in low Earth orbit, accurate to a few tens of nT (`docs/accuracy.md`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Degree(u8);
@@ -493,7 +493,7 @@ pub const FULL_COEFFS: usize = N_COEFFS;
 /// is built, in its own storage with [`Igrf::emplace_epoch`].
 ///
 /// The field changes with the date by at most 165 nT per year in low Earth orbit (0.003 nT in
-/// 10 minutes, 0.45 nT in a day: the secular variation, README), so a copy refreshed every few
+/// 10 minutes, 0.45 nT in a day: the secular variation, `docs/accuracy.md`), so a copy refreshed every few
 /// minutes ([`Igrf::refresh`], in place) is as good as a fresh one.
 #[derive(Debug, Clone, Copy)]
 pub struct Igrf<const COEFFS: usize = FULL_COEFFS> {
@@ -832,7 +832,7 @@ impl<const COEFFS: usize> Igrf<COEFFS> {
     /// `gmst_rad` (IAU-82, [`crate::time`]), as a TEME vector (nT): the pipeline of note 000
     /// §3.5 (Earth-fixed = TEME rotated by GMST about z, field, rotated back; eqs. 7.26–7.27),
     /// with one `sincos` for both rotations. MSP430 cost: 177 585 / 248 133 / 372 400 cycles
-    /// at degree 8 / 10 / 13 (no hardware multiplier; README, #9).
+    /// at degree 8 / 10 / 13 (no hardware multiplier; `docs/firmware.md`, #9).
     ///
     /// Errors: [`IgrfError::NotFinite`], [`IgrfError::BelowSurface`].
     pub fn teme(&self, r_teme_km: &Vec3, gmst_rad: f32) -> Result<Vec3, IgrfError> {

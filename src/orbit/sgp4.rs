@@ -38,7 +38,7 @@
 //!
 //! # Accuracy (measured, `cargo test --release --test sgp4 -- --nocapture`)
 //! Against the f64 Vallado reference files of `tests/data/sgp4/` (per-file figures in the
-//! README), position / velocity error:
+//! `docs/accuracy.md`), position / velocity error:
 //! - the 9 near-Earth cases of `SGP4-VER.TLE` over their listed times: 3.2 m / 3.5 mm/s max
 //!   (RMS 1.3 m / 1.4 mm/s);
 //! - the 12 `sat900xx` element sets from −1 to +3 days: 4.9 m / 4.8 mm/s max (RMS 1.2 m);

@@ -371,7 +371,7 @@ impl CoilModel {
 ///
 /// | instant | value | source |
 /// |---|---|---|
-/// | tiles read | 55 ms | README's MSP430 cycle table at 8 MHz: SGP4 121 845 + Sun 47 377 + eclipse 45 675 + GMST 8 650 + IGRF degree 8 with its coefficients 217 440 ≈ 441 000 cycles before the reads |
+/// | tiles read | 55 ms | the MSP430 cycle table (`docs/msp430.md`) at 8 MHz: SGP4 121 845 + Sun 47 377 + eclipse 45 675 + GMST 8 650 + IGRF degree 8 with its coefficients 217 440 ≈ 441 000 cycles before the reads |
 /// | actuators commanded | 83 ms | the full step, ≈ 667 000 cycles |
 ///
 /// Before the commands the coils are off and the wheels hold the previous set-points. A
