@@ -1,0 +1,760 @@
+//! Fault injection (issue 19 item 4): the flight loop (`acs::flight::CONFIG` through
+//! `FlightLoop`) flies the `tracking` scenario's orbit under the realistic truth (fixed seed 5),
+//! holding its target from rest, and one fault is injected per case
+//! (`acs::host::sim::faults`) or applied from the ground (uplink, clock). Every case asserts:
+//! the loop keeps stepping; no NaN and no out-of-limit command reaches an actuator (each wheel
+//! command within `CONFIG.wheel_limit_nms`, each coil command within its limit, every report
+//! field finite); the fault is reported; the loop recovers when the fault clears, as stated per
+//! case. `docs/faults.md` tabulates the figures each case prints:
+//! `cargo test --release --test faults -- --nocapture`.
+
+use acs::acs_loop::{Mode, StepReport};
+use acs::flight::{FlightLoop, CONFIG};
+use acs::hal::{ErrorKind, TileBus};
+use acs::host::sim::faults::{Fault, Sensor};
+use acs::host::sim::scenarios::{self, Scenario};
+use acs::host::sim::{Sample, Simulator};
+use acs::tiles::TileState;
+use acs::time::{days_from_civil, Epoch, Utc};
+use acs::uplink::{self, kind, UplinkError, ARG_WORDS};
+
+/// When the faults start, s (the loop has held its target for 299 s).
+const FAULT_AT: f64 = 300.0;
+/// The pointing error a recovered loop is back under, degrees: above the realistic truth's
+/// undisturbed `tracking` (docs/simulator.md: 0.85–1.77° worst over seeds 1–8 from 1 200 s on;
+/// this run's, from 100 s on, is printed by `baseline`).
+const BOUND_DEG: f64 = 2.0;
+/// Seconds after a fault clears within which the pointing error must be back under
+/// [`BOUND_DEG`] for good (to the end of the run).
+const RECOVERY_S: f64 = 300.0;
+
+/// A bus that records every actuator command the loop sends, forwarding it to the simulator.
+struct Recorder<'a> {
+    sim: &'a mut Simulator,
+    wheels: Vec<(usize, f32)>,
+    coils: Vec<(usize, f32)>,
+}
+
+impl TileBus for Recorder<'_> {
+    fn read_sun(&mut self, tile: usize) -> Result<Option<[i16; 2]>, ErrorKind> {
+        self.sim.read_sun(tile)
+    }
+    fn read_magnetometer(&mut self, tile: usize) -> Result<[i16; 2], ErrorKind> {
+        self.sim.read_magnetometer(tile)
+    }
+    fn read_gyro(&mut self, tile: usize) -> Result<i16, ErrorKind> {
+        self.sim.read_gyro(tile)
+    }
+    fn set_wheel_momentum(&mut self, tile: usize, h_nms: f32) -> Result<(), ErrorKind> {
+        self.wheels.push((tile, h_nms));
+        self.sim.set_wheel_momentum(tile, h_nms)
+    }
+    fn set_dipole(&mut self, coil: usize, m_am2: f32) -> Result<(), ErrorKind> {
+        self.coils.push((coil, m_am2));
+        self.sim.set_dipole(coil, m_am2)
+    }
+}
+
+/// A ground action at a time (s from the start).
+#[derive(Clone, Debug)]
+enum Ground {
+    /// An uplinked command (code, argument words); its result is kept.
+    Uplink(u16, Vec<u32>),
+    /// The on-board clock jumps by this many seconds (it runs on from there).
+    ClockJump(f64),
+    /// The ground sets the on-board clock to UTC (uplink `CLOCK` with the true time).
+    SetClock,
+    /// Restore every tile the telemetry shows failed (uplink `RESTORE`).
+    RestoreFailed,
+    /// Uplink `TRACK` of the scenario's target.
+    Track,
+}
+
+/// One run: the samples, the uplink results, the largest wheel and coil commands.
+struct Run {
+    samples: Vec<Sample>,
+    uplinks: Vec<(f64, u16, Result<(), UplinkError>)>,
+    max_wheel: f32,
+    max_coil: f32,
+    tile_states: Vec<(f64, Vec<TileState>)>,
+}
+
+fn scenario() -> Scenario {
+    let mut s = scenarios::tracking(None).unwrap();
+    // from rest on the target: the faults find a loop that holds its attitude
+    s.initial.0 = s.target.unwrap();
+    s
+}
+
+fn words(w: &[u32]) -> [u32; ARG_WORDS] {
+    let mut a = [0u32; ARG_WORDS];
+    a[..w.len()].copy_from_slice(w);
+    a
+}
+
+fn track_words(q: &[f64; 4]) -> Vec<u32> {
+    q.iter().map(|x| (*x as f32).to_bits()).collect()
+}
+
+/// The clock words of `e` (days since 2000-01-01, second of day, nanoseconds).
+fn clock_words(e: &Epoch<Utc>) -> Vec<u32> {
+    let c = e.to_calendar();
+    let day = days_from_civil(c.year, c.month, c.day);
+    let second = u32::from(c.hour) * 3600 + u32::from(c.minute) * 60 + u32::from(c.second);
+    vec![day as u32, second, c.nano]
+}
+
+fn finite_report(r: &StepReport) -> bool {
+    let q = |q: &Option<acs::attitude::Quaternion>| {
+        q.is_none_or(|q| [q.q0, q.q1, q.q2, q.q3].iter().all(|x| x.is_finite()))
+    };
+    let v = |v: &Option<nalgebra::Vector3<f32>>| v.is_none_or(|v| v.iter().all(|x| x.is_finite()));
+    q(&r.measured_attitude)
+        && q(&r.attitude)
+        && v(&r.omega_body_radps)
+        && v(&r.b_body_nt)
+        && v(&r.sun_body)
+        && r.sun_fraction.is_none_or(f32::is_finite)
+        && r.dipole_body_am2.iter().all(|x| x.is_finite())
+        && r.h_wheels_body.iter().all(|x| x.is_finite())
+}
+
+/// Flies the case: `faults` injected into the truth, `ground` actions applied at their times,
+/// `duration_s` seconds. Asserts at every step: no NaN and no out-of-limit actuator command, a
+/// finite report.
+fn fly(faults: &[(Fault, f64, f64)], ground: &[(f64, Ground)], duration_s: f64) -> Run {
+    let sc = scenario();
+    let target = sc.target.unwrap();
+    let mut sim = sc.simulator().unwrap();
+    for (f, from, until) in faults {
+        sim.inject(*f, *from, *until);
+    }
+    let mut acs = FlightLoop::new(&CONFIG, sc.orbit().unwrap()).unwrap();
+    let mut pending: Vec<(f64, Ground)> = vec![(1.0, Ground::Track)];
+    pending.extend(ground.iter().cloned());
+    let dt = sc.dt_s;
+    let steps = (duration_s / dt).round() as usize;
+    let mut run = Run {
+        samples: Vec::with_capacity(steps),
+        uplinks: Vec::new(),
+        max_wheel: 0.0,
+        max_coil: 0.0,
+        tile_states: Vec::new(),
+    };
+    let coil_limit = CONFIG.coils.iter().map(|c| c.limit).fold(0.0f32, f32::max);
+    let mut offset_s = 0.0f64;
+    let mut last_attitude = None;
+    for _ in 0..steps {
+        let t = sim.truth().t_s;
+        let mut clock = sim.epoch_at(t + offset_s);
+        let mut k = 0;
+        while k < pending.len() {
+            if pending[k].0 > t + 1e-9 {
+                k += 1;
+                continue;
+            }
+            let (_, action) = pending.remove(k);
+            let mut up = |code: u16, w: &[u32], clock: &mut Epoch<Utc>, acs: &mut FlightLoop| {
+                let r = uplink::apply(code, &words(w), acs, clock, last_attitude.as_ref());
+                run.uplinks.push((t, code, r));
+            };
+            match action {
+                Ground::Uplink(code, w) => up(code, &w, &mut clock, &mut acs),
+                Ground::ClockJump(s) => clock = sim.epoch_at(t + offset_s + s),
+                Ground::SetClock => {
+                    up(kind::CLOCK, &clock_words(&sim.epoch_at(t)), &mut clock, &mut acs);
+                }
+                Ground::RestoreFailed => {
+                    for tile in 0..acs.tiles().len() {
+                        if acs.tile_state(tile) == Some(TileState::Failed) {
+                            up(kind::RESTORE, &[tile as u32], &mut clock, &mut acs);
+                        }
+                    }
+                }
+                Ground::Track => up(kind::TRACK, &track_words(&target), &mut clock, &mut acs),
+            }
+            // the on-board clock as the action left it
+            offset_s = clock.span_since(&sim.epoch_at(t)).as_seconds_f64();
+        }
+        let clock = sim.epoch_at(t + offset_s);
+        let mut bus = Recorder {
+            sim: &mut sim,
+            wheels: Vec::new(),
+            coils: Vec::new(),
+        };
+        let report = acs.step(&mut bus, clock, dt as f32);
+        for (tile, h) in &bus.wheels {
+            assert!(
+                h.is_finite() && h.abs() <= CONFIG.wheel_limit_nms,
+                "wheel {tile} commanded {h} at {t}"
+            );
+            run.max_wheel = run.max_wheel.max(h.abs());
+        }
+        for (coil, m) in &bus.coils {
+            assert!(
+                m.is_finite() && m.abs() <= coil_limit,
+                "coil {coil} commanded {m} at {t}"
+            );
+            run.max_coil = run.max_coil.max(m.abs());
+        }
+        assert!(finite_report(&report), "report not finite at {t}: {report:?}");
+        last_attitude = report.attitude;
+        run.tile_states.push((
+            t,
+            (0..acs.tiles().len())
+                .map(|i| acs.tile_state(i).unwrap())
+                .collect(),
+        ));
+        run.samples
+            .push(Sample::of_step(&sim, t, report, Some(target)));
+        sim.advance(dt).unwrap();
+    }
+    assert_eq!(run.samples.len(), steps, "the loop kept stepping");
+    run
+}
+
+fn err(s: &Sample) -> f64 {
+    s.pointing_error_deg.unwrap()
+}
+
+/// The worst pointing error over `[a, b)`.
+fn worst(run: &Run, a: f64, b: f64) -> f64 {
+    run.samples
+        .iter()
+        .filter(|s| s.t_s >= a && s.t_s < b)
+        .map(err)
+        .fold(0.0, f64::max)
+}
+
+/// The first time at or after `from` from which the pointing error stays under `bound` to the
+/// end of the run.
+fn back_under(run: &Run, from: f64, bound: f64) -> Option<f64> {
+    let mut at = None;
+    for s in run.samples.iter().filter(|s| s.t_s >= from) {
+        if err(s) < bound {
+            at.get_or_insert(s.t_s);
+        } else {
+            at = None;
+        }
+    }
+    at
+}
+
+const NAMES: [&str; 10] = [
+    "device_read",
+    "actuator",
+    "orbit",
+    "model",
+    "field",
+    "rate",
+    "attitude",
+    "saturated",
+    "law",
+    "clock",
+];
+
+/// Steps of `[a, b)` with each fault bit set, as `name n` (only the bits seen).
+fn bit_counts(run: &Run, a: f64, b: f64) -> String {
+    let mut counts = [0usize; 10];
+    let mut n = 0;
+    for s in run.samples.iter().filter(|s| s.t_s >= a && s.t_s < b) {
+        n += 1;
+        let bits = s.report.faults.bits();
+        for (k, c) in counts.iter_mut().enumerate() {
+            *c += usize::from(bits & (1 << k) != 0);
+        }
+    }
+    let seen: Vec<String> = counts
+        .iter()
+        .zip(NAMES)
+        .filter(|(c, _)| **c > 0)
+        .map(|(c, name)| format!("{name} {c}"))
+        .collect();
+    format!(
+        "{} of {n} steps",
+        if seen.is_empty() {
+            "none".into()
+        } else {
+            seen.join(", ")
+        }
+    )
+}
+
+/// Modes over `[a, b)` as `Mode@t` at each change.
+fn modes(run: &Run, a: f64, b: f64) -> String {
+    let mut out = Vec::new();
+    let mut last: Option<Mode> = None;
+    for s in run.samples.iter().filter(|s| s.t_s >= a && s.t_s < b) {
+        if last != Some(s.mode) {
+            out.push(format!("{:?}@{:.0}", s.mode, s.t_s));
+            last = Some(s.mode);
+        }
+    }
+    out.join(" → ")
+}
+
+/// Tile-state changes over the run, as `tile k failed@t` / `restored@t`.
+fn tile_changes(run: &Run) -> String {
+    let mut out = Vec::new();
+    for w in run.tile_states.windows(2) {
+        for (k, (a, b)) in w[0].1.iter().zip(w[1].1.iter()).enumerate() {
+            if a != b {
+                let what = if *b == TileState::Failed {
+                    "failed"
+                } else {
+                    "restored"
+                };
+                out.push(format!("tile {k} {what}@{:.0}", w[1].0));
+            }
+        }
+    }
+    if out.is_empty() {
+        "none".into()
+    } else {
+        out.join(", ")
+    }
+}
+
+/// True if every step of `[a, b)` has a fault bit of `mask`.
+fn every_step(run: &Run, a: f64, b: f64, mask: u16) -> bool {
+    run.samples
+        .iter()
+        .filter(|s| s.t_s >= a && s.t_s < b)
+        .all(|s| s.report.faults.bits() & mask != 0)
+}
+
+/// Prints the case's figures (one `FAULT` line, the rows of `docs/faults.md`) and returns the
+/// recovery time after `clear_s` (s), if any.
+fn summary(name: &str, run: &Run, clear_s: f64, end_s: f64) -> Option<f64> {
+    let before = worst(run, 100.0, FAULT_AT);
+    let during = worst(run, FAULT_AT, clear_s);
+    let after = worst(run, clear_s, end_s);
+    let back = back_under(run, clear_s, BOUND_DEG);
+    let final_err = err(run.samples.last().unwrap());
+    println!(
+        "FAULT {name}: bits during [{FAULT_AT:.0}, {clear_s:.0}) s: {}; after: {}; modes {}; tiles: {}; \
+         pointing worst before {before:.3}°, during {during:.3}°, after clear {after:.3}°, final {final_err:.3}°; \
+         back under {BOUND_DEG}° for good {}; largest wheel command {:.3e} N·m·s, coil {:.3} A·m²",
+        bit_counts(run, FAULT_AT, clear_s),
+        bit_counts(run, clear_s, end_s),
+        modes(run, 0.0, end_s),
+        tile_changes(run),
+        back.map_or("never".into(), |t| format!("at {t:.0} s ({:.0} s after the clear)", t - clear_s)),
+        run.max_wheel,
+        run.max_coil,
+    );
+    back.map(|t| t - clear_s)
+}
+
+fn recovered(name: &str, back: Option<f64>) {
+    assert!(
+        back.is_some_and(|s| s <= RECOVERY_S),
+        "{name}: not back under {BOUND_DEG}° within {RECOVERY_S} s of the clear ({back:?})"
+    );
+}
+
+const DEVICE_READ: u16 = 1;
+const ACTUATOR: u16 = 1 << 1;
+const ATTITUDE: u16 = 1 << 6;
+
+/// The undisturbed run: the figures every case compares with.
+#[test]
+fn baseline() {
+    let run = fly(&[], &[], 900.0);
+    let back = summary("none (baseline)", &run, FAULT_AT, 900.0);
+    assert!(worst(&run, 100.0, 900.0) < BOUND_DEG);
+    assert!(back.is_some());
+}
+
+/// NaN where the float enters: every sensor of tile 2 (+W) reads NaN for 2 s (below the three
+/// failures that mark a tile failed), then the magnetometer and gyro of tile 3 (−U) for 60 s
+/// (marked failed, restored by the ground 60 s after the clear).
+#[test]
+fn nan_readings() {
+    let (clear, end) = (FAULT_AT + 60.0, 1000.0);
+    let mut f = Vec::new();
+    for sensor in [Sensor::Sun, Sensor::Magnetometer, Sensor::Gyro] {
+        f.push((Fault::NanReading { tile: 2, sensor }, FAULT_AT, FAULT_AT + 2.0));
+    }
+    for sensor in [Sensor::Magnetometer, Sensor::Gyro] {
+        f.push((Fault::NanReading { tile: 3, sensor }, FAULT_AT, clear));
+    }
+    let run = fly(&f, &[(clear + 60.0, Ground::RestoreFailed)], end);
+    let back = summary("NaN readings", &run, clear, end);
+    assert!(every_step(&run, FAULT_AT, FAULT_AT + 3.0, DEVICE_READ));
+    assert!(run.tile_states.iter().any(|(_, s)| s[3] == TileState::Failed));
+    assert_eq!(run.tile_states.last().unwrap().1[2], TileState::Working);
+    assert_eq!(run.tile_states.last().unwrap().1[3], TileState::Working);
+    assert_eq!(run.samples.last().unwrap().mode, Mode::Tracking);
+    recovered("NaN readings", back);
+}
+
+/// Raw words pinned at the `i16` extremes, delivered as valid readings: tile 1's (+V) gyro at
+/// `i16::MAX` (3.28 rad/s) for 60 s.
+fn out_of_range_run() -> (Run, f64, f64) {
+    let (clear, end) = (FAULT_AT + 60.0, 1200.0);
+    let f = [(
+        Fault::OutOfRange {
+            tile: 1,
+            sensor: Sensor::Gyro,
+        },
+        FAULT_AT,
+        clear,
+    )];
+    (fly(&f, &[(clear + 60.0, Ground::Track)], end), clear, end)
+}
+
+/// The invariants hold and the loop recovers after the ground's `TRACK` (it detumbles on the
+/// fake 3.28 rad/s and ends in `SunSafe`).
+#[test]
+fn out_of_range_reading() {
+    let (run, clear, end) = out_of_range_run();
+    let back = summary("out-of-range gyro word", &run, clear, end);
+    assert_eq!(run.samples.last().unwrap().mode, Mode::Tracking);
+    recovered("out-of-range gyro word", back);
+}
+
+/// Finding: the loop takes an `i16::MAX` gyro word as 3.28 rad/s, detumbles on it and reports
+/// nothing (no fault bit: only a driver's saturation check, `hal::drivers::check_saturation`,
+/// refuses such a word; the loop has no plausibility check of its own).
+#[test]
+#[ignore = "issue 19: an i16-extreme gyro word is taken as a 3.28 rad/s rate (no plausibility check in AcsLoop::read_tiles/rate_body): the loop enters Detumble on it and reports no fault bit"]
+fn out_of_range_reading_is_reported() {
+    let (run, clear, _) = out_of_range_run();
+    assert!(every_step(&run, FAULT_AT, clear, DEVICE_READ | (1 << 5)));
+    assert!(run
+        .samples
+        .iter()
+        .filter(|s| s.t_s >= FAULT_AT && s.t_s < clear)
+        .all(|s| s.mode == Mode::Tracking));
+}
+
+/// A stuck sensor: tile 2's (+W) magnetometer repeats its reading for 300 s.
+#[test]
+fn stuck_magnetometer() {
+    let (clear, end) = (FAULT_AT + 300.0, 1200.0);
+    let f = [(
+        Fault::Stuck {
+            tile: 2,
+            sensor: Sensor::Magnetometer,
+        },
+        FAULT_AT,
+        clear,
+    )];
+    let run = fly(&f, &[], end);
+    let back = summary("stuck magnetometer", &run, clear, end);
+    recovered("stuck magnetometer", back);
+}
+
+/// A stuck gyro: tile 3's (−U, the only wheel on U) gyro repeats its reading for 300 s.
+#[test]
+fn stuck_gyro() {
+    let (clear, end) = (FAULT_AT + 300.0, 1200.0);
+    let f = [(
+        Fault::Stuck {
+            tile: 3,
+            sensor: Sensor::Gyro,
+        },
+        FAULT_AT,
+        clear,
+    )];
+    let run = fly(&f, &[], end);
+    let back = summary("stuck gyro", &run, clear, end);
+    recovered("stuck gyro", back);
+}
+
+/// A dead tile: tile 2 (+W: Sun sensor, magnetometer, gyro, wheel) answers nothing for 60 s;
+/// the loop marks it failed; the ground restores it 60 s after the fault clears.
+#[test]
+fn dead_tile() {
+    let (clear, end) = (FAULT_AT + 60.0, 1000.0);
+    let f = [(Fault::DeadTile { tile: 2 }, FAULT_AT, clear)];
+    let run = fly(&f, &[(clear + 60.0, Ground::RestoreFailed)], end);
+    let back = summary("dead tile", &run, clear, end);
+    assert!(every_step(&run, FAULT_AT, FAULT_AT + 3.0, DEVICE_READ));
+    // marked failed, its wheel still commanded (to rest): the refusals are reported
+    assert!(every_step(&run, FAULT_AT + 3.0, clear, ACTUATOR));
+    assert_eq!(run.tile_states.last().unwrap().1[2], TileState::Working);
+    assert_eq!(run.samples.last().unwrap().mode, Mode::Tracking);
+    recovered("dead tile", back);
+}
+
+/// Bursts of bus errors: every transaction fails for 2 s at 300, 320 and 340 s (below the
+/// three failures that mark a tile failed).
+#[test]
+fn bus_error_bursts() {
+    let end = 1000.0;
+    let f: Vec<_> = [0.0, 20.0, 40.0]
+        .iter()
+        .map(|d| (Fault::BusErrors, FAULT_AT + d, FAULT_AT + d + 2.0))
+        .collect();
+    let run = fly(&f, &[], end);
+    let clear = FAULT_AT + 42.0;
+    let back = summary("bus error bursts (3 × 2 s)", &run, clear, end);
+    for d in [0.0, 20.0, 40.0] {
+        assert!(every_step(&run, FAULT_AT + d, FAULT_AT + d + 2.0, DEVICE_READ));
+        assert!(every_step(&run, FAULT_AT + d, FAULT_AT + d + 2.0, ACTUATOR));
+    }
+    assert!(run.tile_states.iter().all(|(_, s)| s[1..]
+        .iter()
+        .all(|x| *x == TileState::Working)));
+    assert_eq!(run.samples.last().unwrap().mode, Mode::Tracking);
+    recovered("bus error bursts", back);
+}
+
+/// A longer burst: 5 s of bus errors marks every tile failed; the ground restores them 60 s
+/// after the burst.
+fn long_burst_run(ground: &[(f64, Ground)]) -> (Run, f64, f64) {
+    let (clear, end) = (FAULT_AT + 5.0, 1200.0);
+    let f = [(Fault::BusErrors, FAULT_AT, clear)];
+    (fly(&f, ground, end), clear, end)
+}
+
+#[test]
+fn long_bus_burst_restored_by_ground() {
+    let (run, clear, end) = long_burst_run(&[
+        (FAULT_AT + 65.0, Ground::RestoreFailed),
+        (FAULT_AT + 70.0, Ground::Track),
+    ]);
+    let back = summary("bus error burst (5 s), ground restore + track", &run, clear, end);
+    assert!(every_step(&run, FAULT_AT, clear, DEVICE_READ | ACTUATOR));
+    assert!(run.tile_states.last().unwrap().1.iter().all(|x| *x == TileState::Working));
+    assert_eq!(run.samples.last().unwrap().mode, Mode::Tracking);
+    recovered("long bus burst", back);
+}
+
+/// Finding: after a 5 s bus burst the loop has marked every tile failed and never takes them
+/// back by itself (no readings, every wheel commanded to rest).
+#[test]
+#[ignore = "issue 19: a bus-wide error burst of >= FAILURES_TO_MARK_FAILED steps marks every tile failed (AcsLoop::read_tiles counts it per tile) and nothing returns them to service without a ground RESTORE: the loop is left with no sensor and spins every wheel down"]
+fn long_bus_burst_recovers_alone() {
+    let (run, clear, end) = long_burst_run(&[]);
+    let back = summary("bus error burst (5 s), no ground action", &run, clear, end);
+    assert!(run.tile_states.last().unwrap().1.iter().all(|x| *x == TileState::Working));
+    recovered("long bus burst alone", back);
+}
+
+/// A wheel that stops: tile 2's (+W) wheel accepts every command and comes to rest, 120 s.
+fn wheel_stopped_run() -> (Run, f64, f64) {
+    let (clear, end) = (FAULT_AT + 120.0, 1200.0);
+    let f = [(Fault::WheelStopped { tile: 2 }, FAULT_AT, clear)];
+    (fly(&f, &[], end), clear, end)
+}
+
+#[test]
+fn wheel_stopped() {
+    let (run, clear, end) = wheel_stopped_run();
+    let back = summary("wheel stopped", &run, clear, end);
+    assert_eq!(run.samples.last().unwrap().mode, Mode::Tracking);
+    recovered("wheel stopped", back);
+}
+
+/// Finding: nothing reports the stopped wheel (the HAL has no wheel read-back).
+#[test]
+#[ignore = "issue 19: a wheel that accepts commands and does not spin is not reported: TileBus has no wheel momentum read-back (Simulator::wheel_momentum_nms exists, the loop cannot call it), so AcsLoop cannot compare the commanded and the actual momentum"]
+fn wheel_stopped_is_reported() {
+    let (run, clear, _) = wheel_stopped_run();
+    assert!(every_step(&run, FAULT_AT + 5.0, clear, ACTUATOR));
+}
+
+/// A wheel that refuses commands: tile 2's (+W) wheel fails every command for 120 s.
+#[test]
+fn wheel_refuses() {
+    let (clear, end) = (FAULT_AT + 120.0, 1200.0);
+    let f = [(Fault::WheelRefuses { tile: 2 }, FAULT_AT, clear)];
+    let run = fly(&f, &[], end);
+    let back = summary("wheel refuses commands", &run, clear, end);
+    assert!(every_step(&run, FAULT_AT, clear, ACTUATOR));
+    assert_eq!(run.samples.last().unwrap().mode, Mode::Tracking);
+    recovered("wheel refuses", back);
+}
+
+/// An open-circuit magnetorquer: coil 2 (z) accepts and gives no dipole, 300 s.
+fn coil_open_run() -> (Run, f64, f64) {
+    let (clear, end) = (FAULT_AT + 300.0, 1200.0);
+    let f = [(Fault::CoilOpen { coil: 2 }, FAULT_AT, clear)];
+    (fly(&f, &[], end), clear, end)
+}
+
+#[test]
+fn coil_open() {
+    let (run, clear, end) = coil_open_run();
+    let back = summary("open-circuit coil", &run, clear, end);
+    assert_eq!(run.samples.last().unwrap().mode, Mode::Tracking);
+    recovered("open coil", back);
+}
+
+/// Finding: nothing reports the open coil (no coil current read-back in the HAL).
+#[test]
+#[ignore = "issue 19: an open-circuit coil that accepts its commands is not reported: TileBus::set_dipole returns Ok and the HAL has no coil current read-back"]
+fn coil_open_is_reported() {
+    let (run, clear, _) = coil_open_run();
+    assert!(every_step(&run, FAULT_AT + 1.0, clear, ACTUATOR));
+}
+
+/// A coil left on: coil 0 (x) stays at 0.2 A·m² for 60 s, through the coils-off before the
+/// reads: its field reaches the magnetometers, its torque the body.
+#[test]
+fn coil_left_on() {
+    let (clear, end) = (FAULT_AT + 60.0, 1200.0);
+    let f = [(
+        Fault::CoilLeftOn {
+            coil: 0,
+            dipole_am2: 0.2,
+        },
+        FAULT_AT,
+        clear,
+    )];
+    let run = fly(&f, &[(clear + 60.0, Ground::RestoreFailed)], end);
+    let back = summary("coil left on (0.2 A·m²)", &run, clear, end);
+    assert!(every_step(&run, FAULT_AT, clear, DEVICE_READ | (1 << 4) | ATTITUDE));
+    assert_eq!(run.samples.last().unwrap().mode, Mode::Tracking);
+    recovered("coil left on", back);
+}
+
+/// All Sun sensors dark for 200 s in sunlight (longer than the filter's 120 s of
+/// propagation): the loop propagates, then has no attitude and falls back to `SunSafe`; the
+/// ground commands `TRACK` again 60 s after the Sun returns.
+#[test]
+fn sun_sensors_dark() {
+    let (clear, end) = (FAULT_AT + 200.0, 1200.0);
+    let f = [(Fault::SunSensorsDark, FAULT_AT, clear)];
+    let run = fly(&f, &[(clear + 60.0, Ground::Track)], end);
+    let back = summary("all Sun sensors dark (200 s)", &run, clear, end);
+    let no_measurement = run
+        .samples
+        .iter()
+        .filter(|s| s.t_s >= FAULT_AT && s.t_s < clear)
+        .all(|s| s.report.measured_attitude.is_none() && s.report.sun_body.is_none());
+    assert!(no_measurement);
+    // past the propagation limit: reported
+    let limit = FAULT_AT + f64::from(CONFIG.max_propagation_s) + 2.0;
+    assert!(every_step(&run, limit, clear, ATTITUDE));
+    assert_eq!(run.samples.last().unwrap().mode, Mode::Tracking);
+    recovered("dark", back);
+}
+
+/// A corrupt element set uploaded mid-flight: one word's bit flipped in transit (the checksum
+/// refuses it), and a set with a NaN constant and a correct checksum (the finiteness check
+/// refuses it). Both are refused with a typed error; the loop's next 300 steps are bit for bit
+/// those of a twin that never received them.
+#[test]
+fn corrupt_elements_refused() {
+    use acs::orbit::sgp4::{words_checksum, ELEMENT_WORDS};
+    let sc = scenario();
+    let good = sc.orbit().unwrap().to_words();
+    let mut flipped = good;
+    flipped[10] ^= 1 << 7;
+    let mut nan = good;
+    nan[5] = f32::NAN.to_bits();
+    nan[ELEMENT_WORDS - 1] = words_checksum(&nan[..ELEMENT_WORDS - 1]);
+    let target = sc.target.unwrap();
+    let mut sim = sc.simulator().unwrap();
+    let mut acs = FlightLoop::new(&CONFIG, sc.orbit().unwrap()).unwrap();
+    let mut clock = sim.epoch_at(0.0);
+    let mut last = None;
+    let step = |sim: &mut Simulator, acs: &mut FlightLoop| {
+        let t = sim.truth().t_s;
+        let r = acs.step(sim, sim.epoch_at(t), 1.0);
+        sim.advance(1.0).unwrap();
+        r
+    };
+    for k in 0..FAULT_AT as usize {
+        if k == 1 {
+            let r = uplink::apply(kind::TRACK, &words(&track_words(&target)), &mut acs, &mut clock, None);
+            assert!(r.is_ok());
+        }
+        last = Some(step(&mut sim, &mut acs));
+    }
+    let (mut twin_sim, mut twin) = (sim.clone(), acs.clone());
+    let mut results = Vec::new();
+    for w in [&flipped, &nan] {
+        let attitude = last.and_then(|r: StepReport| r.attitude);
+        let r = uplink::apply(kind::ELEMENTS, w, &mut acs, &mut clock, attitude.as_ref());
+        results.push(r);
+    }
+    println!(
+        "FAULT corrupt element set: bit flip → {:?} (status {:#x}); NaN word with a valid checksum → {:?} (status {:#x})",
+        results[0],
+        uplink::status(&results[0]),
+        results[1],
+        uplink::status(&results[1]),
+    );
+    assert_eq!(results[0], Err(UplinkError::BadElementWord((ELEMENT_WORDS - 1) as u8)));
+    assert!(matches!(results[1], Err(UplinkError::BadElementWord(_))));
+    let mut worst_err = 0.0f64;
+    for _ in 0..300 {
+        let t = sim.truth().t_s;
+        let a = step(&mut sim, &mut acs);
+        let b = step(&mut twin_sim, &mut twin);
+        assert_eq!(a, b, "the refused sets changed the loop at {t}");
+        assert!(!a.faults.orbit);
+        worst_err = worst_err.max(Sample::of_step(&sim, t, a, Some(target)).pointing_error_deg.unwrap());
+    }
+    println!("FAULT corrupt element set: the next 300 steps identical to a twin's (no orbit fault); worst pointing {worst_err:.3}°");
+}
+
+/// A jump of the on-board clock: +60 s at 300 s, set right by the ground (uplink `CLOCK`) at
+/// 420 s; −30 s at 700 s, set right at 820 s.
+#[test]
+fn clock_jumps() {
+    let end = 1400.0;
+    let ground = [
+        (FAULT_AT, Ground::ClockJump(60.0)),
+        (FAULT_AT + 120.0, Ground::SetClock),
+        (700.0, Ground::ClockJump(-30.0)),
+        (820.0, Ground::SetClock),
+    ];
+    let run = fly(&[], &ground, end);
+    let clock_steps: Vec<f64> = run
+        .samples
+        .iter()
+        .filter(|s| s.report.faults.clock)
+        .map(|s| s.t_s)
+        .collect();
+    println!("FAULT clock jumps: Faults::clock at {clock_steps:?} s");
+    let back1 = summary("clock +60 s, set right after 120 s", &run, FAULT_AT + 120.0, 700.0);
+    let run_tail = Run {
+        samples: run.samples.iter().filter(|s| s.t_s >= 600.0).cloned().collect(),
+        uplinks: vec![],
+        max_wheel: run.max_wheel,
+        max_coil: run.max_coil,
+        tile_states: vec![],
+    };
+    let during2 = worst(&run, 700.0, 820.0);
+    let back2 = back_under(&run_tail, 820.0, BOUND_DEG).map(|t| t - 820.0);
+    println!(
+        "FAULT clock −30 s at 700 s, set right at 820 s: pointing worst during {during2:.3}°, after {:.3}°; back under {BOUND_DEG}° for good {back2:?} s after",
+        worst(&run, 820.0, end)
+    );
+    assert_eq!(clock_steps, vec![FAULT_AT, FAULT_AT + 120.0, 700.0, 820.0]);
+    assert!(run.uplinks.iter().all(|(_, _, r)| r.is_ok()));
+    assert_eq!(run.samples.last().unwrap().mode, Mode::Tracking);
+    recovered("clock +60", back1);
+    recovered("clock -30", back2);
+}
+
+/// A failed tile restored by command: the ground marks tile 2 (+W) failed at 300 s (uplink
+/// `MARK_FAILED`) and restores it at 420 s (`RESTORE`).
+#[test]
+fn failed_tile_restored() {
+    let (clear, end) = (FAULT_AT + 120.0, 1200.0);
+    let ground = [
+        (FAULT_AT, Ground::Uplink(kind::MARK_FAILED, vec![2])),
+        (clear, Ground::Uplink(kind::RESTORE, vec![2])),
+    ];
+    let run = fly(&[], &ground, end);
+    let back = summary("tile marked failed, restored by command", &run, clear, end);
+    assert!(run.uplinks.iter().all(|(_, _, r)| r.is_ok()));
+    let state_at = |t: f64| {
+        run.tile_states
+            .iter()
+            .find(|(s, _)| *s >= t)
+            .map(|(_, s)| s[2])
+            .unwrap()
+    };
+    assert_eq!(state_at(FAULT_AT + 1.0), TileState::Failed);
+    assert_eq!(state_at(clear + 1.0), TileState::Working);
+    assert_eq!(run.samples.last().unwrap().mode, Mode::Tracking);
+    recovered("failed tile restored", back);
+}
