@@ -166,13 +166,19 @@ impl Injections {
         if self.any(t_s, |f| matches!(f, Fault::BusErrors)) {
             return Some(ErrorKind::Bus);
         }
-        self.any(t_s, |f| matches!(f, Fault::DeadTile { tile: t } if *t == tile))
-            .then_some(ErrorKind::DeviceAbsent)
+        self.any(
+            t_s,
+            |f| matches!(f, Fault::DeadTile { tile: t } if *t == tile),
+        )
+        .then_some(ErrorKind::DeviceAbsent)
     }
 
     /// True if `sensor` of `tile` reads NaN at `t_s`.
     pub fn nan(&self, t_s: f64, tile: usize, sensor: Sensor) -> bool {
-        self.any(t_s, |f| matches!(f, Fault::NanReading { tile: t, sensor: s } if *t == tile && *s == sensor))
+        self.any(
+            t_s,
+            |f| matches!(f, Fault::NanReading { tile: t, sensor: s } if *t == tile && *s == sensor),
+        )
     }
 
     /// `value`, or NaN if `sensor` of `tile` reads NaN at `t_s`.

@@ -70,11 +70,11 @@ use crate::linalg::{Mat3d, Vec3, Vec3d};
 use crate::tiles::{sun_angles_of_direction, Tiles};
 use crate::time::{gmst_rad_f64, Epoch, TimeSpan, Utc};
 
+use self::faults::{Fault, Held, Injections, Sensor};
 use self::realistic::devices::{
     gauss, uniform, CoilState, Devices, Gyro, Magnetometer, Phase, Stream, SunSensor, WheelState,
 };
 use self::realistic::field::{albedo_cap, Magnetics, UnmodelledField};
-use self::faults::{Fault, Held, Injections, Sensor};
 use self::realistic::Realism;
 
 /// Earth's gravitational parameter for the truth dynamics, m³/s².
@@ -1207,9 +1207,11 @@ impl Simulator {
         let z = self.tile_matrix(tile).row(2).transpose();
         let bias = self.gyro_bias.get(tile).copied().unwrap_or(0.0);
         let w = z.dot(&self.truth.omega) + bias + self.rng.normal() * self.config.noise.gyro_radps;
-        quantise(self.faults.poison(self.truth.t_s, tile, Sensor::Gyro, w), 1e-4)
+        quantise(
+            self.faults.poison(self.truth.t_s, tile, Sensor::Gyro, w),
+            1e-4,
+        )
     }
-
 }
 
 impl TileBus for Simulator {
@@ -1222,7 +1224,10 @@ impl TileBus for Simulator {
         } else {
             reading
         };
-        match self.faults.replace(t, tile, Sensor::Sun, Held::Sun(reading?)) {
+        match self
+            .faults
+            .replace(t, tile, Sensor::Sun, Held::Sun(reading?))
+        {
             Held::Sun(r) => Ok(r),
             _ => Err(ErrorKind::Other),
         }
@@ -1245,7 +1250,10 @@ impl TileBus for Simulator {
         self.fault_gate(tile)?;
         let t = self.truth.t_s;
         let reading = self.read_gyro_device(tile)?;
-        match self.faults.replace(t, tile, Sensor::Gyro, Held::Gyro(reading)) {
+        match self
+            .faults
+            .replace(t, tile, Sensor::Gyro, Held::Gyro(reading))
+        {
             Held::Gyro(r) => Ok(r),
             _ => Err(ErrorKind::Other),
         }
