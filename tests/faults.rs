@@ -998,3 +998,74 @@ fn saturated_allocation_within_limit() {
     );
     assert!(over.is_empty());
 }
+
+/// An injection that never becomes active leaves the run bit for bit as it was (the faults
+/// draw no random number and change nothing while inactive).
+#[test]
+fn inactive_injection_changes_nothing() {
+    let plain = fly(&[], &[], 400.0);
+    let never: Vec<_> = [
+        Fault::BusErrors,
+        Fault::DeadTile { tile: 2 },
+        Fault::SunSensorsDark,
+        Fault::CoilLeftOn {
+            coil: 0,
+            dipole_am2: 0.2,
+        },
+        Fault::WheelStopped { tile: 3 },
+        Fault::NanReading {
+            tile: 1,
+            sensor: Sensor::Gyro,
+        },
+    ]
+    .into_iter()
+    .map(|f| (f, 1e9, f64::INFINITY))
+    .collect();
+    let with = fly(&never, &[], 400.0);
+    for (a, b) in plain.samples.iter().zip(with.samples.iter()) {
+        assert_eq!(a.report, b.report, "at {}", a.t_s);
+        assert_eq!(a.omega_true, b.omega_true, "at {}", a.t_s);
+    }
+}
+
+/// The bus answers of each fault, and `clear_fault` ends an injection "until cleared".
+#[test]
+fn injections_on_the_bus() {
+    let mut sim = scenario().simulator().unwrap();
+    let dead = sim.inject(Fault::DeadTile { tile: 2 }, 0.0, f64::INFINITY);
+    assert_eq!(sim.read_gyro(2), Err(ErrorKind::DeviceAbsent));
+    assert_eq!(sim.set_wheel_momentum(2, 0.0), Err(ErrorKind::DeviceAbsent));
+    assert!(sim.read_gyro(1).is_ok());
+    sim.clear_fault(dead);
+    assert!(sim.read_gyro(2).is_ok());
+    let t = sim.truth().t_s;
+    let until = t + 1.0;
+    sim.inject(Fault::BusErrors, t, until);
+    assert_eq!(sim.read_magnetometer(1), Err(ErrorKind::Bus));
+    assert_eq!(sim.set_dipole(0, 0.1), Err(ErrorKind::Bus));
+    sim.inject(Fault::WheelRefuses { tile: 4 }, until, f64::INFINITY);
+    sim.inject(
+        Fault::OutOfRange {
+            tile: 1,
+            sensor: Sensor::Magnetometer,
+        },
+        until,
+        f64::INFINITY,
+    );
+    sim.inject(
+        Fault::NanReading {
+            tile: 4,
+            sensor: Sensor::Gyro,
+        },
+        until,
+        f64::INFINITY,
+    );
+    sim.inject(Fault::SunSensorsDark, until, f64::INFINITY);
+    sim.advance(1.0).unwrap();
+    assert!(sim.read_magnetometer(2).is_ok());
+    assert_eq!(sim.set_wheel_momentum(4, 1e-4), Err(ErrorKind::Other));
+    assert_eq!(sim.read_magnetometer(1), Ok([i16::MAX, i16::MIN]));
+    assert_eq!(sim.read_gyro(4), Err(ErrorKind::OutOfRange));
+    assert!((0..6).all(|tile| matches!(sim.read_sun(tile), Ok(None) | Err(_))));
+    assert!((0..6).any(|tile| sim.read_sun(tile) == Ok(None)));
+}

@@ -21,10 +21,13 @@
 //! [`crate::uplink::apply`] and the clock they pass it.
 //!
 //! An injection is active while `from_s ≤ t < until_s`, `t` the simulator's time (s from the
-//! start) at the call. The faults draw no random number: a run with an injection that never
+//! start) at the call (both ends [`TIME_TOLERANCE_S`] early). The faults draw no random number: a run with an injection that never
 //! becomes active is bit for bit the run without it.
 
 use super::ErrorKind;
+
+/// How early an injection's ends take effect, s (far below a control period).
+pub const TIME_TOLERANCE_S: f64 = 1e-6;
 
 /// A tile's sensor.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -119,9 +122,10 @@ pub struct Injection {
 }
 
 impl Injection {
-    /// True while active at `t_s`.
+    /// True while active at `t_s` (both ends [`TIME_TOLERANCE_S`] early: the simulator's clock
+    /// is a sum of substeps, 1 s after the start may read 0.999 999 999 s).
     pub fn active(&self, t_s: f64) -> bool {
-        t_s >= self.from_s && t_s < self.until_s
+        t_s >= self.from_s - TIME_TOLERANCE_S && t_s < self.until_s - TIME_TOLERANCE_S
     }
 }
 
