@@ -51,6 +51,7 @@
 //! [`Simulator::wheel_momentum_nms`] is the simulator side of the HAL read-back issue #18 asks
 //! for: once [`TileBus`] has `read_wheel_momentum`, the simulator implements it by that call.
 
+pub mod faults;
 pub mod pil;
 pub mod plan_flight;
 pub mod plot;
@@ -69,6 +70,7 @@ use crate::linalg::{Mat3d, Vec3, Vec3d};
 use crate::tiles::{sun_angles_of_direction, Tiles};
 use crate::time::{gmst_rad_f64, Epoch, TimeSpan, Utc};
 
+use self::faults::{Fault, Held, Injections, Sensor};
 use self::realistic::devices::{
     gauss, uniform, CoilState, Devices, Gyro, Magnetometer, Phase, Stream, SunSensor, WheelState,
 };
@@ -304,7 +306,9 @@ pub fn angle_between_deg(truth: &[f64; 4], q: &Quaternion) -> f64 {
     2.0 * v.atan2(d[0].abs()).to_degrees()
 }
 
-/// The simulator: truth, environment and simulated tiles.
+/// The simulator: truth, environment and simulated tiles (cloneable: a twin continues the run
+/// exactly, its random draws included).
+#[derive(Clone)]
 pub struct Simulator {
     config: SimConfig,
     constants: sgp4::Constants,
@@ -317,6 +321,8 @@ pub struct Simulator {
     wheel_cmd: Vec<f64>,
     coil_cmd: Vec<f64>,
     real: Option<Box<RealState>>,
+    /// Injected faults ([`faults`]).
+    faults: Injections,
 }
 
 /// What the realistic truth adds to the simulator's state ([`realistic`]).
@@ -385,6 +391,7 @@ impl Simulator {
             wheel_cmd: vec![0.0; n],
             coil_cmd: vec![0.0; coils],
             real: None,
+            faults: Injections::default(),
         };
         if let Some(model) = sim.config.realism.clone() {
             sim.real = Some(Box::new(sim.real_state(model, &omega0)?));
@@ -474,6 +481,23 @@ impl Simulator {
     /// The realistic truth's per-device state (constant errors, wheels, coils).
     pub fn devices(&self) -> Option<&Devices> {
         self.real.as_ref().map(|r| &r.devices)
+    }
+
+    /// Injects `fault` from `from_s` to `until_s` (s from the start, `until_s` exclusive;
+    /// `f64::INFINITY`: until [`Simulator::clear_fault`]); returns its index.
+    pub fn inject(&mut self, fault: Fault, from_s: f64, until_s: f64) -> usize {
+        self.faults.add(fault, from_s, until_s)
+    }
+
+    /// Ends injection `index` now.
+    pub fn clear_fault(&mut self, index: usize) {
+        let t = self.truth.t_s;
+        self.faults.clear(index, t);
+    }
+
+    /// The injected faults.
+    pub fn injections(&self) -> &Injections {
+        &self.faults
     }
 
     /// The simulator's configuration.
@@ -678,6 +702,7 @@ impl Simulator {
     /// Advances the truth by `dt_s` with the actuator commands in force (in the realistic
     /// truth: those of this step from its actuation instant, [`realistic::StepTiming`]).
     pub fn advance(&mut self, dt_s: f64) -> Result<(), SimError> {
+        self.apply_forced_faults();
         if self.real.is_some() {
             return self.advance_realistic(dt_s);
         }
@@ -804,6 +829,36 @@ impl Simulator {
         self.real = Some(real);
         self.env = self.environment(self.truth.t_s)?;
         Ok(())
+    }
+
+    /// Stopped wheels and coils forced open or on take their state whatever was commanded.
+    fn apply_forced_faults(&mut self) {
+        let t = self.truth.t_s;
+        for (tile, cmd) in self.wheel_cmd.iter_mut().enumerate() {
+            if self.faults.wheel_stopped(t, tile) {
+                *cmd = 0.0;
+                if let Some(w) = self
+                    .real
+                    .as_mut()
+                    .and_then(|r| r.devices.wheels.get_mut(tile))
+                {
+                    w.setpoint_nms = 0.0;
+                    w.pending_nms = None;
+                }
+            }
+        }
+        for (coil, cmd) in self.coil_cmd.iter_mut().enumerate() {
+            if let Some(m) = self.faults.coil_forced(t, coil) {
+                *cmd = m;
+                if let Some(real) = self.real.as_mut() {
+                    let model = &real.model.coil;
+                    if let Some(c) = real.devices.coils.get_mut(coil) {
+                        c.target_am2 = c.target_of(model, m);
+                        c.pending_am2 = None;
+                    }
+                }
+            }
+        }
     }
 
     fn failed(&self, tile: usize) -> bool {
@@ -939,9 +994,15 @@ impl Simulator {
             gauss(seed, Stream::SunNoise, step, 2 * tile as u64),
             gauss(seed, Stream::SunNoise, step, 2 * tile as u64 + 1),
         );
-        match sensor.read(&real.model.sun_sensor, &sun_body, fraction, albedo, noise) {
+        let reading = sensor.read(&real.model.sun_sensor, &sun_body, fraction, albedo, noise);
+        let t = self.truth.t_s;
+        match reading {
             None => Ok(None),
-            Some((a, b)) => Ok(Some([quantise(a, 1e-4)?, quantise(b, 1e-4)?])),
+            Some((a, b)) => {
+                let a = self.faults.poison(t, tile, Sensor::Sun, a);
+                let b = self.faults.poison(t, tile, Sensor::Sun, b);
+                Ok(Some([quantise(a, 1e-4)?, quantise(b, 1e-4)?]))
+            }
         }
     }
 
@@ -998,6 +1059,9 @@ impl Simulator {
         );
         let model = &real.model.magnetometer;
         let [x, y] = sensor.read(model, &b, noise);
+        let t = self.truth.t_s;
+        let x = self.faults.poison(t, tile, Sensor::Magnetometer, x);
+        let y = self.faults.poison(t, tile, Sensor::Magnetometer, y);
         if x.is_nan() || y.is_nan() || x.abs() > model.range_nt || y.abs() > model.range_nt {
             return Err(ErrorKind::OutOfRange);
         }
@@ -1025,6 +1089,7 @@ impl Simulator {
             + gyro.bias_radps
             + markov
             + sigma * gauss(seed, Stream::GyroNoise, real.step, tile as u64);
+        let w = self.faults.poison(self.truth.t_s, tile, Sensor::Gyro, w);
         if w.is_nan() || w.abs() > model.range_radps {
             return Err(ErrorKind::OutOfRange);
         }
@@ -1076,8 +1141,23 @@ fn quantise(value: f64, lsb: f64) -> Result<i16, ErrorKind> {
     }
 }
 
-impl TileBus for Simulator {
-    fn read_sun(&mut self, tile: usize) -> Result<Option<[i16; 2]>, ErrorKind> {
+impl Simulator {
+    /// Before a read: a bus burst or a dead tile fails it (the step moves to its read phase).
+    fn fault_gate(&mut self, tile: usize) -> Result<(), ErrorKind> {
+        match self.faults.tile_error(self.truth.t_s, tile) {
+            Some(e) => {
+                if let Some(real) = self.real.as_mut() {
+                    if real.phase == Phase::Start {
+                        real.phase = Phase::Read;
+                    }
+                }
+                Err(e)
+            }
+            None => Ok(()),
+        }
+    }
+
+    fn read_sun_device(&mut self, tile: usize) -> Result<Option<[i16; 2]>, ErrorKind> {
         if self.real.is_some() {
             return self.real_read_sun(tile);
         }
@@ -1093,10 +1173,13 @@ impl TileBus for Simulator {
         let sigma = self.config.noise.sun_rad;
         let a = f64::from(angles.a_rad) + self.rng.normal() * sigma;
         let b = f64::from(angles.b_rad) + self.rng.normal() * sigma;
+        let t = self.truth.t_s;
+        let a = self.faults.poison(t, tile, Sensor::Sun, a);
+        let b = self.faults.poison(t, tile, Sensor::Sun, b);
         Ok(Some([quantise(a, 1e-4)?, quantise(b, 1e-4)?]))
     }
 
-    fn read_magnetometer(&mut self, tile: usize) -> Result<[i16; 2], ErrorKind> {
+    fn read_magnetometer_device(&mut self, tile: usize) -> Result<[i16; 2], ErrorKind> {
         if self.real.is_some() {
             return self.real_read_magnetometer(tile);
         }
@@ -1110,10 +1193,13 @@ impl TileBus for Simulator {
         let sigma = self.config.noise.mag_nt;
         let x = b_tile.x + bias.x + self.rng.normal() * sigma;
         let y = b_tile.y + bias.y + self.rng.normal() * sigma;
+        let t = self.truth.t_s;
+        let x = self.faults.poison(t, tile, Sensor::Magnetometer, x);
+        let y = self.faults.poison(t, tile, Sensor::Magnetometer, y);
         Ok([quantise(x, 10.0)?, quantise(y, 10.0)?])
     }
 
-    fn read_gyro(&mut self, tile: usize) -> Result<i16, ErrorKind> {
+    fn read_gyro_device(&mut self, tile: usize) -> Result<i16, ErrorKind> {
         if self.real.is_some() {
             return self.real_read_gyro(tile);
         }
@@ -1121,7 +1207,56 @@ impl TileBus for Simulator {
         let z = self.tile_matrix(tile).row(2).transpose();
         let bias = self.gyro_bias.get(tile).copied().unwrap_or(0.0);
         let w = z.dot(&self.truth.omega) + bias + self.rng.normal() * self.config.noise.gyro_radps;
-        quantise(w, 1e-4)
+        quantise(
+            self.faults.poison(self.truth.t_s, tile, Sensor::Gyro, w),
+            1e-4,
+        )
+    }
+}
+
+impl TileBus for Simulator {
+    fn read_sun(&mut self, tile: usize) -> Result<Option<[i16; 2]>, ErrorKind> {
+        self.fault_gate(tile)?;
+        let t = self.truth.t_s;
+        let reading = self.read_sun_device(tile);
+        let reading = if self.faults.dark(t) {
+            reading.map(|_| None)
+        } else {
+            reading
+        };
+        match self
+            .faults
+            .replace(t, tile, Sensor::Sun, Held::Sun(reading?))
+        {
+            Held::Sun(r) => Ok(r),
+            _ => Err(ErrorKind::Other),
+        }
+    }
+
+    fn read_magnetometer(&mut self, tile: usize) -> Result<[i16; 2], ErrorKind> {
+        self.fault_gate(tile)?;
+        let t = self.truth.t_s;
+        let reading = self.read_magnetometer_device(tile)?;
+        match self
+            .faults
+            .replace(t, tile, Sensor::Magnetometer, Held::Magnetometer(reading))
+        {
+            Held::Magnetometer(r) => Ok(r),
+            _ => Err(ErrorKind::Other),
+        }
+    }
+
+    fn read_gyro(&mut self, tile: usize) -> Result<i16, ErrorKind> {
+        self.fault_gate(tile)?;
+        let t = self.truth.t_s;
+        let reading = self.read_gyro_device(tile)?;
+        match self
+            .faults
+            .replace(t, tile, Sensor::Gyro, Held::Gyro(reading))
+        {
+            Held::Gyro(r) => Ok(r),
+            _ => Err(ErrorKind::Other),
+        }
     }
 
     fn set_wheel_momentum(&mut self, tile: usize, h_nms: f32) -> Result<(), ErrorKind> {
@@ -1132,6 +1267,7 @@ impl TileBus for Simulator {
         if !h.is_finite() || h.abs() > self.config.wheel_max_h_nms * (1.0 + 1e-6) {
             return Err(ErrorKind::OutOfRange);
         }
+        let h = self.faults.wheel(self.truth.t_s, tile, h)?;
         if let Some(c) = self.wheel_cmd.get_mut(tile) {
             *c = h;
         }
@@ -1147,13 +1283,17 @@ impl TileBus for Simulator {
             .map(|c| c.1)
             .ok_or(ErrorKind::DeviceAbsent)?;
         let m = f64::from(m_am2);
+        let t = self.truth.t_s;
         if !m.is_finite() || m.abs() > limit * (1.0 + 1e-6) {
+            // the driver switches the coil off (unless the bus or the coil itself fails)
+            let off = self.faults.coil(t, coil, 0.0)?;
             if let Some(c) = self.coil_cmd.get_mut(coil) {
-                *c = 0.0;
+                *c = off;
             }
-            self.real_command(None, Some((coil, 0.0)));
+            self.real_command(None, Some((coil, off)));
             return Err(ErrorKind::OutOfRange);
         }
+        let m = self.faults.coil(t, coil, m)?;
         if let Some(c) = self.coil_cmd.get_mut(coil) {
             *c = m;
         }

@@ -1,0 +1,1071 @@
+//! Fault injection (issue 19 item 4): the flight loop (`acs::flight::CONFIG` through
+//! `FlightLoop`) flies the `tracking` scenario's orbit under the realistic truth (fixed seed 5),
+//! holding its target from rest, and one fault is injected per case
+//! (`acs::host::sim::faults`) or applied from the ground (uplink, clock). Every case asserts:
+//! the loop keeps stepping; no NaN and no out-of-limit command reaches an actuator (each wheel
+//! command within `CONFIG.wheel_limit_nms`, each coil command within its limit, every report
+//! field finite); the fault is reported; the loop recovers when the fault clears, as stated per
+//! case. `docs/faults.md` tabulates the figures each case prints:
+//! `cargo test --release --test faults -- --nocapture`.
+
+use acs::acs_loop::{Mode, StepReport};
+use acs::flight::{FlightLoop, CONFIG};
+use acs::hal::{ErrorKind, TileBus};
+use acs::host::sim::faults::{Fault, Sensor};
+use acs::host::sim::scenarios::{self, Scenario};
+use acs::host::sim::{Sample, Simulator};
+use acs::tiles::TileState;
+use acs::time::{days_from_civil, Epoch, Utc};
+use acs::uplink::{self, kind, UplinkError, ARG_WORDS};
+
+/// When the faults start, s (the loop has held its target for 299 s).
+const FAULT_AT: f64 = 300.0;
+/// The pointing error a recovered loop is back under, degrees: above the realistic truth's
+/// undisturbed `tracking` (docs/simulator.md: 0.85–1.77° worst over seeds 1–8 from 1 200 s on;
+/// this run's, from 100 s on, is printed by `baseline`).
+const BOUND_DEG: f64 = 2.0;
+/// Seconds after a fault clears within which the pointing error must be back under
+/// [`BOUND_DEG`] for good (to the end of the run).
+const RECOVERY_S: f64 = 300.0;
+
+/// A bus that records every actuator command the loop sends, forwarding it to the simulator.
+struct Recorder<'a> {
+    sim: &'a mut Simulator,
+    wheels: Vec<(usize, f32)>,
+    coils: Vec<(usize, f32)>,
+}
+
+impl TileBus for Recorder<'_> {
+    fn read_sun(&mut self, tile: usize) -> Result<Option<[i16; 2]>, ErrorKind> {
+        self.sim.read_sun(tile)
+    }
+    fn read_magnetometer(&mut self, tile: usize) -> Result<[i16; 2], ErrorKind> {
+        self.sim.read_magnetometer(tile)
+    }
+    fn read_gyro(&mut self, tile: usize) -> Result<i16, ErrorKind> {
+        self.sim.read_gyro(tile)
+    }
+    fn set_wheel_momentum(&mut self, tile: usize, h_nms: f32) -> Result<(), ErrorKind> {
+        self.wheels.push((tile, h_nms));
+        self.sim.set_wheel_momentum(tile, h_nms)
+    }
+    fn set_dipole(&mut self, coil: usize, m_am2: f32) -> Result<(), ErrorKind> {
+        self.coils.push((coil, m_am2));
+        self.sim.set_dipole(coil, m_am2)
+    }
+}
+
+/// A ground action at a time (s from the start).
+#[derive(Clone, Debug)]
+enum Ground {
+    /// An uplinked command (code, argument words); its result is kept.
+    Uplink(u16, Vec<u32>),
+    /// The on-board clock jumps by this many seconds (it runs on from there).
+    ClockJump(f64),
+    /// The ground sets the on-board clock to UTC (uplink `CLOCK` with the true time).
+    SetClock,
+    /// Restore every tile the telemetry shows failed (uplink `RESTORE`).
+    RestoreFailed,
+    /// Uplink `TRACK` of the scenario's target.
+    Track,
+}
+
+/// One run: the samples, the uplink results, the largest wheel and coil commands.
+struct Run {
+    samples: Vec<Sample>,
+    uplinks: Vec<(f64, u16, Result<(), UplinkError>)>,
+    max_wheel: f32,
+    max_coil: f32,
+    tile_states: Vec<(f64, Vec<TileState>)>,
+}
+
+fn scenario() -> Scenario {
+    let mut s = scenarios::tracking(None).unwrap();
+    // from rest on the target: the faults find a loop that holds its attitude
+    s.initial.0 = s.target.unwrap();
+    s
+}
+
+fn words(w: &[u32]) -> [u32; ARG_WORDS] {
+    let mut a = [0u32; ARG_WORDS];
+    a[..w.len()].copy_from_slice(w);
+    a
+}
+
+fn track_words(q: &[f64; 4]) -> Vec<u32> {
+    q.iter().map(|x| (*x as f32).to_bits()).collect()
+}
+
+/// The clock words of `e` (days since 2000-01-01, second of day, nanoseconds).
+fn clock_words(e: &Epoch<Utc>) -> Vec<u32> {
+    let c = e.to_calendar();
+    let day = days_from_civil(c.year, c.month, c.day);
+    let second = u32::from(c.hour) * 3600 + u32::from(c.minute) * 60 + u32::from(c.second);
+    vec![day as u32, second, c.nano]
+}
+
+fn finite_report(r: &StepReport) -> bool {
+    let q = |q: &Option<acs::attitude::Quaternion>| {
+        q.is_none_or(|q| [q.q0, q.q1, q.q2, q.q3].iter().all(|x| x.is_finite()))
+    };
+    let v = |v: &Option<nalgebra::Vector3<f32>>| v.is_none_or(|v| v.iter().all(|x| x.is_finite()));
+    q(&r.measured_attitude)
+        && q(&r.attitude)
+        && v(&r.omega_body_radps)
+        && v(&r.b_body_nt)
+        && v(&r.sun_body)
+        && r.sun_fraction.is_none_or(f32::is_finite)
+        && r.dipole_body_am2.iter().all(|x| x.is_finite())
+        && r.h_wheels_body.iter().all(|x| x.is_finite())
+}
+
+/// Flies the case: `faults` injected into the truth, `ground` actions applied at their times,
+/// `duration_s` seconds. Asserts at every step: no NaN and no out-of-limit actuator command, a
+/// finite report.
+fn fly(faults: &[(Fault, f64, f64)], ground: &[(f64, Ground)], duration_s: f64) -> Run {
+    fly_on(&scenario(), faults, ground, duration_s)
+}
+
+/// [`fly`] over another scenario (its orbit, truth and target).
+fn fly_on(
+    sc: &Scenario,
+    faults: &[(Fault, f64, f64)],
+    ground: &[(f64, Ground)],
+    duration_s: f64,
+) -> Run {
+    let target = sc.target.unwrap();
+    let mut sim = sc.simulator().unwrap();
+    for (f, from, until) in faults {
+        sim.inject(*f, *from, *until);
+    }
+    let mut acs = FlightLoop::new(&CONFIG, sc.orbit().unwrap()).unwrap();
+    let mut pending: Vec<(f64, Ground)> = vec![(1.0, Ground::Track)];
+    pending.extend(ground.iter().cloned());
+    let dt = sc.dt_s;
+    let steps = (duration_s / dt).round() as usize;
+    let mut run = Run {
+        samples: Vec::with_capacity(steps),
+        uplinks: Vec::new(),
+        max_wheel: 0.0,
+        max_coil: 0.0,
+        tile_states: Vec::new(),
+    };
+    let coil_limit = CONFIG.coils.iter().map(|c| c.limit).fold(0.0f32, f32::max);
+    let mut offset_s = 0.0f64;
+    let mut last_attitude = None;
+    for _ in 0..steps {
+        let t = sim.truth().t_s;
+        let mut clock = sim.epoch_at(t + offset_s);
+        let mut k = 0;
+        while k < pending.len() {
+            if pending[k].0 > t + 1e-9 {
+                k += 1;
+                continue;
+            }
+            let (_, action) = pending.remove(k);
+            let mut up = |code: u16, w: &[u32], clock: &mut Epoch<Utc>, acs: &mut FlightLoop| {
+                let r = uplink::apply(code, &words(w), acs, clock, last_attitude.as_ref());
+                run.uplinks.push((t, code, r));
+            };
+            match action {
+                Ground::Uplink(code, w) => up(code, &w, &mut clock, &mut acs),
+                Ground::ClockJump(s) => clock = sim.epoch_at(t + offset_s + s),
+                Ground::SetClock => {
+                    up(
+                        kind::CLOCK,
+                        &clock_words(&sim.epoch_at(t)),
+                        &mut clock,
+                        &mut acs,
+                    );
+                }
+                Ground::RestoreFailed => {
+                    for tile in 0..acs.tiles().len() {
+                        if acs.tile_state(tile) == Some(TileState::Failed) {
+                            up(kind::RESTORE, &[tile as u32], &mut clock, &mut acs);
+                        }
+                    }
+                }
+                Ground::Track => up(kind::TRACK, &track_words(&target), &mut clock, &mut acs),
+            }
+            // the on-board clock as the action left it
+            offset_s = clock.span_since(&sim.epoch_at(t)).as_seconds_f64();
+        }
+        let clock = sim.epoch_at(t + offset_s);
+        let mut bus = Recorder {
+            sim: &mut sim,
+            wheels: Vec::new(),
+            coils: Vec::new(),
+        };
+        let report = acs.step(&mut bus, clock, dt as f32);
+        for (tile, h) in &bus.wheels {
+            assert!(
+                h.is_finite() && h.abs() <= CONFIG.wheel_limit_nms,
+                "wheel {tile} commanded {h} at {t}"
+            );
+            run.max_wheel = run.max_wheel.max(h.abs());
+        }
+        for (coil, m) in &bus.coils {
+            assert!(
+                m.is_finite() && m.abs() <= coil_limit,
+                "coil {coil} commanded {m} at {t}"
+            );
+            run.max_coil = run.max_coil.max(m.abs());
+        }
+        assert!(
+            finite_report(&report),
+            "report not finite at {t}: {report:?}"
+        );
+        last_attitude = report.attitude;
+        run.tile_states.push((
+            t,
+            (0..acs.tiles().len())
+                .map(|i| acs.tile_state(i).unwrap())
+                .collect(),
+        ));
+        run.samples
+            .push(Sample::of_step(&sim, t, report, Some(target)));
+        sim.advance(dt).unwrap();
+    }
+    assert_eq!(run.samples.len(), steps, "the loop kept stepping");
+    run
+}
+
+fn err(s: &Sample) -> f64 {
+    s.pointing_error_deg.unwrap()
+}
+
+/// The worst pointing error over `[a, b)`.
+fn worst(run: &Run, a: f64, b: f64) -> f64 {
+    run.samples
+        .iter()
+        .filter(|s| s.t_s >= a && s.t_s < b)
+        .map(err)
+        .fold(0.0, f64::max)
+}
+
+/// The first time in `[from, to)` from which the pointing error stays under `bound` until `to`.
+fn back_under(run: &Run, from: f64, to: f64, bound: f64) -> Option<f64> {
+    let mut at = None;
+    for s in run.samples.iter().filter(|s| s.t_s >= from && s.t_s < to) {
+        if err(s) < bound {
+            at.get_or_insert(s.t_s);
+        } else {
+            at = None;
+        }
+    }
+    at
+}
+
+const NAMES: [&str; 10] = [
+    "device_read",
+    "actuator",
+    "orbit",
+    "model",
+    "field",
+    "rate",
+    "attitude",
+    "saturated",
+    "law",
+    "clock",
+];
+
+/// Steps of `[a, b)` with each fault bit set, as `name n` (only the bits seen).
+fn bit_counts(run: &Run, a: f64, b: f64) -> String {
+    let mut counts = [0usize; 10];
+    let mut n = 0;
+    for s in run.samples.iter().filter(|s| s.t_s >= a && s.t_s < b) {
+        n += 1;
+        let bits = s.report.faults.bits();
+        for (k, c) in counts.iter_mut().enumerate() {
+            *c += usize::from(bits & (1 << k) != 0);
+        }
+    }
+    let seen: Vec<String> = counts
+        .iter()
+        .zip(NAMES)
+        .filter(|(c, _)| **c > 0)
+        .map(|(c, name)| format!("{name} {c}"))
+        .collect();
+    format!(
+        "{} of {n} steps",
+        if seen.is_empty() {
+            "none".into()
+        } else {
+            seen.join(", ")
+        }
+    )
+}
+
+/// Modes over `[a, b)` as `Mode@t` at each change.
+fn modes(run: &Run, a: f64, b: f64) -> String {
+    let mut out = Vec::new();
+    let mut last: Option<Mode> = None;
+    for s in run.samples.iter().filter(|s| s.t_s >= a && s.t_s < b) {
+        if last != Some(s.mode) {
+            out.push(format!("{:?}@{:.0}", s.mode, s.t_s));
+            last = Some(s.mode);
+        }
+    }
+    out.join(" → ")
+}
+
+/// Tile-state changes over the run, as `tile k failed@t` / `restored@t`.
+fn tile_changes(run: &Run) -> String {
+    let mut out = Vec::new();
+    for w in run.tile_states.windows(2) {
+        for (k, (a, b)) in w[0].1.iter().zip(w[1].1.iter()).enumerate() {
+            if a != b {
+                let what = if *b == TileState::Failed {
+                    "failed"
+                } else {
+                    "restored"
+                };
+                out.push(format!("tile {k} {what}@{:.0}", w[1].0));
+            }
+        }
+    }
+    if out.is_empty() {
+        "none".into()
+    } else {
+        out.join(", ")
+    }
+}
+
+/// True if every step of `[a, b)` has a fault bit of `mask`.
+fn every_step(run: &Run, a: f64, b: f64, mask: u16) -> bool {
+    run.samples
+        .iter()
+        .filter(|s| s.t_s >= a && s.t_s < b)
+        .all(|s| s.report.faults.bits() & mask != 0)
+}
+
+/// Prints the case's figures (one `FAULT` line, the rows of `docs/faults.md`) and returns the
+/// recovery time after `clear_s` (s), if any.
+fn summary(name: &str, run: &Run, clear_s: f64, end_s: f64) -> Option<f64> {
+    let before = worst(run, 100.0, FAULT_AT);
+    let during = worst(run, FAULT_AT, clear_s);
+    let after = worst(run, clear_s, end_s);
+    let back = back_under(run, clear_s, end_s, BOUND_DEG);
+    let final_err = err(run.samples.last().unwrap());
+    let rate = |a: f64, b: f64| {
+        run.samples
+            .iter()
+            .filter(|s| s.t_s >= a && s.t_s < b)
+            .map(|s| s.omega_true.norm().to_degrees())
+            .fold(0.0, f64::max)
+    };
+    println!(
+        "FAULT {name}: bits during [{FAULT_AT:.0}, {clear_s:.0}) s: {}; after: {}; modes {}; tiles: {}; \
+         pointing worst before {before:.3}°, during {during:.3}°, after clear {after:.3}°, final {final_err:.3}°; \
+         back under {BOUND_DEG}° for good (to {end_s:.0} s) {}; largest wheel command {:.3e} N·m·s, coil {:.3} A·m²; \
+         true rate at most {:.3}°/s during, {:.3}°/s after",
+        bit_counts(run, FAULT_AT, clear_s),
+        bit_counts(run, clear_s, end_s),
+        modes(run, 0.0, end_s),
+        tile_changes(run),
+        back.map_or("never".into(), |t| format!("at {t:.0} s ({:.0} s after the clear)", t - clear_s)),
+        run.max_wheel,
+        run.max_coil,
+        rate(FAULT_AT, clear_s),
+        rate(clear_s, end_s),
+    );
+    back.map(|t| t - clear_s)
+}
+
+fn recovered(name: &str, back: Option<f64>) {
+    assert!(
+        back.is_some_and(|s| s <= RECOVERY_S),
+        "{name}: not back under {BOUND_DEG}° within {RECOVERY_S} s of the clear ({back:?})"
+    );
+}
+
+const DEVICE_READ: u16 = 1;
+const ACTUATOR: u16 = 1 << 1;
+const ATTITUDE: u16 = 1 << 6;
+
+/// The undisturbed run: the figures every case compares with.
+#[test]
+fn baseline() {
+    let run = fly(&[], &[], 900.0);
+    let back = summary("none (baseline)", &run, FAULT_AT, 900.0);
+    assert!(worst(&run, 100.0, 900.0) < BOUND_DEG);
+    assert!(back.is_some());
+}
+
+/// NaN where the float enters: every sensor of tile 2 (+W) reads NaN for 2 s (below the three
+/// failures that mark a tile failed), then the magnetometer and gyro of tile 3 (−U) for 60 s
+/// (marked failed, restored by the ground 60 s after the clear).
+#[test]
+fn nan_readings() {
+    let (clear, end) = (FAULT_AT + 60.0, 1000.0);
+    let mut f = Vec::new();
+    for sensor in [Sensor::Sun, Sensor::Magnetometer, Sensor::Gyro] {
+        f.push((
+            Fault::NanReading { tile: 2, sensor },
+            FAULT_AT,
+            FAULT_AT + 2.0,
+        ));
+    }
+    for sensor in [Sensor::Magnetometer, Sensor::Gyro] {
+        f.push((Fault::NanReading { tile: 3, sensor }, FAULT_AT, clear));
+    }
+    let run = fly(&f, &[(clear + 60.0, Ground::RestoreFailed)], end);
+    let back = summary("NaN readings", &run, clear, end);
+    assert!(every_step(&run, FAULT_AT, FAULT_AT + 3.0, DEVICE_READ));
+    assert!(run
+        .tile_states
+        .iter()
+        .any(|(_, s)| s[3] == TileState::Failed));
+    assert_eq!(run.tile_states.last().unwrap().1[2], TileState::Working);
+    assert_eq!(run.tile_states.last().unwrap().1[3], TileState::Working);
+    assert_eq!(run.samples.last().unwrap().mode, Mode::Tracking);
+    recovered("NaN readings", back);
+}
+
+/// Raw words pinned at the `i16` extremes, delivered as valid readings, for 60 s: one sensor of
+/// tile 1 (+V); the ground commands `TRACK` again 60 s after the clear.
+fn out_of_range_run(sensor: Sensor) -> (Run, f64, f64) {
+    let (clear, end) = (FAULT_AT + 60.0, 1200.0);
+    let f = [(Fault::OutOfRange { tile: 1, sensor }, FAULT_AT, clear)];
+    (fly(&f, &[(clear + 60.0, Ground::Track)], end), clear, end)
+}
+
+/// The invariants hold and the loop ends back on its target (after the ground's `TRACK`) for
+/// each sensor: the gyro at `i16::MAX` (3.28 rad/s), the magnetometer at (`i16::MAX`,
+/// `i16::MIN`) (±327 670 nT), the Sun sensor at (`i16::MAX`, `i16::MIN`) (±3.28 rad). How fast
+/// (the magnetometer's is beyond [`RECOVERY_S`]) and what is reported: the ignored test below.
+#[test]
+fn out_of_range_reading() {
+    for sensor in [Sensor::Gyro, Sensor::Magnetometer, Sensor::Sun] {
+        let (run, clear, end) = out_of_range_run(sensor);
+        let name = format!("out-of-range {sensor:?} words (tile 1)");
+        let back = summary(&name, &run, clear, end);
+        assert_eq!(run.samples.last().unwrap().mode, Mode::Tracking);
+        assert!(back.is_some(), "{name}: never back under {BOUND_DEG}°");
+    }
+}
+
+/// Finding: the loop takes `i16`-extreme words as valid readings and reports nothing (no fault
+/// bit: only a driver's saturation check, `hal::drivers::check_saturation`, refuses such a
+/// word; the loop has no plausibility check of its own). The gyro's 3.28 rad/s sends it to
+/// `Detumble`; the magnetometer's field turns the satellite 178° away, the Sun sensor's 54°,
+/// and each is back on its target only 475 s and 458 s after the clear.
+#[test]
+#[ignore = "issue 19: i16-extreme words are taken as valid readings (no range check in AcsLoop::read_tiles): no fault bit for any sensor, a 3.28 rad/s gyro word sends the loop to Detumble, a ±327 670 nT magnetometer word to a 178° error, a ±3.28 rad Sun word to 54°, each back under 2° only 458-475 s after the clear"]
+fn out_of_range_reading_is_reported() {
+    for sensor in [Sensor::Gyro, Sensor::Magnetometer, Sensor::Sun] {
+        let (run, clear, end) = out_of_range_run(sensor);
+        assert!(
+            every_step(&run, FAULT_AT, clear, DEVICE_READ),
+            "{sensor:?} not reported"
+        );
+        assert!(run
+            .samples
+            .iter()
+            .filter(|s| s.t_s >= FAULT_AT && s.t_s < clear)
+            .all(|s| s.mode == Mode::Tracking));
+        recovered(
+            &format!("{sensor:?}"),
+            back_under(&run, clear, end, BOUND_DEG).map(|t| t - clear),
+        );
+    }
+}
+
+/// A stuck sensor: tile 2's (+W) magnetometer repeats its reading for 300 s.
+#[test]
+fn stuck_magnetometer() {
+    let (clear, end) = (FAULT_AT + 300.0, 1200.0);
+    let f = [(
+        Fault::Stuck {
+            tile: 2,
+            sensor: Sensor::Magnetometer,
+        },
+        FAULT_AT,
+        clear,
+    )];
+    let run = fly(&f, &[], end);
+    let back = summary("stuck magnetometer", &run, clear, end);
+    recovered("stuck magnetometer", back);
+}
+
+/// A stuck gyro: tile 3's (−U, the only gyro on U) gyro repeats its reading for 300 s.
+fn stuck_gyro_run() -> (Run, f64, f64) {
+    let (clear, end) = (FAULT_AT + 300.0, 1200.0);
+    let f = [(
+        Fault::Stuck {
+            tile: 3,
+            sensor: Sensor::Gyro,
+        },
+        FAULT_AT,
+        clear,
+    )];
+    (fly(&f, &[], end), clear, end)
+}
+
+#[test]
+fn stuck_gyro() {
+    let (run, clear, end) = stuck_gyro_run();
+    let back = summary("stuck gyro", &run, clear, end);
+    assert_eq!(run.samples.last().unwrap().mode, Mode::Tracking);
+    recovered("stuck gyro", back);
+}
+
+/// Finding: the stuck gyro is not reported; the loop propagates and damps with a wrong rate
+/// about U and the pointing error grows to tens of degrees.
+#[test]
+#[ignore = "issue 19: a stuck gyro is not detected: the cube has one gyro on U and AcsLoop has no consistency check between the gyro rate and the measured attitude's change, so the stuck rate drives the filter and the tracking law (66.6° pointing error, no fault bit but the wheels' saturation)"]
+fn stuck_gyro_is_reported() {
+    let (run, clear, _) = stuck_gyro_run();
+    assert!(every_step(
+        &run,
+        FAULT_AT + 5.0,
+        clear,
+        DEVICE_READ | (1 << 5)
+    ));
+}
+
+/// A dead tile: tile 2 (+W: Sun sensor, magnetometer, gyro, wheel) answers nothing for 60 s;
+/// the loop marks it failed; the ground restores it 60 s after the fault clears.
+#[test]
+fn dead_tile() {
+    let (clear, end) = (FAULT_AT + 60.0, 1000.0);
+    let f = [(Fault::DeadTile { tile: 2 }, FAULT_AT, clear)];
+    let run = fly(&f, &[(clear + 60.0, Ground::RestoreFailed)], end);
+    let back = summary("dead tile", &run, clear, end);
+    assert!(every_step(&run, FAULT_AT, FAULT_AT + 3.0, DEVICE_READ));
+    // marked failed, its wheel still commanded (to rest): the refusals are reported
+    assert!(every_step(&run, FAULT_AT + 3.0, clear, ACTUATOR));
+    assert_eq!(run.tile_states.last().unwrap().1[2], TileState::Working);
+    assert_eq!(run.samples.last().unwrap().mode, Mode::Tracking);
+    recovered("dead tile", back);
+}
+
+/// Bursts of bus errors: every transaction fails for 2 s at 300, 320 and 340 s (below the
+/// three failures that mark a tile failed).
+#[test]
+fn bus_error_bursts() {
+    let end = 1000.0;
+    let f: Vec<_> = [0.0, 20.0, 40.0]
+        .iter()
+        .map(|d| (Fault::BusErrors, FAULT_AT + d, FAULT_AT + d + 2.0))
+        .collect();
+    let run = fly(&f, &[], end);
+    let clear = FAULT_AT + 42.0;
+    let back = summary("bus error bursts (3 × 2 s)", &run, clear, end);
+    for d in [0.0, 20.0, 40.0] {
+        assert!(every_step(
+            &run,
+            FAULT_AT + d,
+            FAULT_AT + d + 2.0,
+            DEVICE_READ
+        ));
+        assert!(every_step(&run, FAULT_AT + d, FAULT_AT + d + 2.0, ACTUATOR));
+    }
+    assert!(run
+        .tile_states
+        .iter()
+        .all(|(_, s)| s[1..].iter().all(|x| *x == TileState::Working)));
+    assert_eq!(run.samples.last().unwrap().mode, Mode::Tracking);
+    recovered("bus error bursts", back);
+}
+
+/// A longer burst: 5 s of bus errors marks every tile failed; the ground restores them 60 s
+/// after the burst.
+fn long_burst_run(ground: &[(f64, Ground)]) -> (Run, f64, f64) {
+    let (clear, end) = (FAULT_AT + 5.0, 1200.0);
+    let f = [(Fault::BusErrors, FAULT_AT, clear)];
+    (fly(&f, ground, end), clear, end)
+}
+
+#[test]
+fn long_bus_burst_restored_by_ground() {
+    let (run, clear, end) = long_burst_run(&[
+        (FAULT_AT + 65.0, Ground::RestoreFailed),
+        (FAULT_AT + 70.0, Ground::Track),
+    ]);
+    let back = summary(
+        "bus error burst (5 s), ground restore + track",
+        &run,
+        clear,
+        end,
+    );
+    assert!(every_step(&run, FAULT_AT, clear, DEVICE_READ | ACTUATOR));
+    assert!(run
+        .tile_states
+        .last()
+        .unwrap()
+        .1
+        .iter()
+        .all(|x| *x == TileState::Working));
+    assert_eq!(run.samples.last().unwrap().mode, Mode::Tracking);
+    recovered("long bus burst", back);
+}
+
+/// Finding: after a 5 s bus burst the loop has marked every tile failed and never takes them
+/// back by itself (no readings, every wheel commanded to rest).
+#[test]
+#[ignore = "issue 19: a bus-wide error burst of >= FAILURES_TO_MARK_FAILED steps marks every tile failed (AcsLoop::read_tiles counts it per tile) and nothing returns them to service without a ground RESTORE: the loop is left with no sensor and spins every wheel down"]
+fn long_bus_burst_recovers_alone() {
+    let (run, clear, end) = long_burst_run(&[]);
+    let back = summary("bus error burst (5 s), no ground action", &run, clear, end);
+    assert!(run
+        .tile_states
+        .last()
+        .unwrap()
+        .1
+        .iter()
+        .all(|x| *x == TileState::Working));
+    recovered("long bus burst alone", back);
+}
+
+/// A wheel that stops: the wheel accepts every command and comes to rest, 120 s: tile 2's (+W,
+/// one of two wheels on W) and tile 3's (−U, the only wheel on U).
+fn wheel_stopped_run(tile: usize) -> (Run, f64, f64) {
+    let (clear, end) = (FAULT_AT + 120.0, 1200.0);
+    let f = [(Fault::WheelStopped { tile }, FAULT_AT, clear)];
+    (fly(&f, &[], end), clear, end)
+}
+
+#[test]
+fn wheel_stopped() {
+    for tile in [2, 3] {
+        let (run, clear, end) = wheel_stopped_run(tile);
+        let back = summary(&format!("wheel stopped (tile {tile})"), &run, clear, end);
+        assert_eq!(run.samples.last().unwrap().mode, Mode::Tracking);
+        recovered("wheel stopped", back);
+    }
+}
+
+/// Finding: nothing reports the stopped wheel (the HAL has no wheel read-back).
+#[test]
+#[ignore = "issue 19: a wheel that accepts commands and does not spin is not reported: TileBus has no wheel momentum read-back (Simulator::wheel_momentum_nms exists, the loop cannot call it), so AcsLoop cannot compare the commanded and the actual momentum"]
+fn wheel_stopped_is_reported() {
+    let (run, clear, _) = wheel_stopped_run(3);
+    assert!(every_step(&run, FAULT_AT + 5.0, clear, ACTUATOR));
+}
+
+/// A wheel that refuses commands: tile 2's (+W) wheel fails every command for 120 s.
+#[test]
+fn wheel_refuses() {
+    let (clear, end) = (FAULT_AT + 120.0, 1200.0);
+    let f = [(Fault::WheelRefuses { tile: 2 }, FAULT_AT, clear)];
+    let run = fly(&f, &[], end);
+    let back = summary("wheel refuses commands", &run, clear, end);
+    assert!(every_step(&run, FAULT_AT, clear, ACTUATOR));
+    assert_eq!(run.samples.last().unwrap().mode, Mode::Tracking);
+    recovered("wheel refuses", back);
+}
+
+/// An open-circuit magnetorquer: coil 2 (z) accepts and gives no dipole, 300 s.
+fn coil_open_run() -> (Run, f64, f64) {
+    let (clear, end) = (FAULT_AT + 300.0, 1200.0);
+    let f = [(Fault::CoilOpen { coil: 2 }, FAULT_AT, clear)];
+    (fly(&f, &[], end), clear, end)
+}
+
+#[test]
+fn coil_open() {
+    let (run, clear, end) = coil_open_run();
+    let back = summary("open-circuit coil", &run, clear, end);
+    assert_eq!(run.samples.last().unwrap().mode, Mode::Tracking);
+    recovered("open coil", back);
+}
+
+/// Finding: nothing reports the open coil (no coil current read-back in the HAL).
+#[test]
+#[ignore = "issue 19: an open-circuit coil that accepts its commands is not reported: TileBus::set_dipole returns Ok and the HAL has no coil current read-back"]
+fn coil_open_is_reported() {
+    let (run, clear, _) = coil_open_run();
+    assert!(every_step(&run, FAULT_AT + 1.0, clear, ACTUATOR));
+}
+
+/// A coil left on: coil 0 (x) stays at 0.2 A·m² for 60 s, through the coils-off before the
+/// reads: its field reaches the magnetometers, its torque the body.
+fn coil_left_on_run() -> (Run, f64, f64) {
+    let (clear, end) = (FAULT_AT + 60.0, 1200.0);
+    let f = [(
+        Fault::CoilLeftOn {
+            coil: 0,
+            dipole_am2: 0.2,
+        },
+        FAULT_AT,
+        clear,
+    )];
+    (fly(&f, &[], end), clear, end)
+}
+
+/// The invariants hold and the loop ends back on its target (measured: 332 s after the clear,
+/// beyond [`RECOVERY_S`]: see the ignored test below).
+#[test]
+fn coil_left_on() {
+    let (run, clear, end) = coil_left_on_run();
+    let back = summary("coil left on (0.2 A·m²)", &run, clear, end);
+    assert_eq!(run.samples.last().unwrap().mode, Mode::Tracking);
+    assert!(back.is_some(), "never back under {BOUND_DEG}°");
+}
+
+/// Finding: the coil's field (4 000–20 000 nT at the other tiles' magnetometers) corrupts the
+/// field the loop determines; nothing reports it, the attitude measured from it is wrong by up
+/// to 180°, the loop turns the satellite away from its target, and it takes longer than
+/// [`RECOVERY_S`] to come back.
+#[test]
+#[ignore = "issue 19: a coil left on is not detected: AcsLoop switches the coils off before the reads and trusts the magnetometers (no check of the measured |B| against the model's |B|), so its field becomes a wrong attitude (179° pointing error, no fault bit but the wheels' saturation), and the recovery takes 332 s"]
+fn coil_left_on_is_reported_and_recovers() {
+    let (run, clear, end) = coil_left_on_run();
+    assert!(every_step(
+        &run,
+        FAULT_AT,
+        clear,
+        DEVICE_READ | (1 << 4) | ATTITUDE
+    ));
+    recovered(
+        "coil left on",
+        back_under(&run, clear, end, BOUND_DEG).map(|t| t - clear),
+    );
+}
+
+/// All Sun sensors dark for 200 s in sunlight (longer than the filter's 120 s of
+/// propagation): the loop propagates, then has no attitude and falls back to `SunSafe`; the
+/// ground commands `TRACK` again 60 s after the Sun returns.
+#[test]
+fn sun_sensors_dark() {
+    let (clear, end) = (FAULT_AT + 200.0, 1200.0);
+    let f = [(Fault::SunSensorsDark, FAULT_AT, clear)];
+    let run = fly(&f, &[(clear + 60.0, Ground::Track)], end);
+    let back = summary("all Sun sensors dark (200 s)", &run, clear, end);
+    let no_measurement = run
+        .samples
+        .iter()
+        .filter(|s| s.t_s >= FAULT_AT && s.t_s < clear)
+        .all(|s| s.report.measured_attitude.is_none() && s.report.sun_body.is_none());
+    assert!(no_measurement);
+    // past the propagation limit: reported
+    let limit = FAULT_AT + f64::from(CONFIG.max_propagation_s) + 2.0;
+    assert!(every_step(&run, limit, clear, ATTITUDE));
+    assert_eq!(run.samples.last().unwrap().mode, Mode::Tracking);
+    recovered("dark", back);
+}
+
+/// All tiles dark in a real umbra: the `sun-safe` scenario's noon-midnight orbit (seed 3),
+/// holding an inertial attitude from rest through its first eclipse; the ground commands
+/// `TRACK` again 60 s after the umbra ends.
+#[test]
+fn umbra() {
+    let mut sc = scenarios::sun_safe().unwrap();
+    let target = scenario().target.unwrap();
+    sc.target = Some(target);
+    sc.initial = (target, nalgebra::Vector3::zeros());
+    // the umbra's times, from the truth alone
+    let mut probe = sc.simulator().unwrap();
+    let (mut entry, mut exit) = (None, None);
+    while probe.truth().t_s < sc.duration_s && exit.is_none() {
+        let t = probe.truth().t_s;
+        let dark = probe.env().sun_fraction < 1e-9;
+        if dark && entry.is_none() {
+            entry = Some(t);
+        }
+        if !dark && entry.is_some() {
+            exit = Some(t);
+        }
+        probe.advance(sc.dt_s).unwrap();
+    }
+    let (entry, exit) = (entry.unwrap(), exit.unwrap());
+    let end = exit + 900.0;
+    let run = fly_on(&sc, &[], &[(exit + 60.0, Ground::Track)], end);
+    println!(
+        "FAULT umbra: entry {entry:.0} s, exit {exit:.0} s ({:.0} s); bits in the umbra: {}; modes {}; \
+         pointing worst before {:.3}°, in the umbra {:.3}°, after {:.3}°; back under {BOUND_DEG}° for good {}",
+        exit - entry,
+        bit_counts(&run, entry, exit),
+        modes(&run, 0.0, end),
+        worst(&run, 100.0, entry),
+        worst(&run, entry, exit),
+        worst(&run, exit, end),
+        back_under(&run, exit, end, BOUND_DEG)
+            .map_or("never".into(), |t| format!("at {t:.0} s ({:.0} s after the exit)", t - exit)),
+    );
+    // the control error: the filtered attitude against the target (what the law acts on)
+    let control = |a: f64, b: f64| {
+        run.samples
+            .iter()
+            .filter(|s| s.t_s >= a && s.t_s < b)
+            .filter_map(|s| s.report.attitude)
+            .map(|q| acs::host::sim::angle_between_deg(&target, &q))
+            .fold(0.0, f64::max)
+    };
+    let estimate = |a: f64, b: f64| {
+        run.samples
+            .iter()
+            .filter(|s| s.t_s >= a && s.t_s < b)
+            .filter_map(|s| s.estimate_error_deg)
+            .fold(0.0, f64::max)
+    };
+    let first_under = run
+        .samples
+        .iter()
+        .find(|s| s.t_s >= exit && err(s) < BOUND_DEG)
+        .map(|s| s.t_s - exit);
+    println!(
+        "FAULT umbra: first under {BOUND_DEG}° {first_under:?} s after the exit; from 120 s after the exit: control error (filtered attitude against the target) at most {:.3}°, estimate error at most {:.3}° (before the umbra: pointing {:.3}°, control {:.3}°, estimate {:.3}°)",
+        control(exit + 120.0, end),
+        estimate(exit + 120.0, end),
+        worst(&run, 100.0, entry),
+        control(100.0, entry),
+        estimate(100.0, entry),
+    );
+    let limit = entry + f64::from(CONFIG.max_propagation_s) + 2.0;
+    assert!(every_step(&run, limit, exit, ATTITUDE));
+    assert_eq!(run.samples.last().unwrap().mode, Mode::Tracking);
+    // this orbit's determination alone exceeds the 2° bound (before the umbra too): the
+    // recovery is the pointing error under it within 120 s of the exit, and the control error
+    // back to its size before the umbra
+    assert!(first_under.is_some_and(|s| s <= 120.0), "{first_under:?}");
+    assert!(control(exit + 120.0, end) <= control(100.0, entry).max(0.5));
+}
+
+/// A corrupt element set uploaded mid-flight: one word's bit flipped in transit (the checksum
+/// refuses it), and a set with a NaN constant and a correct checksum (the finiteness check
+/// refuses it). Both are refused with a typed error; the loop's next 300 steps are bit for bit
+/// those of a twin that never received them.
+#[test]
+fn corrupt_elements_refused() {
+    use acs::orbit::sgp4::{words_checksum, ELEMENT_WORDS};
+    let sc = scenario();
+    let good = sc.orbit().unwrap().to_words();
+    let mut flipped = good;
+    flipped[10] ^= 1 << 7;
+    let mut nan = good;
+    nan[5] = f32::NAN.to_bits();
+    nan[ELEMENT_WORDS - 1] = words_checksum(&nan[..ELEMENT_WORDS - 1]);
+    let target = sc.target.unwrap();
+    let mut sim = sc.simulator().unwrap();
+    let mut acs = FlightLoop::new(&CONFIG, sc.orbit().unwrap()).unwrap();
+    let mut clock = sim.epoch_at(0.0);
+    let mut last = None;
+    let step = |sim: &mut Simulator, acs: &mut FlightLoop| {
+        let t = sim.truth().t_s;
+        let r = acs.step(sim, sim.epoch_at(t), 1.0);
+        sim.advance(1.0).unwrap();
+        r
+    };
+    for k in 0..FAULT_AT as usize {
+        if k == 1 {
+            let r = uplink::apply(
+                kind::TRACK,
+                &words(&track_words(&target)),
+                &mut acs,
+                &mut clock,
+                None,
+            );
+            assert!(r.is_ok());
+        }
+        last = Some(step(&mut sim, &mut acs));
+    }
+    let (mut twin_sim, mut twin) = (sim.clone(), acs.clone());
+    let mut results = Vec::new();
+    for w in [&flipped, &nan] {
+        let attitude = last.and_then(|r: StepReport| r.attitude);
+        let r = uplink::apply(kind::ELEMENTS, w, &mut acs, &mut clock, attitude.as_ref());
+        results.push(r);
+    }
+    println!(
+        "FAULT corrupt element set: bit flip → {:?} (status {:#x}); NaN word with a valid checksum → {:?} (status {:#x})",
+        results[0],
+        uplink::status(&results[0]),
+        results[1],
+        uplink::status(&results[1]),
+    );
+    assert_eq!(
+        results[0],
+        Err(UplinkError::BadElementWord((ELEMENT_WORDS - 1) as u8))
+    );
+    assert!(matches!(results[1], Err(UplinkError::BadElementWord(_))));
+    let mut worst_err = 0.0f64;
+    for _ in 0..300 {
+        let t = sim.truth().t_s;
+        let a = step(&mut sim, &mut acs);
+        let b = step(&mut twin_sim, &mut twin);
+        assert_eq!(a, b, "the refused sets changed the loop at {t}");
+        assert!(!a.faults.orbit);
+        worst_err = worst_err.max(
+            Sample::of_step(&sim, t, a, Some(target))
+                .pointing_error_deg
+                .unwrap(),
+        );
+    }
+    println!("FAULT corrupt element set: the next 300 steps identical to a twin's (no orbit fault); worst pointing {worst_err:.3}°");
+}
+
+/// A jump of the on-board clock: +60 s at 300 s, set right by the ground (uplink `CLOCK`) at
+/// 420 s; −30 s at 1 200 s, set right at 1 320 s.
+#[test]
+fn clock_jumps() {
+    let end = 2200.0;
+    let ground = [
+        (FAULT_AT, Ground::ClockJump(60.0)),
+        (FAULT_AT + 120.0, Ground::SetClock),
+        (1200.0, Ground::ClockJump(-30.0)),
+        (1320.0, Ground::SetClock),
+    ];
+    let run = fly(&[], &ground, end);
+    let clock_steps: Vec<f64> = run
+        .samples
+        .iter()
+        .filter(|s| s.report.faults.clock)
+        .map(|s| s.t_s)
+        .collect();
+    let clock_steps: Vec<f64> = clock_steps.iter().map(|t| t.round()).collect();
+    println!("FAULT clock jumps: Faults::clock at {clock_steps:?} s");
+    let back1 = summary(
+        "clock +60 s at 300 s, set right at 420 s",
+        &run,
+        FAULT_AT + 120.0,
+        1200.0,
+    );
+    let during2 = worst(&run, 1200.0, 1320.0);
+    let back2 = back_under(&run, 1320.0, end, BOUND_DEG).map(|t| t - 1320.0);
+    println!(
+        "FAULT clock −30 s at 1 200 s, set right at 1 320 s: pointing worst during {during2:.3}°, after {:.3}°; back under {BOUND_DEG}° for good (to {end:.0} s) {back2:?} s after",
+        worst(&run, 1320.0, end)
+    );
+    assert_eq!(
+        clock_steps,
+        vec![FAULT_AT, FAULT_AT + 120.0, 1200.0, 1320.0]
+    );
+    assert!(run.uplinks.iter().all(|(_, _, r)| r.is_ok()));
+    assert_eq!(run.samples.last().unwrap().mode, Mode::Tracking);
+    recovered("clock +60", back1);
+    recovered("clock -30", back2);
+}
+
+/// A failed tile restored by command: the ground marks tile 2 (+W) failed at 300 s (uplink
+/// `MARK_FAILED`) and restores it at 420 s (`RESTORE`).
+#[test]
+fn failed_tile_restored() {
+    let (clear, end) = (FAULT_AT + 120.0, 1200.0);
+    let ground = [
+        (FAULT_AT, Ground::Uplink(kind::MARK_FAILED, vec![2])),
+        (clear, Ground::Uplink(kind::RESTORE, vec![2])),
+    ];
+    let run = fly(&[], &ground, end);
+    let back = summary("tile marked failed, restored by command", &run, clear, end);
+    assert!(run.uplinks.iter().all(|(_, _, r)| r.is_ok()));
+    let state_at = |t: f64| {
+        run.tile_states
+            .iter()
+            .find(|(s, _)| *s >= t)
+            .map(|(_, s)| s[2])
+            .unwrap()
+    };
+    assert_eq!(state_at(FAULT_AT + 1.0), TileState::Failed);
+    assert_eq!(state_at(clear + 1.0), TileState::Working);
+    assert_eq!(run.samples.last().unwrap().mode, Mode::Tracking);
+    recovered("failed tile restored", back);
+}
+
+/// Finding of the soak: a saturated allocation can exceed its limit by one ulp
+/// (`h · (limit / |h|)` rounds up), which the reference drivers (`hal::drivers::drive_bridge`:
+/// `magnitude > limit`) refuse, switching the coil or wheel off. Searched over 200 000 random
+/// dipoles for the flight coils.
+#[test]
+#[ignore = "issue 19: control::wheels::Allocator::allocate scales a saturated allocation by limit/|h| (wheels.rs:247-252) and h·(limit/|h|) can round one ulp above the limit (0.20000002 A·m² for a 0.2 A·m² coil, found by the soak); the reference drivers refuse it (drive_bridge: magnitude > limit) and switch the actuator off"]
+fn saturated_allocation_within_limit() {
+    use acs::control::wheels::Allocator;
+    let coils: [acs::control::wheels::Wheel; 3] =
+        [CONFIG.coils[0], CONFIG.coils[1], CONFIG.coils[2]];
+    let allocator = Allocator::new(&coils).unwrap();
+    let mut state = 0x1234_5678_9abc_def0u64;
+    let mut next = || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        ((state >> 40) as f32 / (1u64 << 24) as f32) * 2.0 - 1.0
+    };
+    let mut over = Vec::new();
+    for _ in 0..200_000 {
+        let l = nalgebra::Vector3::new(next(), next(), next()) * 3.0;
+        let a = allocator.allocate(&coils, &l).unwrap();
+        for (m, c) in a.wheel.iter().zip(coils.iter()) {
+            if m.abs() > c.limit {
+                over.push(*m);
+            }
+        }
+    }
+    println!(
+        "FAULT saturated allocation: {} of 600 000 coil commands above the 0.2 A·m² limit: {:?}",
+        over.len(),
+        &over[..over.len().min(5)]
+    );
+    assert!(over.is_empty());
+}
+
+/// An injection that never becomes active leaves the run bit for bit as it was (the faults
+/// draw no random number and change nothing while inactive).
+#[test]
+fn inactive_injection_changes_nothing() {
+    let plain = fly(&[], &[], 400.0);
+    let never: Vec<_> = [
+        Fault::BusErrors,
+        Fault::DeadTile { tile: 2 },
+        Fault::SunSensorsDark,
+        Fault::CoilLeftOn {
+            coil: 0,
+            dipole_am2: 0.2,
+        },
+        Fault::WheelStopped { tile: 3 },
+        Fault::NanReading {
+            tile: 1,
+            sensor: Sensor::Gyro,
+        },
+    ]
+    .into_iter()
+    .map(|f| (f, 1e9, f64::INFINITY))
+    .collect();
+    let with = fly(&never, &[], 400.0);
+    for (a, b) in plain.samples.iter().zip(with.samples.iter()) {
+        assert_eq!(a.report, b.report, "at {}", a.t_s);
+        assert_eq!(a.omega_true, b.omega_true, "at {}", a.t_s);
+    }
+}
+
+/// The bus answers of each fault, and `clear_fault` ends an injection "until cleared".
+#[test]
+fn injections_on_the_bus() {
+    let mut sim = scenario().simulator().unwrap();
+    let dead = sim.inject(Fault::DeadTile { tile: 2 }, 0.0, f64::INFINITY);
+    assert_eq!(sim.read_gyro(2), Err(ErrorKind::DeviceAbsent));
+    assert_eq!(sim.set_wheel_momentum(2, 0.0), Err(ErrorKind::DeviceAbsent));
+    assert!(sim.read_gyro(1).is_ok());
+    sim.clear_fault(dead);
+    assert!(sim.read_gyro(2).is_ok());
+    let t = sim.truth().t_s;
+    let until = t + 1.0;
+    sim.inject(Fault::BusErrors, t, until);
+    assert_eq!(sim.read_magnetometer(1), Err(ErrorKind::Bus));
+    assert_eq!(sim.set_dipole(0, 0.1), Err(ErrorKind::Bus));
+    sim.inject(Fault::WheelRefuses { tile: 4 }, until, f64::INFINITY);
+    sim.inject(
+        Fault::OutOfRange {
+            tile: 1,
+            sensor: Sensor::Magnetometer,
+        },
+        until,
+        f64::INFINITY,
+    );
+    sim.inject(
+        Fault::NanReading {
+            tile: 4,
+            sensor: Sensor::Gyro,
+        },
+        until,
+        f64::INFINITY,
+    );
+    sim.inject(Fault::SunSensorsDark, until, f64::INFINITY);
+    sim.advance(1.0).unwrap();
+    assert!(sim.read_magnetometer(2).is_ok());
+    assert_eq!(sim.set_wheel_momentum(4, 1e-4), Err(ErrorKind::Other));
+    assert_eq!(sim.read_magnetometer(1), Ok([i16::MAX, i16::MIN]));
+    assert_eq!(sim.read_gyro(4), Err(ErrorKind::OutOfRange));
+    assert!((0..6).all(|tile| matches!(sim.read_sun(tile), Ok(None) | Err(_))));
+    assert!((0..6).any(|tile| sim.read_sun(tile) == Ok(None)));
+}
