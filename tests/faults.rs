@@ -963,12 +963,11 @@ fn failed_tile_restored() {
     recovered("failed tile restored", back);
 }
 
-/// Finding of the soak: a saturated allocation can exceed its limit by one ulp
+/// Finding of the soak (fixed): a saturated allocation could exceed its limit by one ulp
 /// (`h · (limit / |h|)` rounds up), which the reference drivers (`hal::drivers::drive_bridge`:
-/// `magnitude > limit`) refuse, switching the coil or wheel off. Searched over 200 000 random
-/// dipoles for the flight coils.
+/// `magnitude > limit`) refuse, switching the coil or wheel off; the allocator now scales by
+/// one ulp less. Searched over 200 000 random dipoles for the flight coils.
 #[test]
-#[ignore = "issue 19: control::wheels::Allocator::allocate scales a saturated allocation by limit/|h| (wheels.rs:247-252) and h·(limit/|h|) can round one ulp above the limit (0.20000002 A·m² for a 0.2 A·m² coil, found by the soak); the reference drivers refuse it (drive_bridge: magnitude > limit) and switch the actuator off"]
 fn saturated_allocation_within_limit() {
     use acs::control::wheels::Allocator;
     let coils: [acs::control::wheels::Wheel; 3] =

@@ -248,6 +248,10 @@ impl Allocator {
             }
         }
         if scale < 1.0 {
+            // One ulp below the rounded limit/|h|: h·scale then never rounds above a limit,
+            // which a driver would refuse (|h|·pred(fl(L/|h|)) ≤ L(1 + 2⁻²⁴)(1 − 2⁻²⁴) < L, and
+            // rounding to nearest keeps a value below the float L at or below it).
+            scale = f32::from_bits(scale.to_bits().saturating_sub(1));
             for h in wheel.iter_mut() {
                 *h *= scale;
             }
