@@ -15,10 +15,19 @@ Scans the flight modules (FLIGHT below) outside comments, string and char litera
     generics, `Option<T>`; `<<`, `<<=`, `->` and `=>` are not matched; a `<`/`<=` that starts
     or ends a line, where rustfmt breaks a long expression, is matched);
   - `.min(`, `.max(`, `.clamp(`, `f32::min`, `f32::max`, `f32::clamp` (and the `f64::` forms);
-  - `.partial_cmp(` (core implements it with `<=`/`>=`, it may answer `Less` for a NaN).
+  - `.partial_cmp(` (core implements it with `<=`/`>=`, it may answer `Less` for a NaN);
+  - a range's `.contains(` (`(lo..=hi).contains(&x)` is `lo <= x && x <= hi`).
 ALLOW lists the exceptions: (file, function) pairs, kept minimal.
 
-usage: tools/float_compare_check.py   (from anywhere; exit 0 when clean)
+The source rule is not enough by itself: LLVM moves a constant to the right of a comparison
+(`0.0 > x` becomes `x < 0.0`, wrong again on the MSP430) and may swap two operands of different
+kinds. `--ir` checks what reaches the code generator: it builds the flight image
+(`firmware/`, the flags of `firmware/tools/loop-image`) with its optimised LLVM IR and fails on
+any `fcmp olt`, `ole`, `ugt` or `uge` (the predicates the MSP430 evaluates wrongly for a NaN:
+`ogt`, `oge`, `ult`, `ule`, `oeq`, `une`, `one`, `ueq`, `ord`, `uno` are correct), printing the
+source line of each (from the IR's debug locations). `--ir FILE.ll` checks a given IR file.
+
+usage: tools/float_compare_check.py [--ir [FILE.ll]]   (from anywhere; exit 0 when clean)
 """
 import os
 import re
@@ -91,7 +100,8 @@ NOT_FLIGHT_DIRS = ("src/host/", "src/bin/", "src/planning/")
 ALLOW = set()
 
 OPERATOR = re.compile(r"(?:^|\s)<=?(?=\s|$)")
-CALL = re.compile(r"\.(?:min|max|clamp|partial_cmp)\(|\bf(?:32|64)::(?:min|max|clamp)\b")
+CALL = re.compile(r"\.(?:min|max|clamp|partial_cmp)\(|\bf(?:32|64)::(?:min|max|clamp)\b"
+                  r"|\.\.=?[^;]*\)\.contains\(")
 FN = re.compile(r"\bfn\s+([A-Za-z_][A-Za-z0-9_]*)")
 
 
@@ -183,7 +193,76 @@ def check(rel):
     return hits
 
 
+def ir_check(path):
+    """Wrong-for-NaN float comparisons in an optimised LLVM IR file, with their source lines."""
+    import subprocess
+    if path is None:
+        fw = os.path.join(ROOT, "firmware")
+        out = os.path.join(fw, "target", "nan-ir")
+        env = dict(os.environ)
+        env["RUSTFLAGS"] = (
+            "-C linker-flavor=ld -C link-arg=-Tmemory.x -C link-arg=-Tlink.x "
+            "-C link-arg=--gc-sections -C link-arg=--noinhibit-exec "
+            f"-C linker={fw}/tools/ld.lld -C llvm-args=-inline-threshold=25")
+        env.pop("CARGO_TARGET_DIR", None)
+        subprocess.run(["cargo", "rustc", "--release", "--bin", "acs-firmware", "--features",
+                        "size-map", "--target-dir", out, "--", "--emit=llvm-ir,link"],
+                       cwd=fw, env=env, check=True)
+        deps = os.path.join(out, "msp430-none-elf", "release", "deps")
+        lls = sorted((os.path.join(deps, f) for f in os.listdir(deps)
+                      if f.startswith("acs_firmware-") and f.endswith(".ll")),
+                     key=os.path.getmtime)
+        path = lls[-1]
+    with open(path, encoding="utf-8") as f:
+        text = f.read()
+    meta = dict(re.findall(r"^!(\d+) = (?:distinct )?(.*)$", text, re.M))
+
+    def file_of(scope):
+        for _ in range(200):
+            d = meta.get(scope, "")
+            m = re.search(r"\bfile: !(\d+)", d)
+            if m and ("DISubprogram" in d or "DILexicalBlock" in d):
+                fd = meta.get(m.group(1), "")
+                name = re.search(r'filename: "([^"]*)"', fd)
+                return name.group(1) if name else "?"
+            m = re.search(r"\bscope: !(\d+)", d)
+            if not m:
+                break
+            scope = m.group(1)
+        return "?"
+
+    hits, counts = [], {}
+    for m in re.finditer(r"fcmp (?:[a-z]+ )*?(olt|ole|ogt|oge|ult|ule|ugt|uge|oeq|une|one|ueq|"
+                         r"ord|uno|true|false) (?:float|double)[^\n]*?(?:, !dbg !(\d+))?$",
+                         text, re.M):
+        counts[m.group(1)] = counts.get(m.group(1), 0) + 1
+        if m.group(1) not in ("olt", "ole", "ugt", "uge"):
+            continue
+        where = "?"
+        loc = meta.get(m.group(2) or "", "")
+        line, scope = re.search(r"line: (\d+)", loc), re.search(r"scope: !(\d+)", loc)
+        if line and scope:
+            where = f"{file_of(scope.group(1))}:{line.group(1)}"
+        hits.append(f"fcmp {m.group(1)} at {where}")
+    print(f"{path}: float comparisons by predicate: "
+          + ", ".join(f"{k} {v}" for k, v in sorted(counts.items())))
+    for h in hits:
+        print(h)
+    if not counts:
+        print("no float comparison found: not the flight image's IR?", file=sys.stderr)
+        return 1
+    if hits:
+        print(f"{len(hits)} comparison(s) in the flight image that the MSP430 evaluates wrongly "
+              "for a NaN (fmath module docs, \"Float comparisons in flight code\")",
+              file=sys.stderr)
+        return 1
+    print("flight image: no float comparison that a NaN makes wrong on the MSP430")
+    return 0
+
+
 def main():
+    if len(sys.argv) > 1 and sys.argv[1] == "--ir":
+        return ir_check(sys.argv[2] if len(sys.argv) > 2 else None)
     unknown = []
     for dirpath, _, files in os.walk(os.path.join(ROOT, "src")):
         for name in files:
@@ -197,9 +276,10 @@ def main():
     for h in hits:
         print(h)
     if hits or unknown:
-        print(f"{len(hits)} comparison(s) that a NaN makes wrong on the MSP430: write `b > a` for "
-              "`a < b`, `b >= a` for `a <= b`, `fmath::min/max/clamp` for min/max/clamp "
-              "(firmware/eabi/README.md, \"NaN and comparisons\")", file=sys.stderr)
+        print(f"{len(hits)} comparison(s) that a NaN makes wrong on the MSP430: with a constant "
+              "`c`, write `!(x >= c)` for `x < c`, `!(x > c)` for `x <= c`; with two variables "
+              "`b > a` for `a < b`, `b >= a` for `a <= b`; `fmath::min/max` for min/max/clamp "
+              "(src/fmath.rs docs, \"Float comparisons in flight code\")", file=sys.stderr)
         return 1
     print(f"float comparisons NaN-proof: {len(FLIGHT)} flight files clean")
     return 0
