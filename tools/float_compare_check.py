@@ -16,7 +16,9 @@ Scans the flight modules (FLIGHT below) outside comments, string and char litera
     or ends a line, where rustfmt breaks a long expression, is matched);
   - `.min(`, `.max(`, `.clamp(`, `f32::min`, `f32::max`, `f32::clamp` (and the `f64::` forms);
   - `.partial_cmp(` (core implements it with `<=`/`>=`, it may answer `Less` for a NaN);
-  - a range's `.contains(` (`(lo..=hi).contains(&x)` is `lo <= x && x <= hi`).
+  - a range's `.contains(` (`(lo..=hi).contains(&x)` is `lo <= x && x <= hi`);
+  - a float literal or `f32::`/`consts::` constant left of ` > `/` >= ` (`0.0 > x`: LLVM compiles
+    it as `x < 0.0`); other constants cannot be told from integers here, `--ir` catches them.
 ALLOW lists the exceptions: (file, function) pairs, kept minimal.
 
 The source rule is not enough by itself: LLVM moves a constant to the right of a comparison
@@ -102,6 +104,9 @@ ALLOW = set()
 OPERATOR = re.compile(r"(?:^|\s)<=?(?=\s|$)")
 CALL = re.compile(r"\.(?:min|max|clamp|partial_cmp)\(|\bf(?:32|64)::(?:min|max|clamp)\b"
                   r"|\.\.=?[^;]*\)\.contains\(")
+CONST_LEFT = re.compile(r"(?:^|[\s(!&|])-?(?:\d[\d_]*\.\d[\d_]*(?:e-?\d+)?(?:f32|f64)?"
+                        r"|\d[\d_]*(?:e-?\d+|f32|f64)"
+                        r"|(?:core::)?f(?:32|64)::(?:consts::)?[A-Z][A-Z0-9_]*)\s+>=?\s")
 FN = re.compile(r"\bfn\s+([A-Za-z_][A-Za-z0-9_]*)")
 
 
@@ -188,7 +193,7 @@ def check(rel):
             function = m.group(1)
         if k in skip or (rel, function) in ALLOW:
             continue
-        if OPERATOR.search(line) or CALL.search(line):
+        if OPERATOR.search(line) or CALL.search(line) or CONST_LEFT.search(line):
             hits.append(f"{rel}:{k + 1}: {raw[k].strip()}")
     return hits
 
