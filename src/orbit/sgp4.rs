@@ -872,7 +872,7 @@ impl Sgp4 {
             return Err(Sgp4Error::Diverged { tsince_min: t });
         }
         // mrt < 1 (radius below one Earth radius)
-        if self.radius_km > r_km {
+        if !(r_km >= self.radius_km) {
             return Err(Sgp4Error::Decayed {
                 tsince_min: t,
                 radius_km: r_km,
