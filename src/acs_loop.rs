@@ -461,7 +461,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
     /// each step until [`Self::set_orbit`] gives it one).
     #[cfg_attr(target_arch = "msp430", optimize(size))]
     pub fn new(config: &'c AcsConfig<N>, orbit: impl Into<Option<Sgp4>>) -> Result<Self, AcsError> {
-        let gain_ok = config.filter_gain > 0.0 && config.filter_gain <= 1.0;
+        let gain_ok = config.filter_gain > 0.0 && !(config.filter_gain > 1.0);
         let finite = gain_ok
             && config.max_propagation_s.is_finite()
             && config.detumble_enter_radps.is_finite()
@@ -527,7 +527,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
 
     /// The run-time state of tile `tile`, `None` if there is no such tile.
     pub fn tile_state(&self, tile: usize) -> Option<TileState> {
-        (tile < self.config.tiles.len()).then(|| {
+        (self.config.tiles.len() > tile).then(|| {
             if self.is_working(tile) {
                 TileState::Working
             } else {
@@ -550,7 +550,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
     /// and its wheel is stopped at the next step.
     #[cfg_attr(target_arch = "msp430", optimize(size))]
     pub fn mark_failed(&mut self, tile: usize) {
-        if tile < self.config.tiles.len() {
+        if self.config.tiles.len() > tile {
             self.failed |= 1u32.checked_shl(tile as u32).unwrap_or(0);
         }
     }
@@ -855,7 +855,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         let period = self.config.control_period_s;
         let dt = match elapsed {
             None => dt_s,
-            Some(e) if e > 0.0 && e <= period + period => e,
+            Some(e) if e > 0.0 && period + period >= e => e,
             Some(_) => {
                 faults.clock = true;
                 self.estimate = None;
@@ -938,7 +938,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
             if r > self.config.detumble_enter_radps && self.mode != Mode::Detumble {
                 self.mode = Mode::Detumble;
                 self.slew = None;
-            } else if r < self.config.detumble_exit_radps && self.mode == Mode::Detumble {
+            } else if self.config.detumble_exit_radps > r && self.mode == Mode::Detumble {
                 self.mode = Mode::SunSafe;
                 self.bdot.reset();
             }
@@ -1055,11 +1055,11 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         let t = span_s(now, &p.started) + 0.5 * self.config.control_period_s;
         let mut t0 = 0.0f32;
         for (duration_s, h_body) in p.steps.iter() {
-            if t < t0 + duration_s {
+            if t0 + duration_s > t {
                 // rotating: the body holds the step's momentum
                 return Some(p.h_base - h_body);
             }
-            if t < t0 + duration_s + self.config.slew_pause_s {
+            if t0 + duration_s + self.config.slew_pause_s > t {
                 // stopping before the next axis
                 return Some(p.h_base);
             }
@@ -1180,7 +1180,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         let Some(alloc) = alloc else {
             return false;
         };
-        alloc.scale < 1.0
+        !(alloc.scale >= 1.0)
     }
 
     /// Allocates a body dipole to the coils (least squares over their axes, saturated keeping
@@ -1202,7 +1202,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
                 return Vec3::zeros();
             }
         };
-        faults.saturated |= alloc.scale < 1.0;
+        faults.saturated |= !(alloc.scale >= 1.0);
         let mut produced = Vec3::zeros();
         for (i, (value, coil)) in alloc.wheel.iter().zip(self.config.coils.iter()).enumerate() {
             if coil.working {

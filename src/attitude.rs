@@ -264,7 +264,7 @@ impl Dcm {
                 q3,
             )
         };
-        let s = if q0 < 0.0 { -1.0 } else { 1.0 };
+        let s = if q0 >= 0.0 { 1.0 } else { -1.0 };
         Quaternion::new_normalize(s * q0, s * q1, s * q2, s * q3).unwrap_or(Quaternion::IDENTITY)
     }
 
@@ -371,7 +371,7 @@ impl Quaternion {
     /// zero or not finite.
     pub fn new_normalize(q0: f32, q1: f32, q2: f32, q3: f32) -> Option<Self> {
         let n2 = q0 * q0 + q1 * q1 + q2 * q2 + q3 * q3;
-        if !n2.is_finite() || n2 <= 0.0 {
+        if !n2.is_finite() || !(n2 > 0.0) {
             return None;
         }
         let k = 1.0 / fmath::sqrt(n2);
@@ -412,7 +412,7 @@ impl Quaternion {
             return Err(AttitudeError::NonFinite);
         }
         let n = axis.norm();
-        if n.is_nan() || n <= 0.0 {
+        if !(n > 0.0) {
             return Err(AttitudeError::ZeroAxis);
         }
         let e = axis / n;
@@ -430,8 +430,8 @@ impl Quaternion {
     pub fn to_axis_angle(&self) -> AxisAngle {
         let v = Vec3::new(self.q1, self.q2, self.q3);
         let n = v.norm();
-        let s = if self.q0 < 0.0 { -1.0 } else { 1.0 };
-        if n.is_nan() || n <= 0.0 {
+        let s = if self.q0 >= 0.0 { 1.0 } else { -1.0 };
+        if !(n > 0.0) {
             return AxisAngle {
                 axis: Vec3::x(),
                 angle_rad: 0.0,
@@ -451,7 +451,7 @@ impl Quaternion {
 
     /// The same attitude with `q0 ≥ 0` (`q` and `−q` are the same rotation).
     pub fn canonical(&self) -> Self {
-        if self.q0 < 0.0 {
+        if !(self.q0 >= 0.0) {
             Self {
                 q0: -self.q0,
                 q1: -self.q1,

@@ -43,8 +43,22 @@
 //! | [`sqrt`] | all 2³² bit patterns | correctly rounded (bit-identical to IEEE `sqrt`) | exhaustive |
 //! | [`wrap_two_pi`] | \|x\| ≤ 411 774 | 4.2·10⁻⁷ absolute | 10⁶ samples |
 //!
-//! NaN tests are written `!(limit >= x)`, never `!(x <= limit)`: on the MSP430 the EABI comparison
-//! helper makes `<`/`<=` true for a NaN operand (`firmware/eabi/README.md`), `>=` is correct.
+//! ## Float comparisons in flight code (NaN on the MSP430)
+//! On the MSP430 every ordered float comparison is one call of `__mspabi_cmpf` and a sign test,
+//! and the helper answers "less" for a NaN operand: what reaches the code generator as `a < b`
+//! or `a <= b` is TRUE for a NaN, as `!(a > b)`, `!(a >= b)` are; `a > b`, `a >= b`, `==`, `!=`
+//! are correct (`firmware/eabi/README.md`). LLVM moves a constant to the right of a comparison
+//! (`0.0 > x` becomes `x < 0.0`), so writing `b > a` does not help when `b` is a constant. Flight
+//! code therefore writes its float comparisons so that host and target agree for a NaN:
+//! - constant on the right: `x > c`, `x >= c` (false for a NaN), `!(x >= c)` for "x < c or NaN",
+//!   `!(x > c)` for "x <= c or NaN" (true for a NaN, on the host as on the MSP430);
+//! - two variables: `b > a` for `a < b`, `b >= a` for `a <= b` (false for a NaN);
+//! - [`min`], [`max`] instead of `f32::min`, `max`, `clamp`; never `(lo..hi).contains(&x)`.
+//!
+//! `tools/float_compare_check.py` rejects `<`, `<=`, `min`, `max`, `clamp` and range `contains`
+//! in flight code, and with `--ir` checks the flight image's optimised LLVM IR: no `fcmp olt`,
+//! `ole`, `ugt`, `uge` (the four predicates the MSP430 evaluates wrongly for a NaN) may reach the
+//! code generator.
 //!
 //! `pow`, `exp` and `floor` forward to `libm`'s f32 routines (`powf`, `expf` are fdlibm's
 //! f32-only algorithms; `floorf` works on the bits); `abs` clears the sign bit.
@@ -155,7 +169,7 @@ fn cos_kernel(r: f32) -> f32 {
 #[inline(always)]
 fn reduce_pio2(x: f32) -> Option<(f32, u32)> {
     let ahi = high_word(abs(x));
-    if ahi < high_word(PIO4_BELOW) {
+    if high_word(PIO4_BELOW) > ahi {
         return Some((x, 0));
     }
     if ahi >= high_word(TRIG_LIMIT) {
@@ -164,7 +178,7 @@ fn reduce_pio2(x: f32) -> Option<(f32, u32)> {
     let biased = x * FRAC_2_PI + ROUND_MAGIC;
     let quadrant = biased.to_bits() & 3;
     let k = biased - ROUND_MAGIC;
-    let r = if ahi < high_word(PIO2_SHORT_LIMIT) {
+    let r = if high_word(PIO2_SHORT_LIMIT) > ahi {
         // |k| < 2⁸: two pieces (16 + 24 bits of π/2) suffice, k·PIO2_S1 is exact
         (x - k * PIO2_S1) - k * PIO2_S2
     } else {
@@ -198,7 +212,7 @@ pub fn cos(x: f32) -> f32 {
 #[cfg_attr(target_arch = "msp430", inline(never))]
 #[cfg_attr(not(target_arch = "msp430"), inline)]
 pub fn sincos(x: f32) -> (f32, f32) {
-    if high_word(abs(x)) < high_word(SIN_TINY) {
+    if high_word(SIN_TINY) > high_word(abs(x)) {
         return (x, 1.0);
     }
     match reduce_pio2(x) {
@@ -244,9 +258,9 @@ fn atan_kernel(u: f32) -> f32 {
 fn atan_octants(n: f32, d: f32, mirror: bool) -> f32 {
     // n, d ≥ 0: compare bit patterns (module docs of `reduce_pio2`)
     let nb = n.to_bits();
-    let (octant, num, den) = if nb <= (d * TAN_PI_8).to_bits() {
+    let (octant, num, den) = if (d * TAN_PI_8).to_bits() >= nb {
         (0, n, d)
-    } else if nb <= (d * TAN_3PI_8).to_bits() {
+    } else if (d * TAN_3PI_8).to_bits() >= nb {
         (1, n - d, n + d)
     } else {
         (2, -d, n)
@@ -342,7 +356,7 @@ pub fn asin(x: f32) -> f32 {
     if abits > 1.0f32.to_bits() {
         return f32::NAN;
     }
-    let small = abits <= 0.5f32.to_bits();
+    let small = 0.5f32.to_bits() >= abits;
     let u = if small { ax } else { sqrt(0.5 * (1.0 - ax)) };
     let p = asin_kernel(u);
     let a = if small {
@@ -369,7 +383,7 @@ pub fn acos(x: f32) -> f32 {
     if abits > 1.0f32.to_bits() {
         return f32::NAN;
     }
-    if abits <= 0.5f32.to_bits() {
+    if 0.5f32.to_bits() >= abits {
         FRAC_PI_2 - (asin_kernel(x) - PI_2_LO)
     } else {
         let s = sqrt(0.5 * (1.0 - ax));
@@ -475,7 +489,7 @@ pub fn sqrt(x: f32) -> f32 {
     let mut r: u16 = 0x8000;
     loop {
         let tl = sl | r;
-        let dh = xh.wrapping_sub(sh).wrapping_sub(u16::from(xl < tl));
+        let dh = xh.wrapping_sub(sh).wrapping_sub(u16::from(tl > xl));
         if (dh as i16) >= 0 {
             xh = dh;
             xl = xl.wrapping_sub(tl);
@@ -523,9 +537,11 @@ pub fn abs(x: f32) -> f32 {
     f32::from_bits(x.to_bits() & 0x7fff_ffff)
 }
 
-/// The smaller of `a` and `b`; `a` if either is NaN. Only a `>` comparison, which is correct for
-/// NaN on the MSP430 too (its `<` and `<=` are not: `firmware/eabi/README.md`), and no call of
-/// `fminf` (≈ 100 B of MSP430 flash). Exact.
+/// The smaller of `a` and `b`; `a` if either is NaN. One `a > b` comparison, which the MSP430
+/// evaluates correctly for a NaN operand as long as `b` is not a constant while `a` is one (LLVM
+/// puts constants on the right and would turn it into `b < a`, which is wrong for NaN there:
+/// `firmware/eabi/README.md`); write the constant second, `min(x, 1.0)`. No call of `fminf`
+/// (≈ 100 B of MSP430 flash). Exact.
 #[inline]
 pub fn min(a: f32, b: f32) -> f32 {
     if a > b {
@@ -535,13 +551,15 @@ pub fn min(a: f32, b: f32) -> f32 {
     }
 }
 
-/// The larger of `a` and `b`; `a` if either is NaN (as [`min`]). Exact.
+/// The larger of `a` and `b`; `b` if either is NaN, so `max(x, 0.0)` is `0.0` for a NaN `x`
+/// (on the host and on the MSP430 alike). One `a >= b` comparison: constant second, as for
+/// [`min`]. Exact (`max(-0.0, 0.0)` is `-0.0`, `max(0.0, -0.0)` is `0.0`: the first of equals).
 #[inline]
 pub fn max(a: f32, b: f32) -> f32 {
-    if b > a {
-        b
-    } else {
+    if a >= b {
         a
+    } else {
+        b
     }
 }
 
@@ -562,7 +580,7 @@ pub fn wrap_two_pi(x: f32) -> f32 {
     if ax.to_bits() > (WRAP_EXACT_LIMIT * 64.0).to_bits() {
         if x.is_finite() {
             let r = libm::fmodf(x, tau);
-            return if r < 0.0 { r + tau } else { r };
+            return if r >= 0.0 { r } else { r + tau };
         }
         return f32::NAN;
     }

@@ -25,6 +25,14 @@
     clippy::unimplemented
 )]
 #![forbid(unsafe_code)]
+// Flight code writes "a < c or NaN" as `!(a >= c)`: the MSP430 evaluates `a < c` that way, and
+// this form makes the host agree (`fmath` module docs, "Float comparisons in flight code").
+// Range `contains` is `lo <= x && x <= hi` inside: flight code spells it out (`x >= lo && hi >= x`).
+#![allow(
+    clippy::neg_cmp_op_on_partial_ord,
+    clippy::manual_range_contains,
+    reason = "NaN-explicit comparisons for the MSP430 (fmath docs)"
+)]
 // On the MSP430 (nightly only: the target is tier 3), code that runs rarely (commands, uplinks,
 // start-up, hourly refreshes) is optimised for size rather than speed: flash is the part's
 // scarcest resource and these paths do not count in the step's cycle budget.

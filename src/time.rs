@@ -215,7 +215,7 @@ pub const fn days_from_civil(year: i32, month: u8, day: u8) -> i32 {
     // i32::MIN), split into its era (floor division by 400) and its year of the era.
     let mut era = year.div_euclid(400);
     let mut yoe = year.rem_euclid(400);
-    if month <= 2 {
+    if 2 >= month {
         if yoe == 0 {
             yoe = 399;
             era -= 1;
@@ -236,7 +236,7 @@ pub const fn days_from_civil(year: i32, month: u8, day: u8) -> i32 {
         } else {
             ((era - 5) * 146_097).saturating_add(doe + 60)
         }
-    } else if era < -14_699 {
+    } else if -14_699 > era {
         i32::MIN
     } else {
         (era * 146_097).saturating_add(doe - 730_425)
@@ -266,8 +266,8 @@ pub const fn civil_from_days(days: i32) -> (i32, u8, u8) {
     let doy = (doe - (365 * yoe + yoe / 4 - yoe / 100)) as u16;
     let mp = (5 * doy + 2) / 153;
     let d = doy - (153 * mp + 2) / 5 + 1;
-    let m = if mp < 10 { mp + 3 } else { mp - 9 };
-    let year = if m <= 2 { y + 1 } else { y };
+    let m = if 10 > mp { mp + 3 } else { mp - 9 };
+    let year = if 2 >= m { y + 1 } else { y };
     (year, m as u8, d as u8)
 }
 
@@ -313,10 +313,10 @@ impl<S: TimeScale> Epoch<S> {
     ///
     /// Second 60 is accepted (a UTC leap second; the caller is responsible for its validity).
     pub fn from_calendar(c: Calendar) -> Result<Self, TimeError> {
-        if !(Self::MIN_YEAR..=Self::MAX_YEAR).contains(&c.year) {
+        if !(c.year >= Self::MIN_YEAR && Self::MAX_YEAR >= c.year) {
             return Err(TimeError::Year(c.year));
         }
-        if !(1..=12).contains(&c.month) {
+        if !(c.month >= 1 && 12 >= c.month) {
             return Err(TimeError::Month(c.month));
         }
         if c.day == 0 || c.day > days_in_month(c.year, c.month) {
@@ -416,14 +416,14 @@ impl<S: TimeScale> Epoch<S> {
         let d = self.day.wrapping_sub(earlier.day);
         // Beyond ±24 856 days the span is beyond ±(24 857·86 400 − 86 401) s > i32::MAX: saturated.
         // Within, d·86 400 + ds = (d − sgn d)·86 400 + (ds + 86 400·sgn d), both terms in i32.
-        let seconds = if later && !(0..=24_856).contains(&d) {
+        let seconds = if later && (0 > d || d > 24_856) {
             i32::MAX
-        } else if !later && !(-24_856..0).contains(&d) {
+        } else if !later && (-24_856 > d || d >= 0) {
             i32::MIN
         } else {
             let sgn = if d > 0 {
                 1
-            } else if d < 0 {
+            } else if 0 > d {
                 -1
             } else {
                 0
@@ -443,9 +443,9 @@ impl<S: TimeScale> Epoch<S> {
         // Whole days and seconds of the span; spans under a day (leap-second and time-scale
         // offsets, control periods) skip the division.
         let spd = SECONDS_PER_DAY as i32;
-        let (days, rem) = if (0..spd).contains(&span.seconds) {
+        let (days, rem) = if span.seconds >= 0 && spd > span.seconds {
             (0, span.seconds)
-        } else if (-spd..0).contains(&span.seconds) {
+        } else if span.seconds >= -spd && 0 > span.seconds {
             (-1, span.seconds + spd)
         } else {
             (span.seconds.div_euclid(spd), span.seconds.rem_euclid(spd))
@@ -485,7 +485,7 @@ impl Epoch<Utc> {
     /// `twoline2rv`), day of year (1 = 1 January) and the day fraction as an integer number of
     /// 1e-8 days (the TLE's eight decimals), which converts exactly to nanoseconds.
     pub fn from_tle_epoch(yy: u8, day_of_year: u16, frac_1e8: u32) -> Result<Self, TimeError> {
-        let year = if yy < 57 {
+        let year = if 57 > yy {
             2000 + i32::from(yy)
         } else {
             1900 + i32::from(yy)
@@ -518,7 +518,7 @@ impl TimeSpan {
         let total_secs = secs + nanos.div_euclid(i64::from(NANOS_PER_SECOND));
         let nano = nanos.rem_euclid(i64::from(NANOS_PER_SECOND)) as u32;
         Self {
-            seconds: total_secs.clamp(i64::from(i32::MIN), i64::from(i32::MAX)) as i32,
+            seconds: Ord::clamp(total_secs, i64::from(i32::MIN), i64::from(i32::MAX)) as i32,
             nano,
         }
     }
@@ -705,7 +705,7 @@ pub const LEAP_SECONDS: [LeapSecond; 28] = [
 
 /// The table entry in force on UTC day `day`, `None` before 1972.
 fn leap_entry_for_utc_day(day: i32) -> Option<LeapSecond> {
-    LEAP_SECONDS.iter().rev().find(|e| e.day <= day).copied()
+    LEAP_SECONDS.iter().rev().find(|e| day >= e.day).copied()
 }
 
 /// True if UTC day `day` ends with a leap second (its last second is 23:59:60).
@@ -806,7 +806,7 @@ impl Epoch<Utc> {
             Some(d) => {
                 // |d| ≤ 0.9 s: 0 s + ≤ 0.9e9 ns, or −1 s + ≥ 0.1e9 ns.
                 let within = match d.seconds {
-                    0 => d.nano <= 900_000_000,
+                    0 => 900_000_000 >= d.nano,
                     -1 => d.nano >= 100_000_000,
                     _ => false,
                 };
@@ -851,7 +851,7 @@ impl Epoch<Tai> {
         };
         let index = LEAP_SECONDS
             .iter()
-            .rposition(|e| start_tai(e) <= *self)
+            .rposition(|e| *self >= start_tai(e))
             .ok_or(TimeError::BeforeLeapSeconds(year_of_day(self.day)))?;
         let entry = LEAP_SECONDS
             .get(index)
@@ -944,7 +944,7 @@ impl<S: TimeScale> Epoch<S> {
         let f_whole = libm::floor(f);
         let day_f = w_whole + f_whole;
         let frac = f - f_whole;
-        if !(min_day..=max_day).contains(&day_f) {
+        if !(day_f >= min_day && max_day >= day_f) {
             return Err(TimeError::OutOfRange);
         }
         let ns_per_day = i64::from(SECONDS_PER_DAY) * i64::from(NANOS_PER_SECOND);
@@ -1023,7 +1023,7 @@ const GMST_PER_NANO_BAM: u64 =
 const TWO_PI_Q29: u32 = 3_373_259_426;
 
 // The nanosecond term is formed in one 32-bit product: (nano mod 1000) · GMST_PER_NANO_BAM < 2^32.
-const _: () = assert!(GMST_PER_NANO_BAM * 1000 < 1 << 32 && GMST_PER_MICRO_BAM < 1 << 32);
+const _: () = assert!(1 << 32 > GMST_PER_NANO_BAM * 1000 && 1 << 32 > GMST_PER_MICRO_BAM);
 
 /// A 64-bit integer as two 32-bit words, for exact wrapping fixed point on a 16-bit core: the
 /// MSP430 has no 64-bit arithmetic (a `u64` product is a library call of about 900 cycles, a
@@ -1102,7 +1102,7 @@ impl Wide {
         let hi = (a1 * b1)
             .wrapping_add(mid >> 16)
             .wrapping_add(u32::from(mid_carry) << 16)
-            .wrapping_add(u32::from(lo < low));
+            .wrapping_add(u32::from(low > lo));
         Self { hi, lo }
     }
 
@@ -1119,7 +1119,7 @@ impl Wide {
     pub(crate) fn wrapping_mul_i32(self, v: i32) -> Self {
         let p = self.wrapping_mul_u32(v as u32);
         // v < 0 is v + 2^32 − 2^32 as an unsigned word: subtract self·2^32.
-        if v < 0 {
+        if 0 > v {
             Self {
                 hi: p.hi.wrapping_sub(self.lo),
                 lo: p.lo,
@@ -1134,7 +1134,7 @@ impl Wide {
     fn from_f32_as_i64(x: f32) -> Self {
         let bits = x.to_bits();
         let exp = (bits >> 23) & 0xFF;
-        if x.is_nan() || exp < 127 {
+        if x.is_nan() || 127 > exp {
             // NaN, or |x| < 1
             return Self::ZERO;
         }
@@ -1150,11 +1150,11 @@ impl Wide {
         // |x| = m·2^k with −23 ≤ k ≤ 39
         let m = (bits & 0x007F_FFFF) | 0x0080_0000;
         let k = exp as i32 - 150;
-        let magnitude = if k < 0 {
+        let magnitude = if 0 > k {
             Self { hi: 0, lo: m >> -k }
         } else if k == 0 {
             Self { hi: 0, lo: m }
-        } else if k < 32 {
+        } else if 32 > k {
             Self {
                 hi: m >> (32 - k),
                 lo: m << k,

@@ -447,7 +447,7 @@ impl<'a> DataLine<'a> {
         if let Some(i) = text.iter().take(LINE_LENGTH).position(|b| !b.is_ascii()) {
             return Err(TleError::at(line, column(i), TleErrorKind::NonAscii));
         }
-        if text.len() < LINE_LENGTH {
+        if LINE_LENGTH > text.len() {
             return Err(TleError::at(
                 line,
                 column(text.len()),
@@ -912,7 +912,7 @@ impl Tle {
     /// The error names the TLE column of the field.
     pub fn validate(&self) -> Result<(), TleError> {
         let e = self.eccentricity;
-        if !(0.0..1.0).contains(&e) {
+        if !(e >= 0.0) || e >= 1.0 {
             return Err(TleError::at(2, 27, TleErrorKind::Eccentricity { value: e }));
         }
         let n = self.mean_motion_rev_per_day;
@@ -930,7 +930,7 @@ impl Tle {
             (44, self.mean_anomaly_deg, 360.0),
         ];
         for (col, value, max) in angles {
-            if !(0.0..=max).contains(&value) {
+            if !(value >= 0.0) || value > max {
                 return Err(TleError::at(2, col, TleErrorKind::OutOfRange { value }));
             }
         }

@@ -68,7 +68,7 @@ impl BdotState {
             self.reset();
             return Err(MagnetorquerError::NotFinite);
         }
-        if dt_s <= 0.0 || config.gain < 0.0 {
+        if !(dt_s > 0.0) || !(config.gain >= 0.0) {
             self.reset();
             return Err(MagnetorquerError::InvalidParameter);
         }
@@ -96,7 +96,7 @@ pub fn bdot_from_rates(
     {
         return Err(MagnetorquerError::NotFinite);
     }
-    if config.gain < 0.0 {
+    if !(config.gain >= 0.0) {
         return Err(MagnetorquerError::InvalidParameter);
     }
     let b_t = linalg::scale(b_body_nt, NT_TO_T);

@@ -62,7 +62,7 @@ pub fn project_torque(torque_nm: &Vec3, b_body_nt: &Vec3) -> Result<Vec3, Magnet
         return Err(MagnetorquerError::NotFinite);
     }
     let b_norm = b_body_nt.norm();
-    if b_norm < MIN_FIELD_NT {
+    if !(b_norm >= MIN_FIELD_NT) {
         return Err(MagnetorquerError::WeakField(b_norm));
     }
     let b_hat = b_body_nt / b_norm;
@@ -76,7 +76,7 @@ pub fn dipole_for_torque(torque_nm: &Vec3, b_body_nt: &Vec3) -> Result<Vec3, Mag
         return Err(MagnetorquerError::NotFinite);
     }
     let b_norm = linalg::norm(b_body_nt);
-    if b_norm < MIN_FIELD_NT {
+    if !(b_norm >= MIN_FIELD_NT) {
         return Err(MagnetorquerError::WeakField(b_norm));
     }
     // out-of-line kernels: nalgebra's `b_t.cross(τ) / |b_t|²`, the same operations
@@ -103,7 +103,7 @@ pub fn dipole_two_coil_xz(
     if !finite(torque_nm) || !finite(b_body_nt) {
         return Err(MagnetorquerError::NotFinite);
     }
-    if b_body_nt.y.abs() < MIN_FIELD_NT {
+    if !(b_body_nt.y.abs() >= MIN_FIELD_NT) {
         return Err(MagnetorquerError::WeakField(b_body_nt.y));
     }
     let b = b_body_nt * NT_TO_T;
@@ -122,7 +122,7 @@ pub fn dipole_two_coil_xy(
     if !finite(torque_nm) || !finite(b_body_nt) {
         return Err(MagnetorquerError::NotFinite);
     }
-    if b_body_nt.z.abs() < MIN_FIELD_NT {
+    if !(b_body_nt.z.abs() >= MIN_FIELD_NT) {
         return Err(MagnetorquerError::WeakField(b_body_nt.z));
     }
     let b = b_body_nt * NT_TO_T;
@@ -147,7 +147,7 @@ pub fn saturate_dipole(
     ];
     let mut scale = 1.0f32;
     for (m, max) in pairs {
-        if max <= 0.0 {
+        if !(max > 0.0) {
             return Err(MagnetorquerError::InvalidParameter);
         }
         let size = fmath::abs(m);
@@ -168,7 +168,7 @@ pub fn coil_currents(
     if !finite(dipole_am2) || !turns.is_finite() || !area_m2.is_finite() {
         return Err(MagnetorquerError::NotFinite);
     }
-    if turns <= 0.0 || area_m2 <= 0.0 {
+    if !(turns > 0.0) || !(area_m2 > 0.0) {
         return Err(MagnetorquerError::InvalidParameter);
     }
     Ok(dipole_am2 / (turns * area_m2))
@@ -189,7 +189,7 @@ pub fn dumping_dipole(
     if !gain_per_s.is_finite() || !finite(h_wheels) || !finite(h_target) {
         return Err(MagnetorquerError::NotFinite);
     }
-    if gain_per_s <= 0.0 {
+    if !(gain_per_s > 0.0) {
         return Err(MagnetorquerError::InvalidParameter);
     }
     let torque = -(h_wheels - h_target) * gain_per_s;

@@ -87,10 +87,12 @@ pub fn symmetric_eigen(m: &Mat3) -> Result<(Vec3, Mat3), PrincipalAxesError> {
     if m.iter().any(|x| !x.is_finite()) {
         return Err(PrincipalAxesError::NotFinite);
     }
-    let scale = m.iter().fold(0.0f32, |acc, x| acc.max(fmath::abs(*x)));
+    let scale = m
+        .iter()
+        .fold(0.0f32, |acc, x| fmath::max(acc, fmath::abs(*x)));
     let asym = (m - m.transpose())
         .iter()
-        .fold(0.0f32, |acc, x| acc.max(fmath::abs(*x)));
+        .fold(0.0f32, |acc, x| fmath::max(acc, fmath::abs(*x)));
     if asym > 1e-6 * scale {
         return Err(PrincipalAxesError::NotSymmetric(asym));
     }
@@ -102,7 +104,7 @@ pub fn symmetric_eigen(m: &Mat3) -> Result<(Vec3, Mat3), PrincipalAxesError> {
     for _ in 0..MAX_SWEEPS {
         let off = a.m12 * a.m12 + a.m13 * a.m13 + a.m23 * a.m23;
         let diag = a.m11 * a.m11 + a.m22 * a.m22 + a.m33 * a.m33;
-        if off <= (4.0 * f32::EPSILON) * (4.0 * f32::EPSILON) * diag {
+        if (4.0 * f32::EPSILON) * (4.0 * f32::EPSILON) * diag >= off {
             return Ok((Vec3::new(a.m11, a.m22, a.m33), v));
         }
         for plane in [Plane::P12, Plane::P13, Plane::P23] {
@@ -213,17 +215,17 @@ pub fn principal_axes(inertia_body: &Mat3) -> Result<PrincipalAxes, PrincipalAxe
         let col = best.get(k).copied().unwrap_or(k);
         let v = columns.get(col).copied().unwrap_or_else(Vec3::zeros);
         let diag = v.get(k).copied().unwrap_or(0.0);
-        *row = if diag < 0.0 { -v } else { v };
+        *row = if diag >= 0.0 { v } else { -v };
         *moment = vals.get(col).copied().unwrap_or(0.0);
     }
     let [r1, r2, r3] = rows;
     let mut e = Mat3::from_rows(&[r1.transpose(), r2.transpose(), r3.transpose()]);
-    if e.determinant() < 0.0 {
+    if !(e.determinant() >= 0.0) {
         // flip the row with the smallest diagonal: the only way to keep the others positive
         let d = [fmath::abs(e.m11), fmath::abs(e.m22), fmath::abs(e.m33)];
-        let k = if d[0] <= d[1] && d[0] <= d[2] {
+        let k = if d[1] >= d[0] && d[2] >= d[0] {
             0
-        } else if d[1] <= d[2] {
+        } else if d[2] >= d[1] {
             1
         } else {
             2

@@ -166,7 +166,7 @@ pub fn decompose(m_abc: &Mat3, branch: Branch) -> Result<AxisAngles, SlewError> 
             let mut best = factor_given_phi(&q, phi_principal);
             for phi in candidates.iter().skip(1) {
                 let c = factor_given_phi(&q, wrap_pi(*phi));
-                if c.total_rad() < best.total_rad() {
+                if best.total_rad() > c.total_rad() {
                     best = c;
                 }
             }
@@ -181,7 +181,7 @@ pub fn decompose(m_abc: &Mat3, branch: Branch) -> Result<AxisAngles, SlewError> 
 fn wrap_pi(x: f32) -> f32 {
     if x > PI {
         x - 2.0 * PI
-    } else if x <= -PI {
+    } else if !(x > -PI) {
         x + 2.0 * PI
     } else {
         x
@@ -345,16 +345,17 @@ pub fn plan(
     if !finite {
         return Err(SlewError::NotFinite);
     }
-    if limits.l_max <= 0.0
-        || limits.l_min < 0.0
+    if !(limits.l_max > 0.0)
+        || !(limits.l_min >= 0.0)
         || limits.l_min > limits.l_max
-        || limits.t_min < 0.0
-        || !(limits.default_fraction > 0.0 && limits.default_fraction <= 1.0)
+        || !(limits.t_min >= 0.0)
+        || !(limits.default_fraction > 0.0)
+        || limits.default_fraction > 1.0
     {
         return Err(SlewError::InvalidLimits);
     }
     let first = durations(axes, angles, limits, limits.default_fraction)?;
-    let chosen = if first.iter().sum::<f32>() <= command_time_s {
+    let chosen = if command_time_s >= first.iter().sum::<f32>() {
         first
     } else {
         let fast = durations(axes, angles, limits, 1.0)?;
@@ -400,7 +401,7 @@ fn durations(
         .enumerate()
     {
         let axis = k as u8;
-        if fmath::abs(*angle) <= NULL_ANGLE_RAD {
+        if !(fmath::abs(*angle) > NULL_ANGLE_RAD) {
             continue;
         }
         if *wheels == 0 {
@@ -408,9 +409,9 @@ fn durations(
         }
         let l = fraction * limits.l_max * f32::from(*wheels);
         let needed_t = fmath::abs(*angle) * moment / l;
-        *t = if needed_t < limits.t_min {
+        *t = if limits.t_min > needed_t {
             let l_stretched = fmath::abs(*angle) * moment / limits.t_min;
-            if l_stretched < limits.l_min {
+            if limits.l_min > l_stretched {
                 return Err(SlewError::BelowMinimumMomentum {
                     axis,
                     needed: l_stretched,

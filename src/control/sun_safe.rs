@@ -47,7 +47,7 @@ pub fn sun_safe_torque(
     {
         return Err(TrackingError::NotFinite);
     }
-    if gains.kp_nm < 0.0 || gains.kd_nms < 0.0 {
+    if !(gains.kp_nm >= 0.0) || !(gains.kd_nms >= 0.0) {
         return Err(TrackingError::NegativeGain);
     }
     let damping = -omega_body_radps * gains.kd_nms;
@@ -57,9 +57,9 @@ pub fn sun_safe_torque(
     let (Some(s), Some(a)) = (unit(s), unit(axis_body)) else {
         return Err(TrackingError::NotFinite);
     };
-    let cross = if linalg::dot(&a, &s) < ANTI_ALIGNED_COS {
+    let cross = if !(linalg::dot(&a, &s) >= ANTI_ALIGNED_COS) {
         // leave the unstable equilibrium about an axis perpendicular to â
-        let helper = if a.x.abs() < 0.9 {
+        let helper = if !(a.x.abs() >= 0.9) {
             Vec3::x()
         } else {
             Vec3::y()
@@ -76,7 +76,7 @@ pub fn sun_safe_torque(
 /// `v/|v|`, or `None` for a zero vector (nalgebra's `try_normalize(0.0)`, same operations).
 fn unit(v: &Vec3) -> Option<Vec3> {
     let n = linalg::norm(v);
-    if n <= 0.0 {
+    if !(n > 0.0) {
         None
     } else {
         Some(linalg::div(v, n))

@@ -81,7 +81,7 @@ impl TrackingGains {
 /// The attitude error `q_e = q_t* ⊗ q`, sign chosen so that `q_e0 ≥ 0` (the shorter way).
 pub fn attitude_error(q: &Quaternion, q_target: &Quaternion) -> Quaternion {
     let e = q_target.conjugate().mul(q);
-    if e.q0 < 0.0 {
+    if !(e.q0 >= 0.0) {
         Quaternion {
             q0: -e.q0,
             q1: -e.q1,
@@ -129,7 +129,7 @@ pub fn tracking_torque(
         return Err(TrackingError::NotFinite);
     }
     // (finite here) component by component: an iterator chain costs 248 B on the MSP430
-    let negative = |v: &Vec3| v.x < 0.0 || v.y < 0.0 || v.z < 0.0;
+    let negative = |v: &Vec3| !(v.x >= 0.0) || !(v.y >= 0.0) || !(v.z >= 0.0);
     if negative(&gains.kp_nm) || negative(&gains.kd_nms) {
         return Err(TrackingError::NegativeGain);
     }

@@ -175,7 +175,7 @@ impl Allocator {
                 return Err(WheelError::NotFinite);
             }
             // finite axis: its square is finite or +∞ (then the pseudoinverse refuses it)
-            if dot(&w.axis_body, &w.axis_body) < f32::MIN_POSITIVE || w.limit <= 0.0 {
+            if !(dot(&w.axis_body, &w.axis_body) >= f32::MIN_POSITIVE) || !(w.limit > 0.0) {
                 return Err(WheelError::InvalidWheel(i as u8));
             }
             gram.add_outer(&w.axis_body);
@@ -242,12 +242,12 @@ impl Allocator {
             if !(w.limit.is_finite() && w.limit > 0.0) {
                 return Err(WheelError::NotFinite);
             }
-            let mag = if *h < 0.0 { -*h } else { *h };
+            let mag = if *h >= 0.0 { *h } else { -*h };
             if mag > w.limit {
                 scale = crate::fmath::min(scale, w.limit / mag);
             }
         }
-        if scale < 1.0 {
+        if !(scale >= 1.0) {
             // One ulp below the rounded limit/|h|: h·scale then never rounds above a limit,
             // which a driver would refuse (|h|·pred(fl(L/|h|)) ≤ L(1 + 2⁻²⁴)(1 − 2⁻²⁴) < L, and
             // rounding to nearest keeps a value below the float L at or below it).

@@ -84,7 +84,7 @@ pub fn update(
         (Some(p), Some(m)) => {
             // δ = p* ⊗ m, the correction in body axes; take a fraction of it
             let d = p.attitude.conjugate().mul(&m);
-            let sign = if d.q0 < 0.0 { -1.0 } else { 1.0 };
+            let sign = if d.q0 >= 0.0 { 1.0 } else { -1.0 };
             let k = config.gain * sign;
             let c = Quaternion {
                 q0: 1.0,
@@ -102,7 +102,7 @@ pub fn update(
             attitude: m,
             age_s: 0.0,
         }),
-        (Some(p), None) if p.age_s <= config.max_propagation_s => Some(p),
+        (Some(p), None) if config.max_propagation_s >= p.age_s => Some(p),
         _ => None,
     }
 }

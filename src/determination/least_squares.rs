@@ -279,7 +279,7 @@ fn solve_cached(
     tiles: &[Tile],
     readings: Readings,
 ) -> Result<Vec3, DeterminationError> {
-    let mask = if readings.len() <= 32 {
+    let mask = if 32 >= readings.len() {
         Some(contributing_32(tiles, readings))
     } else {
         contributing(tiles, readings)
@@ -323,7 +323,7 @@ fn solve_masked(
             // (HᵀH)⁻¹ in closed form, rank 3 required (out of range: a tile's rows overflow)
             let p = symmetric_pseudoinverse(&gram, GRAM_REL_TOL)
                 .map_err(|_| DeterminationError::Linalg(SvdError::NonFinite))?;
-            if p.rank < 3 {
+            if 3 > p.rank {
                 return Err(DeterminationError::NotObservable { rank: p.rank });
             }
             let s = TileSolver {

@@ -201,7 +201,7 @@ fn lambda_max(b: &Mat3) -> f32 {
         }
         let step = f / df;
         lambda -= step;
-        if fmath::abs(step) <= NEWTON_TOL {
+        if !(fmath::abs(step) > NEWTON_TOL) {
             break;
         }
     }
@@ -228,7 +228,7 @@ fn quest(units: &Units) -> Result<Solution, DeterminationError> {
     let v = eigenvector(&k, lambda);
     let n2 = v.norm_squared();
     let pivot = fmath::sqrt(n2);
-    if !pivot.is_finite() || pivot < MIN_PIVOT {
+    if !pivot.is_finite() || !(pivot >= MIN_PIVOT) {
         return Err(DeterminationError::Parallel { measure: pivot });
     }
     // One Rayleigh-quotient refinement of λ, then the eigenvector again.

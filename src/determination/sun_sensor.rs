@@ -53,7 +53,7 @@ pub fn sun_direction_body(
         lit += 1;
     }
     let n = norm(&sum);
-    if lit == 0 || n <= 0.0 {
+    if lit == 0 || !(n > 0.0) {
         return Err(DeterminationError::NoSunSensorLit);
     }
     Ok(div(&sum, n))

@@ -48,7 +48,7 @@ pub fn solve(observations: &[Observation]) -> Result<Solution, DeterminationErro
     );
     if !(nt >= MIN_SIN_ANGLE && ns >= MIN_SIN_ANGLE) {
         return Err(DeterminationError::Parallel {
-            measure: nt.min(ns),
+            measure: fmath::min(nt, ns),
         });
     }
     let (t1, t2) = (u1.body, t2 / nt);

@@ -134,7 +134,7 @@ fn profile_svd(units: &Units) -> Result<Solution, DeterminationError> {
 
 /// `σ₂/σ₁` of a 2×2 matrix from `x = det/‖·‖²_F = ρ/(1 + ρ²)` (error path only).
 fn ratio_from_invariants(x: f32) -> f32 {
-    if x.is_nan() || x <= 0.0 {
+    if !(x > 0.0) {
         return 0.0;
     }
     let d = 1.0 - 4.0 * x * x;

@@ -112,14 +112,14 @@ impl Dipole {
             }
         }
         // Scale first so that no square overflows.
-        let scale = r_km.x.abs().max(r_km.y.abs()).max(r_km.z.abs());
+        let scale = crate::fmath::max(crate::fmath::max(r_km.x.abs(), r_km.y.abs()), r_km.z.abs());
         let unit_norm = if scale > 0.0 {
             (r_km / scale).norm()
         } else {
             0.0
         };
         let r = scale * unit_norm;
-        if r.is_nan() || r < MIN_RADIUS_KM {
+        if !(r >= MIN_RADIUS_KM) {
             return Err(IgrfError::BelowSurface { radius_km: r });
         }
         let r_hat = (r_km / scale) / unit_norm;

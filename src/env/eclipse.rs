@@ -123,7 +123,7 @@ fn check_position(r_teme_km: &Vec3) -> Result<f32, EclipseError> {
         return Err(EclipseError::NonFinitePosition);
     }
     let r = norm(r_teme_km);
-    if r < EARTH_RADIUS_KM {
+    if !(r >= EARTH_RADIUS_KM) {
         return Err(EclipseError::InsideEarth(r));
     }
     if r > MAX_RANGE_KM {
@@ -138,7 +138,7 @@ fn check_direction(v: &Vec3) -> Result<Vec3, EclipseError> {
     }
     // Components are finite here. Scale by the largest first so that the norm cannot overflow or underflow.
     let largest = v.amax();
-    if largest <= 0.0 {
+    if !(largest > 0.0) {
         return Err(EclipseError::ZeroSun(largest));
     }
     let scaled = div3(v, largest);
@@ -154,7 +154,7 @@ fn check_direction(v: &Vec3) -> Result<Vec3, EclipseError> {
 /// [`EclipseError`] for non-finite input, a zero Sun vector or a position inside the Earth or
 /// beyond [`MAX_RANGE_KM`].
 pub fn cylindrical(r_teme_km: &Vec3, sun_direction: &Vec3) -> Result<bool, EclipseError> {
-    Ok(cylindrical_margin_km(r_teme_km, sun_direction)? < 0.0)
+    Ok(!(cylindrical_margin_km(r_teme_km, sun_direction)? >= 0.0))
 }
 
 /// [`cylindrical`] as an [`Illumination`]: in shadow, fraction 0 and [`Shadow::Umbra`];
@@ -193,7 +193,7 @@ pub fn cylindrical_margin_km(r_teme_km: &Vec3, sun_direction: &Vec3) -> Result<f
     let s_hat = check_direction(sun_direction)?;
     // Seed 003: Sw = acos(−r̂·ŝ) < 90° and SD = |r| sin Sw < R.
     let along = r_teme_km.dot(&s_hat);
-    let off_axis_km = if along < 0.0 {
+    let off_axis_km = if !(along >= 0.0) {
         norm(&r_teme_km.cross(&s_hat))
     } else {
         r
@@ -243,7 +243,7 @@ pub fn cone_geometry(r_teme_km: &Vec3, sun: &Sun) -> Result<ConeGeometry, Eclips
     if !sun.distance_au.is_finite() {
         return Err(EclipseError::NonFiniteSun);
     }
-    if sun.distance_au <= 0.0 {
+    if !(sun.distance_au > 0.0) {
         return Err(EclipseError::ZeroSun(sun.distance_au));
     }
     let s_km = s_hat * (sun.distance_au * AU_KM);
@@ -252,8 +252,8 @@ pub fn cone_geometry(r_teme_km: &Vec3, sun: &Sun) -> Result<ConeGeometry, Eclips
     let to_earth = -r_teme_km;
     let d_sun = norm(&to_sun);
     // a = asin(R☉/|s − r|), b = asin(R⊕/|r|)   (M&G eq. 3.85)
-    let a = fmath::asin((SUN_RADIUS_KM / d_sun).min(1.0));
-    let b = fmath::asin((EARTH_RADIUS_KM / r).min(1.0));
+    let a = fmath::asin(fmath::min(SUN_RADIUS_KM / d_sun, 1.0));
+    let b = fmath::asin(fmath::min(EARTH_RADIUS_KM / r, 1.0));
     // c = ∠(−r, s − r), from atan2 for accuracy near 0 and π.
     let c = fmath::atan2(norm(&to_earth.cross(&to_sun)), to_earth.dot(&to_sun));
     Ok(ConeGeometry {
@@ -280,13 +280,13 @@ pub fn conical(r_teme_km: &Vec3, sun: &Sun) -> Result<Illumination, EclipseError
     if c >= a + b {
         return Ok(sunlit);
     }
-    if c <= b - a {
+    if b - a >= c {
         return Ok(Illumination {
             fraction: 0.0,
             shadow: Shadow::Umbra,
         });
     }
-    if c <= a - b {
+    if a - b >= c {
         // The Earth's disc lies inside the Sun's: annular eclipse.
         return Ok(Illumination {
             fraction: 1.0 - (b * b) / (a * a),
@@ -300,9 +300,12 @@ pub fn conical(r_teme_km: &Vec3, sun: &Sun) -> Result<Illumination, EclipseError
     // A = a²·acos(x/a) + b²·acos((c − x)/b) − c·y = seg(a, θa) + seg(b, θb),
     // θa = atan2(y, x), θb = atan2(y, c − x),  seg(ρ, θ) = ρ²(2θ − sin 2θ)/2
     let x = ((c - b) * (c + b) + a * a) / (2.0 * c);
-    let y = fmath::sqrt(((a - x) * (a + x)).max(0.0));
+    let y = fmath::sqrt(fmath::max((a - x) * (a + x), 0.0));
     let area = segment_area(a, fmath::atan2(y, x)) + segment_area(b, fmath::atan2(y, c - x));
-    let fraction = (1.0 - area / (core::f32::consts::PI * a * a)).clamp(0.0, 1.0);
+    let fraction = fmath::min(
+        fmath::max(1.0 - area / (core::f32::consts::PI * a * a), 0.0),
+        1.0,
+    );
     Ok(Illumination {
         fraction,
         shadow: Shadow::Penumbra,
@@ -314,7 +317,7 @@ pub fn conical(r_teme_km: &Vec3, sun: &Sun) -> Result<Illumination, EclipseError
 /// `u < 0.5` (relative error < 1e-9) to avoid the cancellation of `u − sin u`.
 fn segment_area(rho: f32, theta: f32) -> f32 {
     let u = 2.0 * theta;
-    let u_minus_sin_u = if u < 0.5 {
+    let u_minus_sin_u = if !(u >= 0.5) {
         // u³/6 − u⁵/120 + u⁷/5040 − u⁹/362880
         let u2 = u * u;
         u * u2 * (1.0 / 6.0 - u2 * (1.0 / 120.0 - u2 * (1.0 / 5040.0 - u2 / 362_880.0)))

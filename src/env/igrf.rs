@@ -271,13 +271,16 @@ impl Model {
             first_year: self.first_year(),
             last_year: self.first_year() + span,
         };
-        if years.is_nan() || 0.0 > years || years > span {
+        if !(years >= 0.0) || years > span {
             return Err(out_of_range);
         }
         // Interval k covers [k·step, (k+1)·step] years; the last date belongs to the last one,
         // and so do the dates it is extrapolated to (a fraction beyond its end).
         // 0 <= years/step <= intervals (at most a few dozen): the cast is exact.
-        let k = (fmath::floor(years / step) as usize).min(self.intervals.len().saturating_sub(1));
+        let k = core::cmp::min(
+            fmath::floor(years / step) as usize,
+            self.intervals.len().saturating_sub(1),
+        );
         let Some(interval) = self.intervals.get(k) else {
             return Err(out_of_range);
         };
@@ -341,7 +344,7 @@ impl Degree {
 
     /// A degree 1..=13, or [`IgrfError::DegreeOutOfRange`].
     pub const fn new(degree: u8) -> Result<Self, IgrfError> {
-        if degree >= 1 && degree <= 13 {
+        if degree >= 1 && 13 >= degree {
             Ok(Self(degree))
         } else {
             Err(IgrfError::DegreeOutOfRange { degree })
@@ -710,8 +713,8 @@ impl<const COEFFS: usize> Igrf<COEFFS> {
         for m in 0..=degree {
             // g only for m = 0, (g, h) otherwise: twice the terms (a shift, not a multiply).
             let pairs_per_term = usize::from(m > 0);
-            let used = (degree + 1 - m.max(1)) << pairs_per_term;
-            let full = (top + 1 - m.max(1)) << pairs_per_term;
+            let used = (degree + 1 - core::cmp::max(m, 1)) << pairs_per_term;
+            let full = (top + 1 - core::cmp::max(m, 1)) << pairs_per_term;
             let (Some((s0, rest0)), Some((s1, rest1)), Some((slots, rest))) = (
                 anchor.split_at_checked(full),
                 delta.split_at_checked(full),
@@ -762,7 +765,7 @@ impl<const COEFFS: usize> Igrf<COEFFS> {
         finite("r_km", r_km)?;
         finite("colat_rad", colat_rad)?;
         finite("lon_rad", lon_rad)?;
-        if !(0.0..=core::f32::consts::PI).contains(&colat_rad) {
+        if !(colat_rad >= 0.0) || colat_rad > core::f32::consts::PI {
             return Err(IgrfError::AngleOutOfRange {
                 input: "colat_rad",
                 value_rad: colat_rad,
@@ -783,7 +786,7 @@ impl<const COEFFS: usize> Igrf<COEFFS> {
         finite("lat_rad", lat_rad)?;
         finite("lon_rad", lon_rad)?;
         finite("alt_km", alt_km)?;
-        if !(-core::f32::consts::FRAC_PI_2..=core::f32::consts::FRAC_PI_2).contains(&lat_rad) {
+        if !(lat_rad >= -core::f32::consts::FRAC_PI_2) || lat_rad > core::f32::consts::FRAC_PI_2 {
             return Err(IgrfError::AngleOutOfRange {
                 input: "lat_rad",
                 value_rad: lat_rad,
@@ -797,7 +800,7 @@ impl<const COEFFS: usize> Igrf<COEFFS> {
             alt_km,
         });
         let r_km = fmath::sqrt(meridian_km.x * meridian_km.x + meridian_km.z * meridian_km.z);
-        if r_km.is_nan() || r_km < MIN_RADIUS_KM {
+        if !(r_km >= MIN_RADIUS_KM) {
             return Err(IgrfError::BelowSurface { radius_km: r_km });
         }
         // Geocentric colatitude θ: sin θ = ρ/r, cos θ = z/r.
@@ -862,7 +865,7 @@ impl<const COEFFS: usize> Igrf<COEFFS> {
             return Ok(Vec3::zeros());
         }
         let radius_km = fmath::sqrt(r2);
-        if radius_km.is_nan() || radius_km < MIN_RADIUS_KM {
+        if !(radius_km >= MIN_RADIUS_KM) {
             return Err(IgrfError::BelowSurface { radius_km });
         }
         let inv_r = 1.0 / radius_km;
@@ -884,7 +887,7 @@ impl<const COEFFS: usize> Igrf<COEFFS> {
         cos_p: f32,
         sin_p: f32,
     ) -> Result<Spherical, IgrfError> {
-        if r_km.is_nan() || r_km < MIN_RADIUS_KM {
+        if !(r_km >= MIN_RADIUS_KM) {
             return Err(IgrfError::BelowSurface { radius_km: r_km });
         }
         let (s, t, u) = (sin_t * cos_p, sin_t * sin_p, cos_t);
@@ -902,7 +905,7 @@ impl<const COEFFS: usize> Igrf<COEFFS> {
     /// direction cosines (s, t, u) and `ratio` = R/r.
     fn synthesize(&self, ratio: f32, s: f32, t: f32, u: f32) -> Sums {
         let degree = usize::from(self.degree.get());
-        let (zonal, tesseral) = self.coeffs.split_at(degree.min(COEFFS));
+        let (zonal, tesseral) = self.coeffs.split_at(core::cmp::min(degree, COEFFS));
         let tau = ratio * u;
         let kappa = ratio * ratio;
 

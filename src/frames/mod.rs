@@ -218,7 +218,7 @@ pub fn ecef_to_geodetic<T: Real>(r_ecef_km: &Vector3<T>) -> Result<Geodetic<T>, 
         return Err(FrameError::NonFinite);
     }
     let r = norm(r_ecef_km);
-    if r < T::of(GEODETIC_MIN_RADIUS_KM) {
+    if !(r >= T::of(GEODETIC_MIN_RADIUS_KM)) {
         return Err(FrameError::NearCentre(r.to_f64() as f32));
     }
     let a = T::of(WGS84_A_KM);
@@ -328,7 +328,7 @@ pub fn cartesian_to_spherical<T: Real>(r_km: &Vector3<T>) -> Result<Spherical<T>
         return Err(FrameError::NonFinite);
     }
     let r = norm(r_km);
-    if r <= T::of(0.0) {
+    if !(r > T::of(0.0)) {
         return Err(FrameError::Degenerate);
     }
     let p = Real::sqrt(r_km.x * r_km.x + r_km.y * r_km.y);
@@ -414,7 +414,7 @@ pub fn inertial_to_rsw_matrix<T: Real>(
         // Squares overflowed.
         return Err(FrameError::NonFinite);
     }
-    if r_norm <= T::of(0.0) || h_norm <= limit {
+    if !(r_norm > T::of(0.0)) || !(h_norm > limit) {
         return Err(FrameError::Degenerate);
     }
     let r_hat = r / r_norm;

@@ -199,7 +199,7 @@ fn drive_bridge<P: SetDutyCycle, D: OutputPin>(
     value: f32,
     limit: f32,
 ) -> Result<(), ErrorKind> {
-    let magnitude = if value < 0.0 { -value } else { value };
+    let magnitude = if value >= 0.0 { value } else { -value };
     if !value.is_finite() || magnitude > limit {
         pwm.set_duty_cycle_fully_off()
             .map_err(|_| ErrorKind::Other)?;
@@ -213,7 +213,7 @@ fn drive_bridge<P: SetDutyCycle, D: OutputPin>(
     } else {
         dir.set_low().map_err(|_| ErrorKind::Other)?;
     }
-    pwm.set_duty_cycle_fraction(num.min(SCALE), SCALE)
+    pwm.set_duty_cycle_fraction(core::cmp::min(num, SCALE), SCALE)
         .map_err(|_| ErrorKind::Other)
 }
 

@@ -112,7 +112,7 @@ impl<const K: usize> QrLeastSquares<K> {
             }
             let wa = delta * ak;
             let d_new = *dk + wa * ak;
-            if !d_new.is_finite() || d_new <= 0.0 {
+            if !d_new.is_finite() || !(d_new > 0.0) {
                 // |a| beyond ~1e19 or below ~1e-19 (squares out of f32's range).
                 return Err(SvdError::NonFinite);
             }

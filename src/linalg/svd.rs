@@ -124,7 +124,7 @@ fn rotate(wp: &mut [f32], wq: &mut [f32], vp: &mut Vec3, vq: &mut Vec3) -> bool 
     let gamma = dot_rows(wp, wq);
     // Rotate only if |γ| > 4ε·√(αβ), compared squared (no square root).
     let g2 = gamma * gamma;
-    if g2.is_nan() || g2 <= (ORTHO_TOL * alpha) * (ORTHO_TOL * beta) {
+    if g2.is_nan() || (ORTHO_TOL * alpha) * (ORTHO_TOL * beta) >= g2 {
         return false;
     }
     // ζ = (β − α)/(2γ), t = sign(ζ)/(|ζ| + √(1 + ζ²)) (t = 1/(2ζ) where ζ² would overflow).
@@ -135,7 +135,7 @@ fn rotate(wp: &mut [f32], wq: &mut [f32], vp: &mut Vec3, vq: &mut Vec3) -> bool 
     } else {
         1.0 / (abs_zeta + fmath::sqrt(1.0 + zeta * zeta))
     };
-    let t = if zeta < 0.0 { -t_abs } else { t_abs };
+    let t = if zeta >= 0.0 { t_abs } else { -t_abs };
     let c = 1.0 / fmath::sqrt(1.0 + t * t);
     let s = c * t;
     rotate_pair(wp, wq, c, s);
@@ -182,7 +182,7 @@ impl<const M: usize> ThinSvd<M> {
                 (Some(a), Some(b)) => (*a, *b),
                 _ => continue,
             };
-            if si < sj {
+            if sj > si {
                 s.swap(i, j);
                 w.swap(i, j);
                 v.swap(i, j);
@@ -319,7 +319,7 @@ impl<const M: usize> ThinSvd<M> {
     fn left3(&self, j: usize) -> Option<Vec3> {
         let wj = self.w.get(j)?;
         let sj = *self.sigma.get(j)?;
-        if self.rows != 3 || sj.is_nan() || sj <= 0.0 {
+        if self.rows != 3 || !(sj > 0.0) {
             return None;
         }
         match wj.get(..3)? {
@@ -362,7 +362,7 @@ pub fn nearest_rotation(b: &Mat3, min_ratio: f32) -> Result<(Mat3, Vec3), SvdErr
     let u3 = cross(&u1, &u2);
     let [v1, v2, v3] = svd.v;
     let det_v = dot(&cross(&v1, &v2), &v3);
-    let d = if det_v < 0.0 { -1.0 } else { 1.0 };
+    let d = if det_v >= 0.0 { 1.0 } else { -1.0 };
     // R = u₁v₁ᵀ + u₂v₂ᵀ + d·u₃v₃ᵀ: column j is [u₁ u₂ u₃]·(v₁ⱼ, v₂ⱼ, d·v₃ⱼ) (d = ±1: exact).
     let col = |x: f32, y: f32, z: f32| lin3(&u1, &u2, &u3, x, y, z * d);
     let r = Mat3::from_columns(&[

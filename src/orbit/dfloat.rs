@@ -111,12 +111,12 @@ impl Df {
         if e > 127 {
             return None;
         }
-        if e < -126 {
+        if -126 > e {
             return Some(Self::ZERO);
         }
         // top 23 stored bits into hi (truncated), the next 29 into lo
         let hi_bits = (((e + 127) as u32) << 23) | (mantissa >> 29) as u32;
-        let d = if e < -70 {
+        let d = if -70 > e {
             // hi alone, rounded (to nearest, ties away)
             Self::from_f32(f32::from_bits(hi_bits + ((mantissa >> 28) & 1) as u32))
         } else {

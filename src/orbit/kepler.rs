@@ -128,10 +128,10 @@ impl Kepler {
         if !(mu_km3_s2 > 0.0 && mu_km3_s2.is_finite()) {
             return Err(KeplerError::Mu(mu_km3_s2 as f32));
         }
-        if n_rev_day <= 0.0 {
+        if !(n_rev_day > 0.0) {
             return Err(KeplerError::MeanMotion(n_rev_day as f32));
         }
-        if !(0.0..1.0).contains(&e) {
+        if !(e >= 0.0) || e >= 1.0 {
             return Err(KeplerError::Eccentricity(e as f32));
         }
         // n = n̄·2π/86 400 rad/s; a = (μ/n²)^(1/3) (eq. 4.9); p = a(1 − e²) (eq. 4.10)
@@ -195,16 +195,17 @@ impl Kepler {
 /// `m` in −π..π, `0 ≤ e < 1`; at most 30 steps.
 pub fn solve_kepler(m: f32, e: f32) -> f32 {
     // thesis: E₀ = M − e if M ∈ (−π, 0) or M > π, else M + e
-    let mut ecc_anomaly = if (m > -core::f32::consts::PI && m < 0.0) || m > core::f32::consts::PI {
-        m - e
-    } else {
-        m + e
-    };
+    let mut ecc_anomaly =
+        if (m > -core::f32::consts::PI && !(m >= 0.0)) || m > core::f32::consts::PI {
+            m - e
+        } else {
+            m + e
+        };
     for _ in 0..MAX_ITERATIONS {
         let (s, c) = fmath::sincos(ecc_anomaly);
         let step = (m - ecc_anomaly + e * s) / (1.0 - e * c);
         ecc_anomaly += step;
-        if fmath::abs(step) < TOLERANCE {
+        if !(fmath::abs(step) >= TOLERANCE) {
             break;
         }
     }

@@ -130,8 +130,10 @@ impl Phase {
     /// ±2⁴⁷ (half a turn) and the rate finite.
     pub(crate) fn in_range(&self) -> bool {
         const HALF_TURN: i64 = 1 << (PHASE_BITS - 1);
-        (-HALF_TURN..=HALF_TURN).contains(&self.at_epoch)
-            && (-HALF_TURN..=HALF_TURN).contains(&self.rate_fx)
+        self.at_epoch >= -HALF_TURN
+            && HALF_TURN >= self.at_epoch
+            && self.rate_fx >= -HALF_TURN
+            && HALF_TURN >= self.rate_fx
             && self.rate_turns.is_finite()
     }
 }

@@ -420,19 +420,19 @@ impl Sgp4 {
         // 0 ≤ i ≤ 180°, on hi + lo
         let (ih, il) = (inclo_deg.hi(), inclo_deg.lo());
         let above_0 = ih > 0.0 || (ih == 0.0 && il >= 0.0);
-        let below_180 = ih < 180.0 || (ih == 180.0 && il <= 0.0);
+        let below_180 = !(ih >= 180.0) || (ih == 180.0 && !(il > 0.0));
         if !(above_0 && below_180) {
             return Err(Sgp4Error::Element {
                 field: "inclination",
             });
         }
         let no_kozai = &n_rev_day * &REV_PER_DAY;
-        if no_kozai.hi() <= 0.0 {
+        if !(no_kozai.hi() > 0.0) {
             return Err(Sgp4Error::MeanMotion {
                 rad_per_min: no_kozai.to_f32(),
             });
         }
-        if !(ecco.hi() >= 0.0 && ecco.hi() < 1.0) {
+        if !(ecco.hi() >= 0.0) || ecco.hi() >= 1.0 {
             return Err(Sgp4Error::Eccentricity {
                 eccentricity: ecco.to_f32(),
                 tsince_min: 0.0,
@@ -470,7 +470,7 @@ impl Sgp4 {
         }
         let ao = two_thirds_power(&(&g.xke / &no));
         let alta = &(&ao * &(1.0 + &ecco)) - 1.0;
-        if alta.hi() < 0.0 {
+        if !(alta.hi() >= 0.0) {
             return Err(Sgp4Error::SubOrbital {
                 apogee_km: (&alta * &radius_km).to_f32(),
             });
@@ -502,10 +502,10 @@ impl Sgp4 {
         // (in a block, returning f32: its double-f32 temporaries leave the stack frame)
         let (isimp, sfour, tsi, eta, etasq, eeta, psisq, coef, coef1, cc1) = {
             let rp = &ao * &(1.0 - &ecco);
-            let isimp = (&rp - &(&(220.0 / &radius_km) + 1.0)).hi() < 0.0;
+            let isimp = !((&rp - &(&(220.0 / &radius_km) + 1.0)).hi() >= 0.0);
             let perige = &(&rp - 1.0) * &radius_km;
-            let (sfour, qzms24) = if perige.hi() < 156.0 {
-                let s = if perige.hi() < 98.0 {
+            let (sfour, qzms24) = if !(perige.hi() >= 156.0) {
+                let s = if !(perige.hi() >= 98.0) {
                     Df::from_f32(20.0)
                 } else {
                     &perige - 78.0
@@ -764,13 +764,13 @@ impl Sgp4 {
         let am = self.ao * tempa * tempa;
         let nm = self.no / fmath::abs(tempa * tempa * tempa);
         let mut em = self.ecco - tempe;
-        if !(-0.001..1.0).contains(&em) {
+        if !(em >= -0.001) || em >= 1.0 {
             return Err(Sgp4Error::Eccentricity {
                 eccentricity: em,
                 tsince_min: t,
             });
         }
-        if em < 1.0e-6 {
+        if !(em >= 1.0e-6) {
             em = 1.0e-6;
         }
 
@@ -792,7 +792,7 @@ impl Sgp4 {
                 -0.95,
             );
             eo1 += step;
-            if fmath::abs(step) < KEPLER_TOLERANCE {
+            if !(fmath::abs(step) >= KEPLER_TOLERANCE) {
                 // sin and cos of eo1 to first order in the (tiny) last step
                 let s = sineo1 + coseo1 * step;
                 coseo1 -= sineo1 * step;
@@ -807,7 +807,7 @@ impl Sgp4 {
         let esine = axnl * sineo1 - aynl * coseo1;
         let el2 = axnl * axnl + aynl * aynl;
         let pl = am * (1.0 - el2);
-        if pl < 0.0 {
+        if !(pl >= 0.0) {
             return Err(Sgp4Error::SemiLatusRectum { tsince_min: t });
         }
         let rl = am * (1.0 - ecose);
@@ -872,7 +872,7 @@ impl Sgp4 {
             return Err(Sgp4Error::Diverged { tsince_min: t });
         }
         // mrt < 1 (radius below one Earth radius)
-        if r_km < self.radius_km {
+        if !(r_km >= self.radius_km) {
             return Err(Sgp4Error::Decayed {
                 tsince_min: t,
                 radius_km: r_km,
@@ -885,7 +885,7 @@ impl Sgp4 {
 /// `(sin x, cos x)` of a small angle: a Taylor series to x³ for |x| < 0.01 rad (exact in f32,
 /// the short-period corrections are of order J₂ ≈ 1e-3), `fmath::sincos` otherwise.
 fn small_sincos(x: f32) -> (f32, f32) {
-    if fmath::abs(x) < 0.01 {
+    if !(fmath::abs(x) >= 0.01) {
         let x2 = x * x;
         (x * (1.0 - x2 / 6.0), 1.0 - 0.5 * x2)
     } else {

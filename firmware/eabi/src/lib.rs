@@ -26,9 +26,10 @@
 //! ordered predicates (`==`, `!=`, `<`, `<=`, `>`, `>=`) to a test of the *same* helper's result,
 //! so no return value can make all of them false for an unordered pair. `cmpf`/`cmpd` return −1
 //! for unordered operands, which makes `==`, `!=`, `>`, `>=` (and `as` conversions to integers,
-//! which rely on `>=`) correct and `<`, `<=` **wrongly true** with a NaN operand. Flight code must
-//! test `is_nan()` (which lowers to `x != x`, correct) before a `<`/`<=` that may see a NaN, or
-//! write the comparison as `b > a`. `partial_cmp` is correct (LLVM adds an `__unordsf2` call).
+//! which rely on `>=`) correct and `<`, `<=` **wrongly true** with a NaN operand. Writing `b > a`
+//! does not help when `b` is a constant (LLVM compiles `0.0 > x` as `x < 0.0`), and an `is_nan()`
+//! test next to a comparison is folded into it: see `README.md` ("NaN and comparisons") and the
+//! flight code's rules in `src/fmath.rs`; `tools/float_compare_check.py --ir` checks the image.
 #![no_std]
 #![cfg_attr(target_arch = "msp430", feature(asm_experimental_arch))]
 

@@ -150,9 +150,9 @@ const DEPS_MAS: [i16; 4] = mas(NUTATION_DEPS);
 const fn mas<const N: usize>(c: [f32; N]) -> [i16; N] {
     let mut out = [0; N];
     let mut i = 0;
-    while i < N {
+    while N > i {
         let x = c[i] / 10.0;
-        out[i] = if x < 0.0 {
+        out[i] = if !(x >= 0.0) {
             (x - 0.5) as i16
         } else {
             (x + 0.5) as i16
@@ -244,7 +244,7 @@ const fn term(k: [i32; 6], la: f64, lp: u16, ra: f64, rp: u16) -> Term {
     let mut args = [(0, 0); 2];
     let mut n = 0;
     let mut i = 0;
-    while i < 6 {
+    while 6 > i {
         if k[i] != 0 {
             args[n] = (i as u8, k[i] as i8);
             n += 1;
@@ -294,7 +294,7 @@ const fn cos_f64(x: f64) -> f64 {
     let mut term = 1.0;
     let mut sum = 1.0;
     let mut k = 1.0;
-    while k < 24.0 {
+    while !(k >= 24.0) {
         term = -term * x2 / (k * (k + 1.0));
         sum += term;
         k += 2.0;
@@ -308,7 +308,7 @@ const fn sin_f64(x: f64) -> f64 {
     let mut term = x;
     let mut sum = x;
     let mut k = 2.0;
-    while k < 25.0 {
+    while !(k >= 25.0) {
         term = -term * x2 / (k * (k + 1.0));
         sum += term;
         k += 2.0;
@@ -321,7 +321,7 @@ const fn sin_f64(x: f64) -> f64 {
 const fn quarter_cos_table() -> [i32; 257] {
     let mut t = [0; 257];
     let mut i = 0;
-    while i < 257 {
+    while 257 > i {
         let c = cos_f64(i as f64 * (core::f64::consts::FRAC_PI_2 / 256.0));
         t[i] = (c * 1_073_741_824.0 + 0.5) as i32;
         i += 1;
@@ -426,7 +426,7 @@ fn times(x: u16, k: i8) -> u16 {
         x = x.wrapping_shl(1);
         m >>= 1;
     }
-    if k < 0 {
+    if 0 > k {
         acc.wrapping_neg()
     } else {
         acc
@@ -486,7 +486,7 @@ pub fn sun(epoch: &Epoch<Utc>) -> Result<Sun, SunError> {
 /// Years (TT) outside 1950..=2100 give [`SunError::Year`].
 pub fn sun_tt(epoch: &Epoch<Tt>) -> Result<Sun, SunError> {
     let n = epoch.day();
-    if !(FIRST_DAY..=LAST_DAY).contains(&n) {
+    if !(n >= FIRST_DAY && LAST_DAY >= n) {
         return Err(SunError::Year(year_of_day(n)));
     }
     // Days since J2000.0 = 2000-01-01 12:00 TT: n whole days + f, f in −0.5..0.5.

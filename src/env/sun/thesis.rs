@@ -53,7 +53,7 @@ const MEAN_ANOMALY: LinearAngle = LinearAngle::from_degrees(356.0470, 0.985_600_
 pub fn sun(epoch: &Epoch<Utc>) -> Result<Sun, SunError> {
     // The range by day number (the calendar year only for the error: its divisions cost
     // thousands of MSP430 cycles).
-    if !(FIRST_DAY..=LAST_DAY).contains(&epoch.day()) {
+    if !(epoch.day() >= FIRST_DAY && LAST_DAY >= epoch.day()) {
         return Err(SunError::Year(year_of_day(epoch.day())));
     }
     // d = whole + frac: day 0 of Epoch (2000-01-01) is d = 1 (note 000 §7.7).
