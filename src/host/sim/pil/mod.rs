@@ -25,6 +25,12 @@
 //! clock (the scenario's start, kind 5), then each ground command at the period the host
 //! simulator's `run` would give it (time ≤ the truth's time). The host loop receives the same
 //! words through [`uplink::UplinkMailbox::take`] ([`crate::uplink::apply`], what the image runs).
+//! Three quarters of the way through the run, one period also carries uplinks whose arguments
+//! are NaN and infinities ([`non_finite_uplinks`]: the readings are raw integers, so the uplink
+//! is where non-finite floats reach the image): both sides must refuse them with the same status
+//! and fly on bit for bit (issue 19: the MSP430's float comparisons are wrong for a NaN where
+//! the host's are not, so the host alone cannot show what the image does with one).
+//!
 //! The image takes one command per period (`take_uplink` before each step); when a period
 //! carries several, the host calls `take_uplink` again for each after the first, as a
 //! debugger does: at its entry it saves the registers, and after it returns it writes the next
@@ -753,6 +759,9 @@ pub fn run(
             uplinks.push(Uplink::Elements(Box::new(words)));
             uplinks.push(Uplink::Clock(scenario.sim.start));
         }
+        if k == steps * 3 / 4 {
+            uplinks.extend(non_finite_uplinks(&words));
+        }
         let mut i = 0;
         while i < pending.len() {
             if pending[i].0 <= t {
@@ -824,6 +833,50 @@ pub fn run(
         steps_per_s: log.len() as f64 / elapsed.max(1e-9),
         steps: log,
     })
+}
+
+/// Ground commands with non-finite arguments, each of which the loop must refuse
+/// ([`crate::uplink::UplinkError`]): tracking and slewing to NaN and infinite quaternions, a slew
+/// within a NaN, an infinite and a negative time, and the element set `words` with a NaN in a
+/// float word (its check word then fails).
+pub fn non_finite_uplinks(words: &[u32; ELEMENT_WORDS]) -> Vec<Uplink> {
+    let nan_q = Quaternion {
+        q0: f32::NAN,
+        q1: 0.0,
+        q2: 0.0,
+        q3: 1.0,
+    };
+    let inf_q = Quaternion {
+        q0: 1.0,
+        q1: f32::INFINITY,
+        q2: 0.0,
+        q3: 0.0,
+    };
+    let mut elements = *words;
+    if let Some(w) = elements.get_mut(3) {
+        *w = f32::NAN.to_bits();
+    }
+    vec![
+        Uplink::Track { target: nan_q },
+        Uplink::Track { target: inf_q },
+        Uplink::Slew {
+            target: nan_q,
+            within_s: 100.0,
+        },
+        Uplink::Slew {
+            target: Quaternion::IDENTITY,
+            within_s: f32::NAN,
+        },
+        Uplink::Slew {
+            target: Quaternion::IDENTITY,
+            within_s: f32::INFINITY,
+        },
+        Uplink::Slew {
+            target: Quaternion::IDENTITY,
+            within_s: -f32::INFINITY,
+        },
+        Uplink::Elements(Box::new(elements)),
+    ]
 }
 
 /// The summary of the steps flown: (step, mode code, cycles) each.

@@ -235,4 +235,26 @@ mod tests {
         assert_eq!(mailbox.take(kind, &mut acs, &mut clock, None), ACCEPTED);
         assert_eq!(acs.mode(), Mode::SunSafe);
     }
+
+    /// The PIL run's non-finite uplinks are each refused (invalid argument, or the element set
+    /// at its first bad word), with or without an attitude to plan from, and change nothing.
+    #[test]
+    fn non_finite_uplinks_are_refused() {
+        let mut acs = FlightLoop::new(&CONFIG, orbit()).unwrap();
+        let mut clock = Epoch::<Utc>::from_parts(9_210, 43_200, 0).unwrap();
+        let start = clock;
+        let mut mailbox = UplinkMailbox::default();
+        let q = Quaternion::new_normalize(0.9, 0.1, -0.3, 0.2).unwrap();
+        let uplinks = crate::host::sim::pil::non_finite_uplinks(&orbit().to_words());
+        assert_eq!(uplinks.len(), 7);
+        for u in &uplinks {
+            for attitude in [None, Some(&q)] {
+                let kind = mailbox.write(u);
+                let status = mailbox.take(kind, &mut acs, &mut clock, attitude);
+                assert!(status == 2 || status >= 0x100, "{u:?}: status {status}");
+                assert_eq!(acs.mode(), Mode::Detumble, "{u:?}");
+                assert_eq!(clock, start);
+            }
+        }
+    }
 }
