@@ -383,7 +383,8 @@ pub enum IgrfError {
         /// Geocentric radius of the point, km.
         radius_km: f32,
     },
-    /// An angle is outside its domain (latitude beyond ±π/2, colatitude outside 0..=π).
+    /// An angle is outside its domain (latitude beyond ±π/2, colatitude outside 0..=π, a
+    /// longitude of magnitude [`fmath::TRIG_LIMIT`] or more).
     AngleOutOfRange {
         /// Which input.
         input: &'static str,
@@ -752,10 +753,11 @@ impl<const COEFFS: usize> Igrf<COEFFS> {
     }
 
     /// Field at geocentric radius `r_km`, colatitude `colat_rad` (0..=π) and east longitude
-    /// `lon_rad` (any finite value), in geocentric spherical components.
+    /// `lon_rad` (any finite value below [`fmath::TRIG_LIMIT`] in magnitude), in geocentric
+    /// spherical components.
     ///
     /// Errors: [`IgrfError::NotFinite`], [`IgrfError::BelowSurface`],
-    /// [`IgrfError::AngleOutOfRange`] (colatitude).
+    /// [`IgrfError::AngleOutOfRange`] (colatitude, longitude).
     pub fn geocentric(
         &self,
         r_km: f32,
@@ -772,7 +774,7 @@ impl<const COEFFS: usize> Igrf<COEFFS> {
             });
         }
         let (sin_t, cos_t) = fmath::sincos(colat_rad);
-        let (sin_p, cos_p) = fmath::sincos(lon_rad);
+        let (sin_p, cos_p) = longitude(lon_rad)?;
         self.spherical(r_km, cos_t, sin_t, cos_p, sin_p)
     }
 
@@ -781,7 +783,7 @@ impl<const COEFFS: usize> Igrf<COEFFS> {
     /// (eq. 7.24: the spherical components rotated by ψ = geodetic − geocentric latitude).
     ///
     /// Errors: [`IgrfError::NotFinite`], [`IgrfError::BelowSurface`],
-    /// [`IgrfError::AngleOutOfRange`] (latitude).
+    /// [`IgrfError::AngleOutOfRange`] (latitude; longitude from [`fmath::TRIG_LIMIT`]).
     pub fn geodetic_ned(&self, lat_rad: f32, lon_rad: f32, alt_km: f32) -> Result<Ned, IgrfError> {
         finite("lat_rad", lat_rad)?;
         finite("lon_rad", lon_rad)?;
@@ -806,7 +808,7 @@ impl<const COEFFS: usize> Igrf<COEFFS> {
         // Geocentric colatitude θ: sin θ = ρ/r, cos θ = z/r.
         let sin_t = meridian_km.x / r_km;
         let cos_t = meridian_km.z / r_km;
-        let (sin_p, cos_p) = fmath::sincos(lon_rad);
+        let (sin_p, cos_p) = longitude(lon_rad)?;
         let b = self.spherical(r_km, cos_t, sin_t, cos_p, sin_p)?;
         let (sin_lat, cos_lat) = fmath::sincos(lat_rad);
         // ψ = lat − (π/2 − θ):  sin ψ = sin lat sin θ − cos lat cos θ,
@@ -1060,6 +1062,21 @@ fn column_sums(weights: &[f32], current: &[f32], below: &[f32]) -> [f32; 6] {
         *dh += hb * a;
     }
     s
+}
+
+/// `(sin, cos)` of a finite longitude; [`IgrfError::AngleOutOfRange`] from
+/// |`lon_rad`| ≥ [`fmath::TRIG_LIMIT`], where no angle is left in the f32 and the sine is NaN
+/// (before: a field of NaN returned as `Ok`, found by the fuzz target `cli_igrf`).
+fn longitude(lon_rad: f32) -> Result<(f32, f32), IgrfError> {
+    let (sin_p, cos_p) = fmath::sincos(lon_rad);
+    if sin_p.is_finite() {
+        Ok((sin_p, cos_p))
+    } else {
+        Err(IgrfError::AngleOutOfRange {
+            input: "lon_rad",
+            value_rad: lon_rad,
+        })
+    }
 }
 
 fn finite(input: &'static str, value: f32) -> Result<(), IgrfError> {

@@ -68,8 +68,8 @@ fn vectors(doc: &Value, name: &str) -> Result<Vec<Vec3>, CliError> {
         .collect()
 }
 
-/// Parses the input document into observations.
-fn parse(text: &str) -> Result<Vec<Observation>, CliError> {
+/// Parses the input document into observations (public for the fuzz target `cli_attitude`).
+pub fn parse(text: &str) -> Result<Vec<Observation>, CliError> {
     // Blank lines and `#` comment lines are ignored (cli.md, general rules).
     let json: String = text
         .lines()
@@ -159,8 +159,9 @@ fn render(s: &Solution) -> String {
     )
 }
 
-/// Solves one input document with `method` (`svd`, `quest`, `triad`).
-fn solve_text(text: &str, method: &str) -> Result<String, CliError> {
+/// Solves one input document with `method` (`svd`, `quest`, `triad`): what `acs attitude`
+/// prints for stdin `text` (public for the fuzz target `cli_attitude`).
+pub fn solve_text(text: &str, method: &str) -> Result<String, CliError> {
     let obs = parse(text)?;
     let solution = match method {
         "quest" => quest::solve(&obs),

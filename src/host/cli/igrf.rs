@@ -36,52 +36,84 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         "north_nt,east_nt,down_nt"
     };
     writeln!(out, "{header}").map_err(write_err)?;
-    let fields: [&str; 4] = if args.geocentric {
-        ["decimal_year", "r_km", "colat_deg", "lon_deg"]
-    } else {
-        ["decimal_year", "lat_deg", "lon_deg", "alt_km"]
-    };
     let mut seen_content = false;
     for (index, line) in stdin.lock().lines().enumerate() {
         let line_no = index + 1;
         let line =
             line.map_err(|e| CliError::Input(format!("line {line_no}: cannot read: {e}")))?;
-        let text = line.trim();
-        if text.is_empty() || text.starts_with('#') {
+        let Some(values) = parse_row(line_no, &line, args.geocentric, &mut seen_content)? else {
             continue;
-        }
-        let first_content = !seen_content;
-        seen_content = true;
-        let cells: Vec<&str> = text.split(',').map(str::trim).collect();
-        if first_content && cells.iter().all(|c| c.parse::<f64>().is_err()) {
-            continue; // header
-        }
-        if cells.len() != fields.len() {
-            return Err(CliError::Input(format!(
-                "line {line_no}: expected {} fields ({}), found {}",
-                fields.len(),
-                fields.join(","),
-                cells.len()
-            )));
-        }
-        let mut values = [0.0_f64; 4];
-        for ((value, cell), name) in values.iter_mut().zip(&cells).zip(&fields) {
-            *value = cell
-                .parse::<f64>()
-                .ok()
-                .filter(|v| v.is_finite())
-                .ok_or_else(|| {
-                    CliError::Input(format!(
-                        "line {line_no}, field {name}: `{cell}` is not a finite number"
-                    ))
-                })?;
-        }
-        let [year, a, b, c] = values;
-        let row = evaluate(args.geocentric, degree, year, a, b, c)
-            .map_err(|e| classify(e, line_no, &fields))?;
+        };
+        let row = row_output(line_no, values, args.geocentric, degree)?;
         writeln!(out, "{},{},{}", sig9(row[0]), sig9(row[1]), sig9(row[2])).map_err(write_err)?;
     }
     out.flush().map_err(write_err)
+}
+
+/// The names of the four input fields.
+fn field_names(geocentric: bool) -> [&'static str; 4] {
+    if geocentric {
+        ["decimal_year", "r_km", "colat_deg", "lon_deg"]
+    } else {
+        ["decimal_year", "lat_deg", "lon_deg", "alt_km"]
+    }
+}
+
+/// Parses line `line_no` of `acs igrf`'s stdin: `Ok(None)` for a blank line, a `#` comment or
+/// the header (a first line with content and no number in it; `seen_content` records whether
+/// a line with content came before, and is updated), else the row's four finite numbers.
+/// Public for the fuzz target `cli_igrf` (`fuzz/`).
+pub fn parse_row(
+    line_no: usize,
+    line: &str,
+    geocentric: bool,
+    seen_content: &mut bool,
+) -> Result<Option<[f64; 4]>, CliError> {
+    let fields = field_names(geocentric);
+    let text = line.trim();
+    if text.is_empty() || text.starts_with('#') {
+        return Ok(None);
+    }
+    let first_content = !*seen_content;
+    *seen_content = true;
+    let cells: Vec<&str> = text.split(',').map(str::trim).collect();
+    if first_content && cells.iter().all(|c| c.parse::<f64>().is_err()) {
+        return Ok(None); // header
+    }
+    if cells.len() != fields.len() {
+        return Err(CliError::Input(format!(
+            "line {line_no}: expected {} fields ({}), found {}",
+            fields.len(),
+            fields.join(","),
+            cells.len()
+        )));
+    }
+    let mut values = [0.0_f64; 4];
+    for ((value, cell), name) in values.iter_mut().zip(&cells).zip(&fields) {
+        *value = cell
+            .parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| {
+                CliError::Input(format!(
+                    "line {line_no}, field {name}: `{cell}` is not a finite number"
+                ))
+            })?;
+    }
+    Ok(Some(values))
+}
+
+/// The output row of `acs igrf` for the input row `values` of line `line_no`: the field's
+/// three components, or the error the tool reports. Public for the fuzz target `cli_igrf`.
+pub fn row_output(
+    line_no: usize,
+    values: [f64; 4],
+    geocentric: bool,
+    degree: Degree,
+) -> Result<[f32; 3], CliError> {
+    let [year, a, b, c] = values;
+    evaluate(geocentric, degree, year, a, b, c)
+        .map_err(|e| classify(e, line_no, &field_names(geocentric)))
 }
 
 /// The field at one input row, as the three output numbers.

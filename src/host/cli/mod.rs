@@ -13,15 +13,15 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
-mod attitude;
+pub mod attitude;
 mod demo;
 mod eclipses;
 pub mod elements;
-mod igrf;
-mod plan;
+pub mod igrf;
+pub mod plan;
 mod propagate;
 mod sim;
-mod sun;
+pub mod sun;
 
 /// What went wrong in a subcommand, and so which exit code the tool returns.
 #[derive(Debug)]

@@ -109,14 +109,26 @@ fn quat(e: [f64; 3]) -> Quaternion {
     .canonical()
 }
 
-/// Runs `acs plan`.
-pub fn run(args: &Args) -> Result<(), CliError> {
-    let text = std::fs::read_to_string(&args.file)
-        .map_err(|e| CliError::Input(format!("{}: {e}", args.file.display())))?;
-    let d: Description = serde_json::from_str(&text).map_err(|e| {
+/// A checked manoeuvre description: what [`plan_with`] is run on.
+#[derive(Debug)]
+pub struct Request {
+    /// The planning problem.
+    pub problem: Problem,
+    /// The optimiser.
+    pub optimiser: Optimiser,
+    /// Function evaluations per optimiser run.
+    pub evals: usize,
+    /// Nelder–Mead restarts.
+    pub restarts: usize,
+}
+
+/// Parses and checks a manoeuvre description (the JSON of the [module docs](self)), including
+/// that the field is defined over the whole manoeuvre; the error is what `acs plan` reports
+/// (a JSON error names `source`, the file). Public for the fuzz target `cli_plan` (`fuzz/`).
+pub fn request(text: &str, source: &str) -> Result<Request, CliError> {
+    let d: Description = serde_json::from_str(text).map_err(|e| {
         CliError::Input(format!(
-            "{}: line {} column {}: {e}",
-            args.file.display(),
+            "{source}: line {} column {}: {e}",
             e.line(),
             e.column()
         ))
@@ -204,7 +216,25 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             )))
         }
     };
-    let (p, outcome) = plan_with(&pb, optimiser, d.evals, d.restarts).map_err(CliError::Compute)?;
+    Ok(Request {
+        problem: pb,
+        optimiser,
+        evals: d.evals,
+        restarts: d.restarts,
+    })
+}
+
+/// Runs `acs plan`.
+pub fn run(args: &Args) -> Result<(), CliError> {
+    let text = std::fs::read_to_string(&args.file)
+        .map_err(|e| CliError::Input(format!("{}: {e}", args.file.display())))?;
+    let Request {
+        problem: pb,
+        optimiser,
+        evals,
+        restarts,
+    } = request(&text, &args.file.display().to_string())?;
+    let (p, outcome) = plan_with(&pb, optimiser, evals, restarts).map_err(CliError::Compute)?;
     let (_, samples) = simulate(&pb, &p, 1).map_err(CliError::Compute)?;
     let dir = args
         .out

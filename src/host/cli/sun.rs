@@ -28,7 +28,9 @@ pub struct Args {
 
 /// Parses an ISO 8601 UTC timestamp `YYYY-MM-DDTHH:MM:SS[.fffffffff][Z]` (also with a space
 /// instead of `T`, and `+00:00` for `Z`). The error says which field is wrong.
-pub(super) fn parse_utc_iso(text: &str) -> Result<Epoch<Utc>, String> {
+///
+/// Public for the fuzz target `cli_sun` (`fuzz/`): each line of `acs sun`'s stdin goes here.
+pub fn parse_utc_iso(text: &str) -> Result<Epoch<Utc>, String> {
     let s = text.trim();
     let s = s
         .strip_suffix('Z')
