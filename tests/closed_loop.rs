@@ -735,6 +735,17 @@ struct ConstantBus {
     coils: [Option<f32>; 6],
 }
 
+impl ConstantBus {
+    /// The bus with magnetometer scale `field`, nothing commanded yet.
+    fn new(field: i16) -> Self {
+        Self {
+            field,
+            wheels: [None; 6],
+            coils: [None; 6],
+        }
+    }
+}
+
 impl acs::hal::TileBus for ConstantBus {
     fn read_sun(&mut self, tile: usize) -> Result<Option<[i16; 2]>, acs::hal::ErrorKind> {
         Ok((tile == 1).then_some([0, 0]))
@@ -769,11 +780,7 @@ fn refused_law_is_reported_and_the_wheels_hold() {
 
     let (_, tle, orbit) = tracking_setup();
     let mut acs = FlightLoop::new(&CONFIG, orbit).unwrap();
-    let mut bus = ConstantBus {
-        field: 100,
-        wheels: [None; 6],
-        coils: [None; 6],
-    };
+    let mut bus = ConstantBus::new(100);
     let t0 = tle.epoch.add(TimeSpan::new(60, 0));
     let target = Quaternion::new_normalize(0.5, 0.5, -0.5, 0.5).unwrap();
     acs.command(Command::Track { target }, None, t0).unwrap();
@@ -814,11 +821,7 @@ fn zero_field_is_reported() {
     let mut acs = FlightLoop::new(&CONFIG, orbit).unwrap();
     acs.command(acs::acs_loop::Command::SunSafe, None, tle.epoch)
         .unwrap();
-    let mut bus = ConstantBus {
-        field: 0,
-        wheels: [None; 6],
-        coils: [None; 6],
-    };
+    let mut bus = ConstantBus::new(0);
     let t0 = tle.epoch.add(TimeSpan::new(60, 0));
     let mut report = acs::acs_loop::StepReport::empty(Mode::SunSafe);
     for k in 0..3 {
@@ -857,11 +860,7 @@ fn refused_allocation_holds_the_wheels() {
         acs::acs_loop::AcsLoop::<6, { acs::flight::FIELD_COEFFS }>::new(&config, orbit).unwrap();
     acs.command(acs::acs_loop::Command::SunSafe, None, tle.epoch)
         .unwrap();
-    let mut bus = ConstantBus {
-        field: 100,
-        wheels: [None; 6],
-        coils: [None; 6],
-    };
+    let mut bus = ConstantBus::new(100);
     let mut report = acs::acs_loop::StepReport::empty(Mode::SunSafe);
     acs.step_into(
         &mut bus,
@@ -890,22 +889,14 @@ fn clock_jump_is_not_integrated_into_the_wheels() {
     let target = {
         let mut probe = FlightLoop::new(&CONFIG, orbit.clone()).unwrap();
         let mut report = acs::acs_loop::StepReport::empty(Mode::SunSafe);
-        let mut bus = ConstantBus {
-            field: 100,
-            wheels: [None; 6],
-            coils: [None; 6],
-        };
+        let mut bus = ConstantBus::new(100);
         probe.step_into(&mut bus, t0, 1.0, &mut report);
         report.attitude.unwrap()
     };
     let start = || {
         let mut acs = FlightLoop::new(&CONFIG, orbit.clone()).unwrap();
         acs.command(Command::Track { target }, None, t0).unwrap();
-        let bus = ConstantBus {
-            field: 100,
-            wheels: [None; 6],
-            coils: [None; 6],
-        };
+        let bus = ConstantBus::new(100);
         (acs, bus)
     };
     // the largest change of a wheel command in the step at t0 + t s, and the step's faults
@@ -950,11 +941,7 @@ fn loop_without_elements_detumbles_and_takes_a_set_later() {
 
     let (_, tle, orbit) = tracking_setup();
     let mut acs = FlightLoop::new(&CONFIG, None).unwrap();
-    let mut bus = ConstantBus {
-        field: 100,
-        wheels: [None; 6],
-        coils: [None; 6],
-    };
+    let mut bus = ConstantBus::new(100);
     let t0 = tle.epoch.add(TimeSpan::new(60, 0));
     let mut report = acs::acs_loop::StepReport::empty(Mode::Detumble);
     for t in 0..3 {
@@ -1007,11 +994,7 @@ fn field_reference_past_the_tables_is_extrapolated_and_flagged() {
         (2036, false, true),
     ] {
         let mut acs = FlightLoop::new(&CONFIG, None).unwrap();
-        let mut bus = ConstantBus {
-            field: 100,
-            wheels: [None; 6],
-            coils: [None; 6],
-        };
+        let mut bus = ConstantBus::new(100);
         let mut report = acs::acs_loop::StepReport::empty(Mode::Detumble);
         acs.step_into(&mut bus, at(year), 1.0, &mut report);
         assert_eq!(
