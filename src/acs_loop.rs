@@ -407,6 +407,11 @@ fn reported(command: Option<Vec3>, faults: &mut Faults) -> Vec3 {
     command.unwrap_or_else(Vec3::zeros)
 }
 
+/// A raw word at either end of the `i16` range.
+fn pinned(x: i16) -> bool {
+    x == i16::MAX || x == i16::MIN
+}
+
 /// Bit `i` of `mask` (false beyond 31).
 fn bit(mask: u32, i: usize) -> bool {
     mask & 1u32.checked_shl(i as u32).unwrap_or(0) != 0
@@ -684,32 +689,34 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
             }
             let here = 1u32.checked_shl(i as u32).unwrap_or(0);
             let mut failed = false;
+            // a word pinned at either end of the i16 range is no reading (a saturated device
+            // or a stuck line: no physical Sun angle, field or rate reaches it): a failed read
             if tile.equipment.sun_sensor {
                 match bus.read_sun(i) {
-                    Ok(Some(angles)) => {
-                        *sun = angles;
+                    Ok(Some([a, b])) if !pinned(a) && !pinned(b) => {
+                        *sun = [a, b];
                         r.sun_seen |= here;
                     }
                     Ok(None) => {}
-                    Err(_) => failed = true,
+                    _ => failed = true,
                 }
             }
             if tile.equipment.magnetometer {
                 match bus.read_magnetometer(i) {
-                    Ok(xy) => {
-                        *mag = xy;
+                    Ok([x, y]) if !pinned(x) && !pinned(y) => {
+                        *mag = [x, y];
                         r.mag_read |= here;
                     }
-                    Err(_) => failed = true,
+                    _ => failed = true,
                 }
             }
             if tile.equipment.gyro {
                 match bus.read_gyro(i) {
-                    Ok(w) => {
+                    Ok(w) if !pinned(w) => {
                         *gyro = w;
                         r.gyro_read |= here;
                     }
-                    Err(_) => failed = true,
+                    _ => failed = true,
                 }
             }
             if let Some(count) = self.failures.get_mut(i) {

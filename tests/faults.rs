@@ -445,20 +445,30 @@ fn out_of_range_reading() {
     }
 }
 
-/// Finding: the loop takes `i16`-extreme words as valid readings and reports nothing (no fault
-/// bit: only a driver's saturation check, `hal::drivers::check_saturation`, refuses such a
-/// word; the loop has no plausibility check of its own). The gyro's 3.28 rad/s sends it to
-/// `Detumble`; the magnetometer's field turns the satellite 178° away, the Sun sensor's 54°,
-/// and each is back on its target only 475 s and 458 s after the clear.
+/// Finding 1 (fixed): the loop took `i16`-extreme words as valid readings and reported nothing
+/// (the gyro's 3.28 rad/s sent it to `Detumble`; the magnetometer's field turned the satellite
+/// 178° away, the Sun sensor's 54°, each back on target only 458-475 s after the clear). A word
+/// pinned at either end of the range is now a failed read (`AcsLoop::read_tiles`): reported
+/// (`device_read`) from the first step, the tile out of service after
+/// `FAILURES_TO_MARK_FAILED` of them (the policy of every failed read), tracking kept.
 #[test]
-#[ignore = "issue 19: i16-extreme words are taken as valid readings (no range check in AcsLoop::read_tiles): no fault bit for any sensor, a 3.28 rad/s gyro word sends the loop to Detumble, a ±327 670 nT magnetometer word to a 178° error, a ±3.28 rad Sun word to 54°, each back under 2° only 458-475 s after the clear"]
 fn out_of_range_reading_is_reported() {
+    use acs::acs_loop::FAILURES_TO_MARK_FAILED;
+    use acs::tiles::TileState;
     for sensor in [Sensor::Gyro, Sensor::Magnetometer, Sensor::Sun] {
         let (run, clear, end) = out_of_range_run(sensor);
+        let marked = FAULT_AT + f64::from(FAILURES_TO_MARK_FAILED);
         assert!(
-            every_step(&run, FAULT_AT, clear, DEVICE_READ),
+            every_step(&run, FAULT_AT, marked, DEVICE_READ),
             "{sensor:?} not reported"
         );
+        let failed_at = |t: f64| {
+            run.tile_states
+                .iter()
+                .find(|(ts, _)| *ts >= t)
+                .map(|(_, states)| states[1])
+        };
+        assert_eq!(failed_at(marked), Some(TileState::Failed), "{sensor:?}");
         assert!(run
             .samples
             .iter()

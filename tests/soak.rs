@@ -54,12 +54,15 @@ impl Rng {
             _ => self.unit(),
         }
     }
-    /// An `i16` reading: mostly near a plausible value, sometimes anything.
+    /// An `i16` reading: mostly near a plausible value, sometimes anything (8 %), the extremes
+    /// 1 % each (the loop takes an extreme as a failed read, and three in a row put the tile
+    /// out of service: at 10 % each the tiles would be out most of the time and the loop would
+    /// seldom reach its attitude modes).
     fn word(&mut self, plausible: i16, spread: i16) -> i16 {
-        match self.below(10) {
+        match self.below(100) {
             0 => i16::MAX,
             1 => i16::MIN,
-            2 => self.next() as i16,
+            2..=9 => self.next() as i16,
             _ => plausible.saturating_add((self.unit() * f32::from(spread)) as i16),
         }
     }
