@@ -368,9 +368,9 @@ pub const REFINE_MAX_STEP_RAD: f32 = 0.01;
 /// `g` is formed from the residual cross products, which f32 holds to full relative precision,
 /// whereas the attitude profile matrix `B` (and Davenport's `K`) round the data at the level of
 /// their largest entries: on the 200 problems of `wahba.json` the step takes Markley's SVD and
-/// QUEST to a few 1e-5° of the f64 optimum (`docs/accuracy.md`). Since `g` vanishes exactly at the optimum,
-/// the step cannot move away from it more than the neglected Hessian terms (relative size =
-/// the residuals) times the starting error. (Accepting the step only if the f32 loss decreases
+/// QUEST to a few 1e-5° of the f64 optimum (`docs/accuracy.md`). Since `g` vanishes exactly at the
+/// optimum, the step cannot move away from it more than the neglected Hessian terms (relative
+/// size = the residuals) times the starting error. (Accepting the step only if the f32 loss decreases
 /// was tried and is worse: the loss cannot resolve steps of 1e-6 rad.) `H⁻¹g` is its adjugate
 /// times `g` over its determinant; `q'` is normalised by `1 − ½|δθ/2|²` (exact to f32 for the
 /// steps allowed). Skipped if `H` is singular or the step exceeds [`REFINE_MAX_STEP_RAD`].

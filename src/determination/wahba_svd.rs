@@ -46,8 +46,8 @@
 //! rotation about the common direction by more than 1e-3 rad). Measured on the 200 problems of
 //! `tests/data/attitude/wahba.json` (2–6 vectors, 51 of them with two, noise 0–0.01 rad):
 //! [`solve`] within 1.8e-5° of the f64 optimum (RMS 5.9e-6°), [`solve_raw`] within 1.6e-5°
-//! (`cargo test --test determination wahba -- --nocapture`; `docs/accuracy.md`). MSP430 (no hardware
-//! multiplier): 100 601 cycles for two observations, 487 427 for three
+//! (`cargo test --test determination wahba -- --nocapture`; `docs/accuracy.md`). MSP430 (no
+//! hardware multiplier): 100 601 cycles for two observations, 487 427 for three
 //! (`firmware/msp430-bench --groups det`).
 //!
 //! # Example

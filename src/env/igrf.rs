@@ -119,9 +119,9 @@
 //! B_φ (`f32_error_against_f64_synthesis`). Frames: the TEME output adds the
 //! rotation by GMST, whose f32 error (2.4e-7 rad, [`crate::time::gmst_rad`]) moves a 50 000 nT
 //! vector by 0.012 nT. Truncation at degree 8 / 10 costs up to 170 / 36 nT (0.37° / 0.08°) at
-//! 400 km, less higher up (`docs/accuracy.md`). Staleness: the secular variation is at most 165 nT/yr at
-//! 400 km, so coefficients evaluated 10 min ago are within 0.003 nT, a day ago within 0.45 nT
-//! (`refresh_interval` in `tests/igrf.rs`). Cost (f32 operations): see "Algorithm" (104 terms
+//! 400 km, less higher up (`docs/accuracy.md`). Staleness: the secular variation is at most
+//! 165 nT/yr at 400 km, so coefficients evaluated 10 min ago are within 0.003 nT, a day ago within
+//! 0.45 nT (`refresh_interval` in `tests/igrf.rs`). Cost (f32 operations): see "Algorithm" (104 terms
 //! at degree 13, 65 at 10, 44 at 8).
 //!
 //! # Example
@@ -497,8 +497,8 @@ pub const FULL_COEFFS: usize = N_COEFFS;
 /// is built, in its own storage with [`Igrf::emplace_epoch`].
 ///
 /// The field changes with the date by at most 165 nT per year in low Earth orbit (0.003 nT in
-/// 10 minutes, 0.45 nT in a day: the secular variation, `docs/accuracy.md`), so a copy refreshed every few
-/// minutes ([`Igrf::refresh`], in place) is as good as a fresh one.
+/// 10 minutes, 0.45 nT in a day: the secular variation, `docs/accuracy.md`), so a copy refreshed
+/// every few minutes ([`Igrf::refresh`], in place) is as good as a fresh one.
 #[derive(Debug, Clone, Copy)]
 pub struct Igrf<const COEFFS: usize = FULL_COEFFS> {
     /// `N_n^m g_n^m(t)` and `N_n^m h_n^m(t)` (Schmidt factor folded in) in column order for

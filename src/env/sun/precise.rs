@@ -51,15 +51,15 @@
 //! rounding). No f64, no division but the aberration's, 2 table sine-cosines; the 36 cosines of
 //! the periodic and nutation terms are Q14 table values times 16-bit amplitudes summed in i32
 //! (exact; one conversion to f32 per sum; the periodic terms are a table walked by one loop, for
-//! flash), and the fundamental arguments are exact 32-bit fixed point. About 47 400 MSP430 cycles without hardware multiplier (`docs/firmware.md`, "MSP430 firmware and cycle
-//! budget").
+//! flash), and the fundamental arguments are exact 32-bit fixed point. About 47 400 MSP430 cycles
+//! without hardware multiplier (`docs/firmware.md`, "MSP430 firmware and cycle budget").
 //!
 //! # Range and measured accuracy
 //! Years 1950–2100 in TT ([`sun_tt`]); from UTC ([`sun`]) 1972–2100, the leap-second era. Other
 //! years give [`SunError`]. Against the apparent Sun of JPL DE421 in TEME of date
-//! (`tests/data/sun/sun_de421.csv`, 400 instants 1990–2050, UTC input): see `docs/accuracy.md`, "Sun
-//! direction" table (`cargo test --test sun -- --nocapture`, which holds 15″ and 2e-5 AU on every
-//! row); over the whole range 1950–2100 against the full abridged series of Meeus in f64
+//! (`tests/data/sun/sun_de421.csv`, 400 instants 1990–2050, UTC input): see `docs/accuracy.md`,
+//! "Sun direction" table (`cargo test --test sun -- --nocapture`, which holds 15″ and 2e-5 AU on
+//! every row); over the whole range 1950–2100 against the full abridged series of Meeus in f64
 //! (test `precise_truncation_over_1950_2100`).
 
 use super::{year_of_day, LinearAngle, Sun, SunError};

@@ -504,9 +504,9 @@ pub fn detumble() -> Result<Scenario, SimError> {
 
 /// Tracking with wheels and noisy tiles on a dawn-dusk orbit (no eclipse), flying
 /// [`crate::flight::CONFIG`]: hold an inertial attitude from an initial 20° error.
-/// `failed_tile`: that tile fails at 600 s. The requirement "< 0.1° within one orbit and after" (`docs/closed-loop.md`) is not
-/// met with the flight configuration: its degree-8 field model alone turns the attitude about
-/// the Sun line by up to 0.11° on this orbit (`tests/closed_loop.rs` prints the figures).
+/// `failed_tile`: that tile fails at 600 s. The requirement "< 0.1° within one orbit and after"
+/// (`docs/closed-loop.md`) is not met with the flight configuration: its degree-8 field model alone
+/// turns the attitude about the Sun line by up to 0.11° on this orbit (`tests/closed_loop.rs` prints the figures).
 pub fn tracking(failed_tile: Option<usize>) -> Result<Scenario, SimError> {
     // dawn-dusk: the orbit normal near the Sun at the March equinox (RAAN 90°)
     let tle = make_tle(
