@@ -59,12 +59,8 @@ use crate::linalg::{Mat3, Vec3};
 /// The number of tiles of the flight configuration (the thesis's cube): the loop is sized to it.
 pub const TILES: usize = 6;
 
-/// The flight degree of the IGRF model.
-pub const IGRF_DEGREE: Degree = match Degree::new(8) {
-    Ok(d) => d,
-    // allow-panic: evaluated at compile time only (a constant), never on board
-    Err(_) => panic!("the flight IGRF degree must be 1..=13"),
-};
+/// The flight degree of the IGRF model: all the flight tables hold (8).
+pub const IGRF_DEGREE: Degree = FLIGHT.degree();
 
 /// Room for the IGRF coefficients of the flight degree: 80 (320 B of loop state).
 pub const FIELD_COEFFS: usize = coefficient_count(IGRF_DEGREE.get());

@@ -29,4 +29,8 @@ fn flight_loop_builds() {
     let orbit = Sgp4::new(&tle, Gravity::Wgs72).unwrap();
     let acs = FlightLoop::new(&CONFIG, orbit).unwrap();
     assert_eq!(acs.tiles().len(), acs::flight::TILES);
+    // the flight degree is the flight tables' (decision 3 of #17), and the loop holds its
+    // coefficients
+    assert_eq!(acs::flight::IGRF_DEGREE.get(), 8);
+    assert_eq!(acs::flight::FIELD_COEFFS, 80);
 }

@@ -231,7 +231,7 @@ impl Model {
     }
 
     /// The highest degree its tables hold (13, or 8 for [`FLIGHT`]).
-    pub fn degree(&self) -> Degree {
+    pub const fn degree(&self) -> Degree {
         Degree(self.degree)
     }
 
