@@ -278,6 +278,24 @@ impl StepReport {
         self.faults = Faults::default();
     }
 
+    /// True if every value the report holds is finite (no NaN, no infinity): what the loop
+    /// promises whatever its inputs (the fault table, the soak and the fuzzing check it).
+    pub fn is_finite(&self) -> bool {
+        let finite = |v: &Vec3| v.iter().all(|x| x.is_finite());
+        let q_finite = |q: &Quaternion| [q.q0, q.q1, q.q2, q.q3].iter().all(|x| x.is_finite());
+        [self.omega_body_radps, self.b_body_nt, self.sun_body]
+            .iter()
+            .flatten()
+            .all(finite)
+            && [self.attitude, self.measured_attitude]
+                .iter()
+                .flatten()
+                .all(q_finite)
+            && self.sun_fraction.is_none_or(f32::is_finite)
+            && finite(&self.dipole_body_am2)
+            && finite(&self.h_wheels_body)
+    }
+
     /// A report of nothing measured or commanded yet, in `mode` (the value a caller of
     /// [`AcsLoop::step_into`] starts from).
     pub fn empty(mode: Mode) -> Self {

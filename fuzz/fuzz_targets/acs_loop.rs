@@ -18,11 +18,11 @@ use libfuzzer_sys::fuzz_target;
 /// The largest number of steps of one input.
 const MAX_STEPS: usize = 64;
 
-/// A limit `l` may be met by a command rounded once more after scaling to it: `l (1 + 2ε)`
-/// (ε = f32::EPSILON; the allocation scales by `l / max`, one rounding each for the quotient
-/// and the product).
+/// A command within its limit, exactly: the allocation scales a saturated command by one ulp
+/// less than the rounded `limit / max`, so no rounding takes it past the limit (a driver refuses
+/// anything above it).
 fn within(x: f32, limit: f32) -> bool {
-    x.is_finite() && x.abs() <= limit * (1.0 + 2.0 * f32::EPSILON)
+    x.is_finite() && x.abs() <= limit
 }
 
 struct FuzzBus<'a> {
