@@ -1264,7 +1264,8 @@ impl TileBus for Simulator {
             return Err(ErrorKind::DeviceAbsent);
         }
         let h = f64::from(h_nms);
-        if !h.is_finite() || h.abs() > self.config.wheel_max_h_nms * (1.0 + 1e-6) {
+        // the drive refuses anything past its limit, compared as it receives it (f32)
+        if !h_nms.is_finite() || h_nms.abs() > self.config.wheel_max_h_nms as f32 {
             return Err(ErrorKind::OutOfRange);
         }
         let h = self.faults.wheel(self.truth.t_s, tile, h)?;
@@ -1284,7 +1285,7 @@ impl TileBus for Simulator {
             .ok_or(ErrorKind::DeviceAbsent)?;
         let m = f64::from(m_am2);
         let t = self.truth.t_s;
-        if !m.is_finite() || m.abs() > limit * (1.0 + 1e-6) {
+        if !m_am2.is_finite() || m_am2.abs() > limit as f32 {
             // the driver switches the coil off (unless the bus or the coil itself fails)
             let off = self.faults.coil(t, coil, 0.0)?;
             if let Some(c) = self.coil_cmd.get_mut(coil) {
