@@ -2,6 +2,7 @@
 #![allow(dead_code)]
 
 use acs::orbit::sgp4::{Gravity, Sgp4};
+use acs::time::TimeSpan;
 use acs::tle::{checksum, Tle};
 use arbitrary::{Arbitrary, Unstructured};
 
@@ -138,5 +139,31 @@ pub fn check_report(r: &acs::acs_loop::StepReport) {
     }
     if let Some(f) = r.sun_fraction {
         assert!((0.0..=1.0).contains(&f), "{r:?}");
+    }
+}
+
+/// `s` and `twin` (the same set read back from its words) propagate alike over `span` (an error
+/// compared by its text: a NaN inside it is unequal to itself); an accepted state is finite, and
+/// so is one of `s` at an arbitrary split time drawn from `u`.
+pub fn check_propagation(s: &Sgp4, twin: &Sgp4, span: TimeSpan, u: &mut Unstructured, what: &str) {
+    let finite = |st: &acs::orbit::TemeState| {
+        st.r_teme_km
+            .iter()
+            .chain(st.v_teme_kmps.iter())
+            .all(|x| x.is_finite())
+    };
+    let a = s.propagate(span);
+    assert_eq!(
+        format!("{a:?}"),
+        format!("{:?}", twin.propagate(span)),
+        "{what}: the words propagate as the set"
+    );
+    if let Ok(st) = a {
+        assert!(finite(&st), "{what}: {span:?}: {st:?}");
+    }
+    if let Ok(m) = u.arbitrary::<(f32, f32)>() {
+        if let Ok(st) = s.propagate_split(m.0, m.1) {
+            assert!(finite(&st), "{what}: split {m:?}: {st:?}");
+        }
     }
 }

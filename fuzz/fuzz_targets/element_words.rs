@@ -50,31 +50,6 @@ fuzz_target!(|data: &[u8]| {
             break;
         };
         let span = TimeSpan::from_whole_seconds(seconds);
-        let a = s.propagate(span);
-        let b = again.propagate(span);
-        // Debug text: a NaN inside an error compares unequal to itself
-        assert_eq!(
-            format!("{a:?}"),
-            format!("{b:?}"),
-            "re-read words propagate as the original"
-        );
-        if let Ok(st) = a {
-            assert!(
-                st.r_teme_km
-                    .iter()
-                    .chain(st.v_teme_kmps.iter())
-                    .all(|x| x.is_finite()),
-                "an accepted state is finite: {st:?}"
-            );
-        }
-        if let Ok(m) = u.arbitrary::<(f32, f32)>() {
-            if let Ok(st) = s.propagate_split(m.0, m.1) {
-                assert!(st
-                    .r_teme_km
-                    .iter()
-                    .chain(st.v_teme_kmps.iter())
-                    .all(|x| x.is_finite()));
-            }
-        }
+        common::check_propagation(&s, &again, span, &mut u, "re-read words");
     }
 });

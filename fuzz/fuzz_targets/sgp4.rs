@@ -36,30 +36,6 @@ fuzz_target!(|data: &[u8]| {
             break;
         };
         let span = TimeSpan::new(seconds, nanos);
-        let a = s.propagate(span);
-        // Debug text: a NaN inside an error compares unequal to itself
-        assert_eq!(
-            format!("{a:?}"),
-            format!("{:?}", w.propagate(span)),
-            "words propagate as the set"
-        );
-        if let Ok(st) = a {
-            assert!(
-                st.r_teme_km
-                    .iter()
-                    .chain(st.v_teme_kmps.iter())
-                    .all(|x| x.is_finite()),
-                "{l1}\n{l2}\n{span:?}: {st:?}"
-            );
-        }
-        if let Ok(m) = u.arbitrary::<(f32, f32)>() {
-            if let Ok(st) = s.propagate_split(m.0, m.1) {
-                assert!(st
-                    .r_teme_km
-                    .iter()
-                    .chain(st.v_teme_kmps.iter())
-                    .all(|x| x.is_finite()));
-            }
-        }
+        common::check_propagation(&s, &w, span, &mut u, &format!("{l1}\n{l2}"));
     }
 });
