@@ -3,6 +3,7 @@
 use std::path::PathBuf;
 
 use super::CliError;
+use crate::host::sim::campaign::{self, Campaign, Progress, Summary};
 use crate::host::sim::realistic::TruthLevel;
 use crate::host::sim::{pil, plan_flight, plot, scenarios, Sample};
 
@@ -55,6 +56,26 @@ pub struct Args {
     /// With `--pil`: where to write the run's summary.
     #[arg(long, default_value = "target/msp430/pil.json")]
     pil_json: PathBuf,
+    /// Monte Carlo campaign: N dispersed runs of the scenario ([`campaign`]).
+    #[arg(long)]
+    runs: Option<usize>,
+    /// The campaign's seed S: run k follows from (S, k) alone.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Threads of a campaign (default: every core); the results do not depend on it.
+    #[arg(long)]
+    jobs: Option<usize>,
+    /// Replays run K of the campaign seeded S, with its full time series (the files of a
+    /// single `acs sim`).
+    #[arg(long)]
+    run: Option<usize>,
+    /// Runs only runs A to B−1 of the campaign (a slice for a batch scheduler's job array;
+    /// `acs sim merge` combines slices).
+    #[arg(long, value_name = "A..B")]
+    range: Option<String>,
+    /// `acs sim merge DIR... --out DIR`: the slices to combine.
+    #[arg(hide = true)]
+    dirs: Vec<PathBuf>,
 }
 
 /// The built-in scenario `name`.
@@ -70,6 +91,18 @@ fn scenario(name: &str, truth: Truth) -> Result<scenarios::Scenario, CliError> {
 
 /// Runs `acs sim`.
 pub fn run(args: &Args) -> Result<(), CliError> {
+    if args.scenario == "merge" {
+        return merge_run(args);
+    }
+    if !args.dirs.is_empty() {
+        return Err(CliError::Input(format!(
+            "unexpected argument `{}`",
+            args.dirs[0].display()
+        )));
+    }
+    if args.runs.is_some() || args.run.is_some() || args.range.is_some() {
+        return campaign_run(args);
+    }
     if args.scenario == "plan-flight" || args.scenario == "plan-flight-wheels" {
         return plan_flight_run(&args.scenario, args.out.clone());
     }
@@ -229,5 +262,160 @@ fn plan_flight_run(name: &str, out: Option<PathBuf>) -> Result<(), CliError> {
     std::fs::write(dir.join("errors.txt"), &report)
         .map_err(|e| CliError::Compute(e.to_string()))?;
     print!("{report}");
+    Ok(())
+}
+
+/// `A..B` of `--range`.
+fn parse_range(text: &str, runs: usize) -> Result<std::ops::Range<usize>, CliError> {
+    let bad = || {
+        CliError::Input(format!(
+            "--range `{text}`: expected A..B with A < B ≤ --runs ({runs})"
+        ))
+    };
+    let (a, b) = text.split_once("..").ok_or_else(bad)?;
+    let (a, b): (usize, usize) = (
+        a.trim().parse().map_err(|_| bad())?,
+        b.trim().parse().map_err(|_| bad())?,
+    );
+    if a >= b || b > runs {
+        return Err(bad());
+    }
+    Ok(a..b)
+}
+
+/// `acs sim SCENARIO --runs N [--seed S] [--jobs J] [--run K] [--range A..B] --out DIR`.
+fn campaign_run(args: &Args) -> Result<(), CliError> {
+    if args.pil {
+        return Err(CliError::Input(
+            "--pil flies one run: not with --runs, --run or --range".into(),
+        ));
+    }
+    let out = args
+        .out
+        .clone()
+        .ok_or_else(|| CliError::Input("a campaign needs --out DIR".into()))?;
+    let campaign = Campaign {
+        scenario: args.scenario.clone(),
+        truth: args.truth.into(),
+        seed: args.seed,
+        runs: args.runs.unwrap_or(usize::MAX),
+    };
+    if args.jobs == Some(0) {
+        return Err(CliError::Input("--jobs: at least one".into()));
+    }
+    if let Some(k) = args.run {
+        if args.range.is_some() {
+            return Err(CliError::Input(
+                "--run replays one run: not with --range".into(),
+            ));
+        }
+        if args.runs.is_some_and(|n| k >= n) {
+            return Err(CliError::Input(format!(
+                "--run {k}: the campaign has runs 0..{}",
+                campaign.runs
+            )));
+        }
+        Campaign {
+            runs: 1,
+            ..campaign.clone()
+        }
+        .validate()
+        .map_err(CliError::Input)?;
+        let (scenario, samples) = campaign
+            .replay(k)
+            .map_err(|e| CliError::Compute(e.to_string()))?;
+        let files = plot::write_all(&out, &samples).map_err(CliError::Compute)?;
+        print_summary(&scenario, &samples, &files, &out)?;
+        println!(
+            "campaign_run: {k} (seed {}, run seed {})",
+            campaign.seed,
+            campaign::run_seed(campaign.seed, k)
+        );
+        let r = campaign.run_one(k);
+        for (m, v) in campaign.metrics().iter().zip(r.values.iter()) {
+            let verdict = match m.limit {
+                None => String::new(),
+                Some(_) if m.met(*v) => format!(" (met: {})", m.limit_text()),
+                Some(_) => format!(" (NOT met: {})", m.limit_text()),
+            };
+            println!("{}: {v}{verdict}", m.key);
+        }
+        for (d, v) in campaign::dispersion::DRAWN.iter().zip(r.drawn.iter()) {
+            println!("dispersed_{d}: {v}");
+        }
+        return Ok(());
+    }
+    if args.runs.is_none() {
+        return Err(CliError::Input(
+            "--range: a slice of a campaign of --runs N".into(),
+        ));
+    }
+    campaign.validate().map_err(CliError::Input)?;
+    let range = match &args.range {
+        Some(r) => parse_range(r, campaign.runs)?,
+        None => 0..campaign.runs,
+    };
+    let total = range.len();
+    let bar = indicatif::ProgressBar::with_draw_target(
+        Some(total as u64),
+        indicatif::ProgressDrawTarget::stderr(),
+    );
+    if let Ok(style) = indicatif::ProgressStyle::with_template(
+        "{prefix} [{bar:30}] {pos}/{len} runs, {msg}, {per_sec}, ETA {eta}",
+    ) {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    bar.set_prefix(format!("campaign {}", campaign.scenario));
+    bar.set_message("0 failed");
+    let progress = Progress::default();
+    let started = std::time::Instant::now();
+    let results = campaign
+        .run_range(range.clone(), args.jobs, &|met| {
+            let (_, failed) = progress.count(met);
+            if !met {
+                bar.set_message(format!("{failed} failed"));
+            }
+            bar.inc(1);
+        })
+        .map_err(CliError::Compute)?;
+    bar.finish_and_clear();
+    let seconds = started.elapsed().as_secs_f64();
+    let jobs = args.jobs.unwrap_or_else(rayon::current_num_threads);
+    eprintln!(
+        "campaign {}: {total} runs in {seconds:.1} s on {jobs} jobs ({:.1} runs/s)",
+        campaign.scenario,
+        total as f64 / seconds.max(1e-9)
+    );
+    if range.len() == campaign.runs {
+        campaign::write_campaign(&out, &campaign, &results).map_err(CliError::Compute)?;
+        print!("{}", Summary::of(&campaign, &results).markdown());
+    } else {
+        campaign::write_slice(&out, &campaign, &range, &results).map_err(CliError::Compute)?;
+        let failed = results.iter().filter(|r| !campaign.met(r)).count();
+        println!(
+            "slice {}..{} of campaign {} (seed {}, {} runs): {} runs, {failed} missed a requirement; files: campaign.json, runs.csv, series.csv in {}",
+            range.start,
+            range.end,
+            campaign.scenario,
+            campaign.seed,
+            campaign.runs,
+            total,
+            out.display()
+        );
+    }
+    Ok(())
+}
+
+/// `acs sim merge DIR... --out DIR`.
+fn merge_run(args: &Args) -> Result<(), CliError> {
+    let out = args
+        .out
+        .clone()
+        .ok_or_else(|| CliError::Input("merge needs --out DIR".into()))?;
+    if args.dirs.is_empty() {
+        return Err(CliError::Input("merge: no slice folder given".into()));
+    }
+    let (campaign, results) = campaign::merge(&args.dirs, &out).map_err(CliError::Input)?;
+    print!("{}", Summary::of(&campaign, &results).markdown());
     Ok(())
 }

@@ -51,6 +51,7 @@
 //! [`Simulator::wheel_momentum_nms`] is the simulator side of the HAL read-back issue #18 asks
 //! for: once [`TileBus`] has `read_wheel_momentum`, the simulator implements it by that call.
 
+pub mod campaign;
 pub mod faults;
 pub mod pil;
 pub mod plan_flight;
@@ -149,6 +150,9 @@ pub struct Disturbances {
     pub reflectance: f64,
     /// Gravity gradient on.
     pub gravity_gradient: bool,
+    /// Atmospheric density relative to the truth's drag model (1: the model's; the Monte Carlo
+    /// campaigns disperse it, [`campaign::Dispersions`]).
+    pub density_factor: f64,
 }
 
 impl Disturbances {
@@ -165,6 +169,7 @@ impl Disturbances {
             ),
             reflectance: 0.6,
             gravity_gradient: true,
+            density_factor: 1.0,
         }
     }
     /// No disturbance.
@@ -176,6 +181,7 @@ impl Disturbances {
             residual_dipole_am2: Vec3d::zeros(),
             reflectance: 0.0,
             gravity_gradient: false,
+            density_factor: 1.0,
         }
     }
 }
@@ -195,6 +201,11 @@ pub struct SimConfig {
     pub coils: Vec<(Vec3d, f64)>,
     /// Wheel momentum limit, kg·m²/s.
     pub wheel_max_h_nms: f64,
+    /// Each tile's wheel axis in body axes, its length the wheel's momentum scale (a wheel
+    /// whose momentum is `h` along its spin axis puts `h · axis` on the body); empty: each
+    /// tile's outward normal, unit length (the nominal wheels; the Monte Carlo campaigns
+    /// disperse them, [`campaign::Dispersions`]).
+    pub wheel_axes_body: Vec<Vec3d>,
     /// Wheel torque limit, N·m.
     pub wheel_max_torque_nm: f64,
     /// Sun-sensor field of view (half angle from the normal), rad.
@@ -585,6 +596,7 @@ impl Simulator {
         self.real
             .as_ref()
             .map_or(4.38e-12, |r| r.model.solar_activity.density_500km())
+            * self.config.disturbances.density_factor
     }
 
     /// The external torque on the body now (magnetic + disturbances), N·m, body axes, with the
@@ -621,14 +633,23 @@ impl Simulator {
         tau
     }
 
+    /// Each tile's wheel axis in body axes, scaled by the wheel's momentum scale
+    /// ([`SimConfig::wheel_axes_body`]).
+    pub fn wheel_axes_body(&self) -> Vec<Vec3d> {
+        if self.config.wheel_axes_body.len() == self.config.tiles.len() {
+            self.config.wheel_axes_body.clone()
+        } else {
+            self.config
+                .tiles
+                .iter()
+                .map(|t| t.normal_body().cast::<f64>())
+                .collect()
+        }
+    }
+
     /// The tiles' wheel axes (body) and whether each tile has a wheel.
     fn wheel_axes(&self) -> (Vec<Vec3d>, Vec<bool>) {
-        let axes = self
-            .config
-            .tiles
-            .iter()
-            .map(|t| t.normal_body().cast::<f64>())
-            .collect();
+        let axes = self.wheel_axes_body();
         let ok = self
             .config
             .tiles
@@ -743,7 +764,7 @@ impl Simulator {
             return Ok(());
         };
         let (axes, wheel_ok) = self.wheel_axes();
-        let rho = real.model.solar_activity.density_500km();
+        let rho = self.density_500km();
         let pending = real.devices.wheels.iter().any(|w| w.pending_nms.is_some())
             || real.devices.coils.iter().any(|c| c.pending_am2.is_some());
         let split = if pending {
@@ -1332,10 +1353,8 @@ impl Sample {
     pub fn of_step(sim: &Simulator, t: f64, report: StepReport, target: Option<[f64; 4]>) -> Self {
         let truth = sim.truth();
         let h_body = sim
-            .config
-            .tiles
-            .iter()
-            .map(|t| t.normal_body().cast::<f64>())
+            .wheel_axes_body()
+            .into_iter()
             .zip(truth.wheel_h.iter())
             .fold(Vec3d::zeros(), |a, (z, h)| a + z * *h);
         let pointing_error_deg = target.map(|q| {

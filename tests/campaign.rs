@@ -1,0 +1,211 @@
+//! Monte Carlo campaigns (`acs sim SCENARIO --runs N`, `acs::host::sim::campaign`): results
+//! that do not depend on the number of threads nor on slicing, runs reproducible alone,
+//! dispersions within their declared distributions, and the command line's refusals.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use acs::host::sim::campaign::{self, dispersion::DRAWN, Campaign, Dispersions};
+use acs::host::sim::realistic::TruthLevel;
+use acs::host::sim::scenarios;
+
+fn temp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("acs-campaign-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+/// A small campaign of the shortest scenario (the thesis slew, 240 s).
+fn small() -> Campaign {
+    Campaign {
+        scenario: "thesis-slew-noisy".into(),
+        truth: TruthLevel::Realistic,
+        seed: 42,
+        runs: 6,
+    }
+}
+
+const FILES: [&str; 5] = [
+    "campaign.json",
+    "runs.csv",
+    "series.csv",
+    "summary.json",
+    "summary.md",
+];
+
+fn same_files(a: &Path, b: &Path) {
+    for f in FILES {
+        let (x, y) = (
+            std::fs::read(a.join(f)).unwrap(),
+            std::fs::read(b.join(f)).unwrap(),
+        );
+        assert!(
+            x == y,
+            "{f} differs between {} and {}",
+            a.display(),
+            b.display()
+        );
+    }
+}
+
+#[test]
+fn results_do_not_depend_on_jobs_nor_on_slices() {
+    let c = small();
+    let one = c.run_range(0..c.runs, Some(1), &|_| {}).unwrap();
+    let two = c.run_range(0..c.runs, Some(2), &|_| {}).unwrap();
+    assert_eq!(one, two);
+    let (d1, d2) = (temp("jobs1"), temp("jobs2"));
+    campaign::write_campaign(&d1, &c, &one).unwrap();
+    campaign::write_campaign(&d2, &c, &two).unwrap();
+    same_files(&d1, &d2);
+
+    // three slices, given out of order, merge into the same files
+    let slices: Vec<PathBuf> = [(4, 6), (0, 1), (1, 4)]
+        .iter()
+        .map(|&(a, b)| {
+            let d = temp(&format!("slice{a}"));
+            let r = c.run_range(a..b, Some(2), &|_| {}).unwrap();
+            campaign::write_slice(&d, &c, &(a..b), &r).unwrap();
+            d
+        })
+        .collect();
+    let merged = temp("merged");
+    let (mc, mr) = campaign::merge(&slices, &merged).unwrap();
+    assert_eq!(mc, c);
+    assert_eq!(mr, one);
+    same_files(&d1, &merged);
+
+    // a gap or an overlap is refused
+    let gap = campaign::merge(&slices[..2], &temp("gap")).unwrap_err();
+    assert!(gap.contains("in no slice"), "{gap}");
+    let twice = [slices[1].clone(), slices[2].clone(), slices[2].clone()];
+    let overlap = campaign::merge(&twice, &temp("overlap")).unwrap_err();
+    assert!(overlap.contains("two slices"), "{overlap}");
+    for d in slices.iter().chain([&d1, &d2, &merged]) {
+        let _ = std::fs::remove_dir_all(d);
+    }
+}
+
+#[test]
+fn a_run_replays_alone() {
+    let c = small();
+    let all = c.run_range(0..c.runs, None, &|_| {}).unwrap();
+    let k = 3;
+    let alone = Campaign {
+        runs: 1_000,
+        ..c.clone()
+    }
+    .run_one(k);
+    assert_eq!(alone, all[k]);
+    // and its full time series gives the same metrics
+    let (scenario, samples) = c.replay(k).unwrap();
+    let values = campaign::requirements::evaluate(&c.metrics(), &samples, scenario.dt_s);
+    assert_eq!(values, all[k].values);
+}
+
+/// Every scenario's dispersions draw within their declared distributions, and change the
+/// truth, not the loop's configuration.
+#[test]
+fn dispersions_within_their_distributions() {
+    for name in scenarios::NAMES {
+        let d = Dispersions::of(name);
+        let nominal = scenarios::by_name(name).unwrap().unwrap();
+        for seed in 1..30u64 {
+            let mut s = scenarios::by_name(name).unwrap().unwrap();
+            let drawn = d.apply(&mut s, seed).unwrap();
+            assert_eq!(drawn.len(), DRAWN.len());
+            for scale in &drawn[2..5] {
+                assert!((scale - 1.0).abs() <= d.inertia_moments, "{name}: {scale}");
+            }
+            let days = drawn[8];
+            match d.epoch {
+                campaign::dispersion::EpochDispersion::SunSynchronous(span)
+                | campaign::dispersion::EpochDispersion::Start(span) => {
+                    assert!((0.0..span).contains(&days), "{name}: {days}")
+                }
+            }
+            let (lo, hi) = d.density_factor;
+            assert!((lo..=hi).contains(&drawn[9]), "{name}: {}", drawn[9]);
+            assert_eq!(s.sim.seed, seed);
+            assert!(s.sim.inertia != nominal.sim.inertia);
+            // the truth's inertia stays symmetric positive definite
+            let i = s.sim.inertia;
+            assert!((i - i.transpose()).abs().max() < 1e-15);
+            assert!(i.symmetric_eigenvalues().iter().all(|e| *e > 0.0));
+            // the loop flies the same configuration
+            assert_eq!(
+                format!("{:?}", s.flight.config()),
+                format!("{:?}", nominal.flight.config())
+            );
+            // the element set still initialises and its epoch is the start
+            s.orbit().unwrap();
+        }
+    }
+}
+
+fn acs(args: &[&str]) -> (i32, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_acs"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn command_line_refuses_bad_campaigns() {
+    let d = temp("cli");
+    let out = d.to_str().unwrap();
+    for args in [
+        vec!["sim", "tracking", "--runs", "0", "--out", out],
+        vec![
+            "sim", "tracking", "--runs", "10", "--range", "5..3", "--out", out,
+        ],
+        vec![
+            "sim", "tracking", "--runs", "10", "--range", "5..11", "--out", out,
+        ],
+        vec![
+            "sim", "tracking", "--runs", "10", "--run", "10", "--out", out,
+        ],
+        vec!["sim", "tracking", "--runs", "10"],
+        vec!["sim", "plan-flight", "--runs", "10", "--out", out],
+        vec![
+            "sim", "tracking", "--runs", "10", "--jobs", "0", "--out", out,
+        ],
+        vec!["sim", "merge", "--out", out],
+        vec!["sim", "merge", "/nonexistent-slice", "--out", out],
+    ] {
+        let (code, err) = acs(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+    }
+    // a slice and its merge through the command line
+    let slice = temp("cli-slice");
+    let (code, err) = acs(&[
+        "sim",
+        "thesis-slew-noisy",
+        "--runs",
+        "2",
+        "--range",
+        "0..2",
+        "--seed",
+        "7",
+        "--out",
+        slice.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let merged = temp("cli-merged");
+    let (code, err) = acs(&[
+        "sim",
+        "merge",
+        slice.to_str().unwrap(),
+        "--out",
+        merged.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(merged.join("summary.md").exists() && merged.join("worst/run.csv").exists());
+    for p in [&d, &slice, &merged] {
+        let _ = std::fs::remove_dir_all(p);
+    }
+}
