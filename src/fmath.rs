@@ -3,7 +3,7 @@
 //!
 //! Every flight module calls these functions rather than `libm` directly. On the MSP430 (no FPU,
 //! 16-bit) `libm`'s `sinf`, `atan2f`, `sqrtf`… compute internally in f64 and cost
-//! 60 000–200 000 cycles a call (`../shared/notes/msp430-toolchain.md`); the kernels here use
+//! 60 000–200 000 cycles a call (`docs/firmware.md`); the kernels here use
 //! **f32 operations only** (no f64 anywhere) and a handful of multiplications, so they cost a
 //! few thousand cycles (measured by `firmware/msp430-bench`, see `docs/firmware.md`).
 //!

@@ -1,5 +1,6 @@
-//! Two-body (Keplerian) propagator of seed 000 §4.1, as written out in
-//! `../shared/notes/000-aramis-acs.md` §3.2 (thesis eqs. 4.4–4.13).
+//! Two-body (Keplerian) propagator of M. Bonjean, *Progetto AraMiS: … determinazione ed al
+//! controllo dell'assetto del satellite* (Politecnico di Torino, 2010; "seed 000"), §4.1,
+//! eqs. 4.4–4.13.
 //!
 //! # Use
 //! ```

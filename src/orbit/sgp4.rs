@@ -1,6 +1,6 @@
 //! SGP4, near-Earth: the NORAD analytical propagator as revised by Vallado, Crawford, Hujsak and
 //! Kelso, "Revisiting Spacetrack Report #3", AIAA 2006-6753 (its `sgp4init`/`sgp4` routines), with
-//! the equations written out in `../shared/notes/000-aramis-acs.md` §3.3. Seed 000 §4.3 ran the
+//! the equations as that paper and its code give them. Seed 000 (Bonjean's AraMiS ACS thesis) §4.3 ran the
 //! same code, all in `float`, on the MSP430.
 //!
 //! # Use

@@ -52,7 +52,7 @@ pub fn run(_args: &Args) -> Result<(), CliError> {
     let th = thesis_numbers();
     let get = |k: &str| th.get(k).cloned().unwrap_or_default();
     println!("acs demo — AraMiS ACS thesis, chapter 12, end to end on simulated tiles");
-    println!("(thesis values from ../shared/notes/000-aramis-acs.md §4, copied in data/thesis_ch12.txt)\n");
+    println!("(thesis values: Bonjean, AraMiS ACS thesis, 2010, ch. 12; copied in data/thesis_ch12.txt)\n");
 
     // 1. orbit
     let tle = crate::tle::Tle::parse(DTUSAT_TLE.0, DTUSAT_TLE.1).map_err(compute)?;

@@ -32,7 +32,7 @@
 //! control period, in both truths: the precise Sun is within 2.22″ (RMS 0.82″) of DE421 and
 //! IGRF-14 within 0.2 nT of ppigrf (`docs/accuracy.md`, "Sun direction" and "Geomagnetic field"),
 //! far below what the attitude figures resolve; the orbit is the independent `sgp4` crate (a port
-//! of Vallado's f64 SGP4), which reproduces the reference ephemerides of `../shared/ref/sgp4` to
+//! of Vallado's f64 SGP4), which reproduces Vallado's reference ephemerides (`tests/data/sgp4`) to
 //! 2e-6 m (`docs/accuracy.md`, "SGP4"). What the
 //! realistic truth makes independent of the flight models is what they leave out: the field
 //! beyond degree 8 and beyond IGRF, albedo, the spacecraft's own fields, the devices' errors.
