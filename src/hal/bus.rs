@@ -409,6 +409,26 @@ mod tests {
             assert_eq!(TileBus::set_dipole(&mut borrowed, 0, 0.0), Ok(()));
         }
         assert_eq!(coil.commands.as_slice(), &[-0.05, 0.0]);
+
+        // a driver's own `stop` is the one a borrow calls (not the default zero command)
+        struct Brake(bool);
+        impl ErrorType for Brake {
+            type Error = ErrorKind;
+        }
+        impl ReactionWheel for Brake {
+            fn set_momentum(&mut self, _: f32) -> Result<(), ErrorKind> {
+                Err(ErrorKind::Other)
+            }
+            fn stop(&mut self) -> Result<(), ErrorKind> {
+                self.0 = true;
+                Ok(())
+            }
+        }
+        let mut brake = Brake(false);
+        let mut bus: DeviceBus<NoDevice, NoDevice, NoDevice, &mut Brake, NoDevice, 1, 0> =
+            DeviceBus::new([TileDevices::none().with_wheel(&mut brake)], []);
+        assert_eq!(bus.stop_wheels(), Ok(()));
+        assert!(brake.0);
         assert_eq!(
             sun.read_sun_angles(),
             Ok(Some(crate::tiles::RawSunAngles { a: 1, b: 2 }.to_rad()))

@@ -345,6 +345,11 @@ impl<P: SetDutyCycle, D: OutputPin> PwmMagnetorquer<P, D> {
             max_dipole_am2,
         }
     }
+
+    /// Gives the PWM channel and the direction pin back.
+    pub fn release(self) -> (P, D) {
+        (self.pwm, self.dir)
+    }
 }
 
 impl<P: SetDutyCycle, D: OutputPin> ErrorType for PwmMagnetorquer<P, D> {
@@ -373,6 +378,11 @@ impl<P: SetDutyCycle, D: OutputPin> PwmReactionWheel<P, D> {
             dir,
             max_momentum_nms,
         }
+    }
+
+    /// Gives the PWM channel and the direction pin back.
+    pub fn release(self) -> (P, D) {
+        (self.pwm, self.dir)
     }
 }
 
