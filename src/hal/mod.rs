@@ -14,8 +14,8 @@
 //!
 //! # Who implements [`TileBus`] how
 //! - **A board** builds its drivers (from [`drivers`] or its own types implementing the device
-//!   traits) and hands them to [`bus::DeviceBus`]; `examples/board.rs` runs the flight loop so
-//!   on the host against stand-in peripherals, and `tests/hal_adapter.rs` against
+//!   traits) and hands them to [`bus::DeviceBus`]; `examples/board.rs` runs the flight loop this
+//!   way on the host against stand-in peripherals, and `tests/hal_adapter.rs` against
 //!   `embedded-hal-mock` devices.
 //! - **The host simulator** (`crate::host::sim`, `Simulator`) implements [`TileBus`] directly:
 //!   its simulated devices are computed per tile index from the truth state, with faults
@@ -35,18 +35,19 @@
 //! | sun sensor | two `i16` angles `(a, b)` | [`SUN_LSB_RAD`] = 1e-4 rad |
 //! | magnetometer | two `i16` components along tile x, y | [`MAGNETOMETER_LSB_NT`] = 10 nT |
 //! | gyro | one `i16` rate about tile z | [`GYRO_LSB_RADPS`] = 1e-4 rad/s |
-//! | reaction wheel | momentum along tile z (command and readback) | kg·m²/s |
-//! | magnetorquer | dipole along tile z | A·m² |
+//! | reaction wheel | momentum command along tile z (no read-back yet) | kg·m²/s |
+//! | magnetorquer | dipole command along the coil's axis | A·m² |
 //!
-//! These units are the bus's contract, fixed in [`crate::tiles`] (the flight loop converts with
-//! them). A part with another resolution is configured in its driver, not in the library: the
+//! These units are the bus's contract, fixed in [`crate::tiles`]: the flight loop converts with
+//! them (units per tile in the loop's configuration would change the flight loop and its image,
+//! which is at its flash limit). A part with another resolution is configured in its driver, not in the library: the
 //! driver's scale ([`drivers::Scale`]) converts the part's words into these units
 //! ([`drivers::I2cMagnetometer::with_scale`]). The device traits also give each reading in
 //! physical units ([`Magnetometer::read_field_nt`], [`SunSensor::read_sun_angles`],
 //! [`Gyro::read_rate_radps`]).
 //!
 //! Every call returns a `Result` whose error has a [`ErrorKind`] (device absent, timeout,
-//! value out of range, bus error): the loop marks a tile's device failed when it keeps
+//! value out of range, bus error): the loop marks a tile failed when its devices keep
 //! failing and never uses a value that did not arrive.
 //!
 //! [`SUN_LSB_RAD`]: crate::tiles::SUN_LSB_RAD
