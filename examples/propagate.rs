@@ -2,9 +2,9 @@
 //! attitude: the environment half of the ACS loop, on the host.
 //!
 //! `cargo run --example propagate [-- MINUTES]`: one row per `MINUTES` (default 10) over one
-//! orbit. The orbit (`common::TLE`) is sun-synchronous with its ascending node at 18 h local time, a
-//! dawn-dusk orbit: in March it never enters the Earth's shadow, and with the attitude fixed in
-//! TEME the Sun barely moves in the body while the field turns about twice per orbit.
+//! orbit. The orbit (`common::TLE`) is sun-synchronous with its ascending node at 18 h local
+//! time, a dawn-dusk orbit: in March it never enters the Earth's shadow, and with the attitude
+//! fixed in TEME the Sun barely moves in the body while the field turns about twice per orbit.
 //!
 //! Conventions (`acs::attitude`): the reference frame is TEME of date (SGP4's); the attitude
 //! DCM `A` maps the reference frame to the body, `v_body = A · v_ref`; quaternions are
