@@ -1,8 +1,10 @@
 //! Reference drivers against embedded-hal-mock: register reads, saturation, absent devices,
-//! set/reset pulse, PWM + direction actuators and their refusal of bad commands.
+//! set/reset pulse, PWM + direction actuators and their refusal of bad commands, parts with
+//! another resolution (a driver's `Scale`), readings in physical units.
 
 use acs::hal::drivers::{
-    I2cGyro, I2cMagnetometer, I2cSunSensor, PwmMagnetorquer, PwmReactionWheel, SetResetMagnetometer,
+    I2cGyro, I2cMagnetometer, I2cSunSensor, PwmMagnetorquer, PwmReactionWheel, Scale,
+    SetResetMagnetometer,
 };
 use acs::hal::{ErrorKind, Gyro, Magnetometer, Magnetorquer, ReactionWheel, SunSensor};
 use embedded_hal::i2c::{ErrorKind as I2cErrorKind, NoAcknowledgeSource};
@@ -121,4 +123,56 @@ fn wheel_pwm_and_direction() {
     assert_eq!(wheel.set_momentum(0.02), Err(ErrorKind::OutOfRange));
     pwm.clone().done();
     dir.clone().done();
+}
+
+#[test]
+fn a_part_with_another_resolution_is_configured_in_its_driver() {
+    // a magnetometer counting 0.1 µT = 100 nT: 1603 counts = 160 300 nT = 16 030 bus words;
+    // 4000 counts = 400 000 nT is beyond the bus's ±327 670 nT: refused, not wrapped
+    let i2c = I2cMock::new(&[
+        I2cTx::write_read(
+            0x1e,
+            vec![0x03],
+            [1603i16, -467].map(i16::to_be_bytes).concat(),
+        ),
+        I2cTx::write_read(
+            0x1e,
+            vec![0x03],
+            [4000i16, 0].map(i16::to_be_bytes).concat(),
+        ),
+        I2cTx::write_read(0x1e, vec![0x03], [-3i16, 7].map(i16::to_be_bytes).concat()),
+    ]);
+    let scale = Scale::magnetometer_lsb_nt(100.0).unwrap();
+    let mut mag = I2cMagnetometer::new(i2c, 0x1e, 0x03).with_scale(scale);
+    assert_eq!(mag.read_field_raw(), Ok([16_030, -4_670]));
+    assert_eq!(mag.read_field_raw(), Err(ErrorKind::OutOfRange));
+    // in physical units
+    let b = mag.read_field_nt().unwrap();
+    assert_eq!((b.x, b.y), (-300.0, 700.0));
+    mag.release().done();
+
+    // a gyro counting 1/131 °/s (a common MEMS range): 131 counts = 1 °/s = 174.53 bus words
+    // (1e-4 rad/s), rounded to 175
+    let i2c = I2cMock::new(&[I2cTx::write_read(0x68, vec![0x10], vec![0, 131])]);
+    let lsb = (1.0f32 / 131.0).to_radians();
+    let mut gyro = I2cGyro::new(i2c, 0x68, 0x10).with_scale(Scale::gyro_lsb_radps(lsb).unwrap());
+    assert_eq!(gyro.read_rate_raw(), Ok(175));
+    gyro.release().done();
+
+    // a sun sensor counting 0.5 mrad: 100 counts = 50 mrad = 500 bus words
+    let i2c = I2cMock::new(&[I2cTx::write_read(
+        0x40,
+        vec![0x00],
+        [1i16, 100, -20].map(i16::to_be_bytes).concat(),
+    )]);
+    let mut sun = I2cSunSensor::new(i2c, 0x40, 0x00).with_scale(Scale::sun_lsb_rad(5e-4).unwrap());
+    assert_eq!(sun.read_sun_raw(), Ok(Some([500, -100])));
+    sun.release().done();
+
+    // a scale must be finite and positive
+    assert_eq!(Scale::magnetometer_lsb_nt(0.0), None);
+    assert_eq!(Scale::magnetometer_lsb_nt(-1.0), None);
+    assert_eq!(Scale::magnetometer_lsb_nt(f32::NAN), None);
+    assert_eq!(Scale::magnetometer_lsb_nt(f32::INFINITY), None);
+    assert_eq!(Scale::IDENTITY.convert(i16::MAX - 1), Ok(i16::MAX - 1));
 }

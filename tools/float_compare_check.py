@@ -82,6 +82,7 @@ FLIGHT = [
     "src/frames/real.rs",
     "src/hal/mod.rs",
     "src/hal/drivers.rs",
+    "src/hal/bus.rs",
     "src/linalg/mod.rs",
     "src/linalg/lsq.rs",
     "src/linalg/pseudoinverse.rs",

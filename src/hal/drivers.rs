@@ -4,7 +4,11 @@
 //!
 //! The register maps are those of a generic tile sensor board (the thesis does not fix the
 //! parts): each sensor answers a one-byte register address with big-endian `i16` words. A real
-//! part needs only its own address and registers in the constructors.
+//! part needs only its own address and registers in the constructors, and its resolution in
+//! the driver's [`Scale`] (`with_scale`) when it is not the bus's raw unit
+//! ([`crate::hal`], "Raw formats"): the driver converts its part's words into the bus's units,
+//! so a team with another magnetometer configures its driver and leaves the flight library
+//! (and its raw-unit constants in [`crate::tiles`]) alone.
 //!
 //! Actuator drivers refuse commands beyond their limit or not finite with
 //! [`ErrorKind::OutOfRange`] and switch the device off (the safe state) when they do: a driver
@@ -16,6 +20,7 @@ use embedded_hal::i2c::{self, I2c};
 use embedded_hal::pwm::SetDutyCycle;
 
 use super::{ErrorKind, ErrorType, Gyro, Magnetometer, Magnetorquer, ReactionWheel, SunSensor};
+use crate::tiles::{GYRO_LSB_RADPS, MAGNETOMETER_LSB_NT, SUN_LSB_RAD};
 
 /// Maps an I²C error to a device error kind (NACK of the address: the device is absent).
 fn i2c_kind<E: i2c::Error>(e: &E) -> ErrorKind {
@@ -53,21 +58,101 @@ fn check_saturation(words: &[i16]) -> Result<(), ErrorKind> {
     }
 }
 
-/// A two-axis magnetometer on I²C: register `data_register` holds x then y in 10 nT.
+/// A sensor part's resolution against the bus's raw unit: the factor from a part's word to the
+/// bus's word (`bus = round(part · part_lsb / bus_lsb)`), part of a driver's configuration.
+///
+/// A converted word that reaches either end of the `i16` range is refused as
+/// [`ErrorKind::OutOfRange`] (the loop reads such a word as a saturated device); the part's own
+/// saturated words are refused before conversion.
+#[derive(Copy, Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Scale {
+    bus_per_part: f32,
+}
+
+impl Scale {
+    /// The part's words are already in the bus's unit (the default of every driver).
+    pub const IDENTITY: Self = Self { bus_per_part: 1.0 };
+
+    /// A part whose word is `part_lsb` when the bus's is `bus_lsb` (both in the same unit);
+    /// `None` unless both are finite and positive and their ratio is.
+    pub fn from_lsb(part_lsb: f32, bus_lsb: f32) -> Option<Self> {
+        let factor = part_lsb / bus_lsb;
+        (factor.is_finite() && factor > 0.0 && part_lsb.is_finite()).then_some(Self {
+            bus_per_part: factor,
+        })
+    }
+
+    /// A magnetometer whose word is `lsb_nt` nT (the bus's unit: [`MAGNETOMETER_LSB_NT`]).
+    pub fn magnetometer_lsb_nt(lsb_nt: f32) -> Option<Self> {
+        Self::from_lsb(lsb_nt, MAGNETOMETER_LSB_NT)
+    }
+
+    /// A gyro whose word is `lsb_radps` rad/s (the bus's unit: [`GYRO_LSB_RADPS`]).
+    pub fn gyro_lsb_radps(lsb_radps: f32) -> Option<Self> {
+        Self::from_lsb(lsb_radps, GYRO_LSB_RADPS)
+    }
+
+    /// A sun sensor whose angle word is `lsb_rad` rad (the bus's unit: [`SUN_LSB_RAD`]).
+    pub fn sun_lsb_rad(lsb_rad: f32) -> Option<Self> {
+        Self::from_lsb(lsb_rad, SUN_LSB_RAD)
+    }
+
+    /// The bus's word for the part's word `word`, rounded to nearest;
+    /// [`ErrorKind::OutOfRange`] if it reaches either end of the `i16` range.
+    pub fn convert(&self, word: i16) -> Result<i16, ErrorKind> {
+        if self.bus_per_part == 1.0 {
+            return Ok(word);
+        }
+        let x = libm::roundf(f32::from(word) * self.bus_per_part);
+        // NaN-explicit: a value outside (i16::MIN, i16::MAX) is refused
+        if !(x > f32::from(i16::MIN) && f32::from(i16::MAX) > x) {
+            return Err(ErrorKind::OutOfRange);
+        }
+        Ok(x as i16)
+    }
+
+    /// [`Scale::convert`] of each word.
+    fn convert_all<const N: usize>(&self, words: [i16; N]) -> Result<[i16; N], ErrorKind> {
+        let mut out = [0i16; N];
+        for (o, w) in out.iter_mut().zip(words) {
+            *o = self.convert(w)?;
+        }
+        Ok(out)
+    }
+}
+
+impl Default for Scale {
+    fn default() -> Self {
+        Self::IDENTITY
+    }
+}
+
+/// A two-axis magnetometer on I²C: register `data_register` holds x then y, in 10 nT unless
+/// its [`Scale`] says otherwise.
 pub struct I2cMagnetometer<I> {
     i2c: I,
     address: u8,
     data_register: u8,
+    scale: Scale,
 }
 
 impl<I: I2c> I2cMagnetometer<I> {
-    /// A magnetometer at `address` whose field words start at `data_register`.
+    /// A magnetometer at `address` whose field words (in the bus's 10 nT) start at
+    /// `data_register`.
     pub fn new(i2c: I, address: u8, data_register: u8) -> Self {
         Self {
             i2c,
             address,
             data_register,
+            scale: Scale::IDENTITY,
         }
+    }
+
+    /// The same magnetometer with its part's resolution, e.g.
+    /// `Scale::magnetometer_lsb_nt(100.0)` for a part counting 0.1 µT.
+    pub fn with_scale(self, scale: Scale) -> Self {
+        Self { scale, ..self }
     }
 
     /// Gives the bus back.
@@ -84,7 +169,7 @@ impl<I: I2c> Magnetometer for I2cMagnetometer<I> {
     fn read_field_raw(&mut self) -> Result<[i16; 2], ErrorKind> {
         let words = read_words::<I, 2>(&mut self.i2c, self.address, self.data_register)?;
         check_saturation(&words)?;
-        Ok(words)
+        self.scale.convert_all(words)
     }
 }
 
@@ -127,21 +212,34 @@ impl<M: Magnetometer, P: OutputPin, D: DelayNs> Magnetometer for SetResetMagneto
     }
 }
 
-/// A one-axis gyro on I²C: one word at `data_register`, 1e-4 rad/s.
+/// A one-axis gyro on I²C: one word at `data_register`, 1e-4 rad/s unless its [`Scale`] says
+/// otherwise.
 pub struct I2cGyro<I> {
     i2c: I,
     address: u8,
     data_register: u8,
+    scale: Scale,
 }
 
 impl<I: I2c> I2cGyro<I> {
-    /// A gyro at `address` whose rate word is at `data_register`.
+    /// A gyro at `address` whose rate word (in the bus's 1e-4 rad/s) is at `data_register`.
     pub fn new(i2c: I, address: u8, data_register: u8) -> Self {
         Self {
             i2c,
             address,
             data_register,
+            scale: Scale::IDENTITY,
         }
+    }
+
+    /// The same gyro with its part's resolution ([`Scale::gyro_lsb_radps`]).
+    pub fn with_scale(self, scale: Scale) -> Self {
+        Self { scale, ..self }
+    }
+
+    /// Gives the bus back.
+    pub fn release(self) -> I {
+        self.i2c
     }
 }
 
@@ -153,26 +251,39 @@ impl<I: I2c> Gyro for I2cGyro<I> {
     fn read_rate_raw(&mut self) -> Result<i16, ErrorKind> {
         let [w] = read_words::<I, 1>(&mut self.i2c, self.address, self.data_register)?;
         check_saturation(&[w])?;
-        Ok(w)
+        self.scale.convert(w)
     }
 }
 
 /// A sun sensor on I²C: at `data_register` a status word (non-zero when a spot is detected)
-/// then the angles `a`, `b` in 1e-4 rad.
+/// then the angles `a`, `b` in 1e-4 rad unless its [`Scale`] says otherwise.
 pub struct I2cSunSensor<I> {
     i2c: I,
     address: u8,
     data_register: u8,
+    scale: Scale,
 }
 
 impl<I: I2c> I2cSunSensor<I> {
-    /// A sun sensor at `address` whose status and angle words start at `data_register`.
+    /// A sun sensor at `address` whose status and angle words (in the bus's 1e-4 rad) start at
+    /// `data_register`.
     pub fn new(i2c: I, address: u8, data_register: u8) -> Self {
         Self {
             i2c,
             address,
             data_register,
+            scale: Scale::IDENTITY,
         }
+    }
+
+    /// The same sun sensor with its part's resolution ([`Scale::sun_lsb_rad`]).
+    pub fn with_scale(self, scale: Scale) -> Self {
+        Self { scale, ..self }
+    }
+
+    /// Gives the bus back.
+    pub fn release(self) -> I {
+        self.i2c
     }
 }
 
@@ -187,7 +298,7 @@ impl<I: I2c> SunSensor for I2cSunSensor<I> {
             return Ok(None);
         }
         check_saturation(&[a, b])?;
-        Ok(Some([a, b]))
+        self.scale.convert_all([a, b]).map(Some)
     }
 }
 
@@ -234,6 +345,11 @@ impl<P: SetDutyCycle, D: OutputPin> PwmMagnetorquer<P, D> {
             max_dipole_am2,
         }
     }
+
+    /// Gives the PWM channel and the direction pin back.
+    pub fn release(self) -> (P, D) {
+        (self.pwm, self.dir)
+    }
 }
 
 impl<P: SetDutyCycle, D: OutputPin> ErrorType for PwmMagnetorquer<P, D> {
@@ -262,6 +378,11 @@ impl<P: SetDutyCycle, D: OutputPin> PwmReactionWheel<P, D> {
             dir,
             max_momentum_nms,
         }
+    }
+
+    /// Gives the PWM channel and the direction pin back.
+    pub fn release(self) -> (P, D) {
+        (self.pwm, self.dir)
     }
 }
 
