@@ -155,10 +155,7 @@ fn chapter10_example() {
         let w = rel(&s.omega_body_radps, &vec3(&d, omegas[k]));
         let l = rel(&s.h_body, &vec3(&d, momenta[k]));
         let t = rel(&(s.h_body / 1e-4), &vec3(&d, torques[k]));
-        figure(
-            &format!("control.chapter_10.step{k}_rel"),
-            w.max(l).max(t),
-        );
+        figure(&format!("control.chapter_10.step{k}_rel"), w.max(l).max(t));
         println!("chapter 10 step {k}: rel err omega {w:.2e}, L {l:.2e}, impulse torque {t:.2e}");
         assert!(w < 1e-5 && l < 1e-5 && t < 1e-5, "step {k}: {w} {l} {t}");
     }
