@@ -9,6 +9,9 @@
 use acs::attitude::{Dcm, Euler313, Euler321, Quaternion};
 use acs::linalg::{Mat3, Vec3};
 
+mod figures;
+use figures::figure;
+
 const DEG: f32 = core::f32::consts::PI / 180.0;
 
 fn max_abs(a: &Mat3, b: &Mat3) -> f32 {
@@ -83,6 +86,7 @@ fn thesis_true_attitude_from_euler_321() {
         psi_rad: -45.0 * DEG,
     };
     let a = Dcm::from_euler_321(&e);
+    figure("attitude.thesis_a", max_abs(a.matrix(), &thesis_a()));
     assert_mat_close(a.matrix(), &thesis_a(), 2e-7, "A(0, −30°, −45°)");
     let back = Dcm::from_matrix_unchecked(thesis_a()).to_euler_321();
     println!(
@@ -139,6 +143,7 @@ fn chapter_10_factorisation_matrix() {
     };
     let a = Dcm::from_euler_321(&e);
     let err = max_abs(a.matrix(), &m_abc);
+    figure("attitude.chapter_10", err);
     println!("chapter 10: max |A1A2A3 − M_abc| = {err:e}");
     assert!(err <= 3e-7, "{err:e}");
     let back = Dcm::from_matrix_unchecked(m_abc).to_euler_321();
@@ -270,6 +275,14 @@ fn quaternion_properties() {
         let a_aa = Dcm::from_axis_angle(&aa.axis, aa.angle_rad).unwrap();
         worst_aa = worst_aa.max(max_abs(a_aa.matrix(), a.matrix()));
     }
+    figure("attitude.compose", worst_compose);
+    figure("attitude.compose_norm", worst_norm);
+    figure("attitude.q_a_q", worst_q);
+    figure("attitude.a_q_a", worst_rt);
+    figure(
+        "attitude.euler_axis_angle",
+        worst_321.max(worst_313).max(worst_aa),
+    );
     println!("A(p⊗r) vs A(r)A(p): max |Δ| = {worst_compose:e}");
     println!("| |p⊗r| − 1 |: max {worst_norm:e}");
     println!("q → A → q: max |Δq| = {worst_q:e}; A → q → A: max |ΔA| = {worst_rt:e}");
@@ -345,6 +358,10 @@ fn rotation_angle_between_attitudes() {
         worst_q = worst_q.max((p.angle_to(&q) - angle).abs());
         worst_ba = worst_ba.max((b.angle_to(&a) - angle).abs());
     }
+    figure(
+        "attitude.angle_between_rad",
+        worst.max(worst_ba).max(worst_q),
+    );
     println!("angle between attitudes: max |Δ| = {worst:e} rad (DCM), {worst_ba:e} (reversed), {worst_q:e} (quaternion)");
     // f32: a few ulp of π (ulp 2.4e-7) from rounding the inputs and the product.
     assert!(worst < 1e-6, "{worst:e}");
@@ -369,6 +386,7 @@ fn orthonormalize_near_rotation() {
         assert!(r.orthogonality_error() < 1e-6);
         worst_eo = worst_eo.max(r.angle_to(&a));
     }
+    figure("attitude.orthonormalize_rad", worst_eo);
     println!("orthonormalize: max angle from the polar factor = {worst_eo:e} rad");
     assert!(worst_eo < 1e-6);
     // The thesis's Test 2 A_eo (note 000 §4.4) is 0.35° from the identity.

@@ -20,6 +20,14 @@ use acs::host::sim::realistic::{Effect, Realism, TruthLevel};
 use acs::host::sim::scenarios::{self, Scenario};
 use acs::host::sim::{angle_between_deg, Sample};
 
+mod figures;
+use figures::figure;
+
+/// The key of a figure of `docs/closed-loop.md` / `docs/simulator.md`: `closed_loop.NAME.TRUTH.what`.
+fn key(name: &str, truth: TruthLevel, what: &str) -> String {
+    format!("closed_loop.{name}.{}.{what}", truth.name())
+}
+
 const TRUTHS: [TruthLevel; 2] = [TruthLevel::Ideal, TruthLevel::Realistic];
 
 fn orbit_s() -> f64 {
@@ -45,6 +53,7 @@ fn report(name: &str, truth: TruthLevel, samples: &[Sample]) {
 /// Prints one line per requirement (`docs/closed-loop.md`) and truth: whether it is met and the figure.
 fn requirement(name: &str, truth: TruthLevel, requirement: &str, met: bool, figure: &str) {
     let verdict = if met { "MET" } else { "NOT MET" };
+    figures::verdict(&key(name, truth, "verdict"), met);
     println!(
         "{name} ({} truth): REQUIREMENT {verdict} ({requirement}): {figure}",
         truth.name()
@@ -111,6 +120,11 @@ fn detumble_within_three_orbits() {
             .map(|s| s.t_s);
         let last = samples.last().unwrap();
         let end_degps = last.omega_true.norm().to_degrees();
+        figure(&key("detumble", truth, "end_degps"), end_degps);
+        if let Some(t) = first_below {
+            figure(&key("detumble", truth, "below_s"), t);
+            figure(&key("detumble", truth, "below_orbits"), t / orbit_s());
+        }
         let met = end_degps < 0.5 && first_below.is_some_and(|t| t <= 3.0 * orbit_s());
         let figure = match first_below {
             Some(t) => format!(
@@ -151,6 +165,8 @@ fn thesis_slew(noisy: bool, limit_deg: f64, thesis_deg: f64) {
         let end = slew_end_error(&samples);
         let (met, figure) = match end {
             Some((open_loop, closed)) => {
+                figure(&key(name, truth, "plan_end_deg"), open_loop);
+                figure(&key(name, truth, "run_end_deg"), closed);
                 println!("{name} ({} truth): error at the end of the open-loop plan {open_loop:.4}° (thesis {thesis_deg}°), after tracking {closed:.4}°", truth.name());
                 (
                     open_loop <= limit_deg,
@@ -283,6 +299,13 @@ fn tracking_with_wheels_and_noisy_tiles() {
             .fold(0.0, f64::max);
         let (worst, rms) = steady(&samples, 1200.0);
         let since = settled_at.map_or("never".to_string(), |t| format!("after {t:.0} s"));
+        figure(
+            &key("tracking", truth, "settled_s"),
+            settled_at.map_or("never".to_string(), |t| t.to_string()),
+        );
+        figure(&key("tracking", truth, "tail_deg"), tail);
+        figure(&key("tracking", truth, "from_1200_worst_deg"), worst);
+        figure(&key("tracking", truth, "from_1200_rms_deg"), rms);
         println!(
             "tracking ({} truth): below {REQUIREMENT_DEG}° {since}; worst from 600 s later on {tail:.4}° (filtered attitude against the target {control:.4}°, against the truth {determination:.4}°); from 1 200 s on worst {worst:.4}°, RMS {rms:.4}°",
             truth.name()
@@ -301,6 +324,9 @@ fn tracking_with_wheels_and_noisy_tiles() {
             )
             .unwrap();
             let (_, tail_13) = settling(&scenario.fly(&mut acs).unwrap(), REQUIREMENT_DEG);
+            figure(&key("tracking", truth, "truncation_nt"), truncation_nt);
+            figure(&key("tracking", truth, "truncation_deg"), truncation_deg);
+            figure(&key("tracking", truth, "tail_degree_13_deg"), tail_13);
             println!(
                 "tracking (ideal truth): degree-8 field model against the degree-13 truth on this orbit: up to {truncation_nt:.1} nT, {truncation_deg:.4}° about the Sun line; the same run with degree 13 on board: {tail_13:.4}°"
             );
@@ -346,6 +372,10 @@ fn flight_slew_completes_and_converges() {
             .map(|w| w[1].t_s);
         match (ended, slew_end_error(&samples)) {
             (Some(ended), Some((open_loop, closed))) => {
+                figure(&key("slew", truth, "plan_begin_s"), begun);
+                figure(&key("slew", truth, "plan_end_s"), ended);
+                figure(&key("slew", truth, "plan_end_deg"), open_loop);
+                figure(&key("slew", truth, "run_end_deg"), closed);
                 println!(
                     "slew ({} truth): plan from {begun:.0} s to {ended:.0} s, error at its end {open_loop:.3}°, {closed:.3}° at the end of the run",
                     truth.name()
@@ -371,6 +401,9 @@ fn failed_tile_still_converges() {
         bounded(&samples);
         let end = samples.last().unwrap().pointing_error_deg.unwrap();
         let (worst, rms) = steady(&samples, 1200.0);
+        figure(&key("failed-tile", truth, "end_deg"), end);
+        figure(&key("failed-tile", truth, "from_1200_worst_deg"), worst);
+        figure(&key("failed-tile", truth, "from_1200_rms_deg"), rms);
         requirement(
             "failed-tile",
             truth,
@@ -408,6 +441,8 @@ fn sun_safe_through_a_whole_eclipse() {
             .filter(|s| s.report.measured_attitude.is_some())
             .count();
         let end_degps = samples.last().unwrap().omega_true.norm().to_degrees();
+        figure(&key("sun-safe", truth, "umbra_s"), dark.len());
+        figure(&key("sun-safe", truth, "end_degps"), end_degps);
         requirement(
             "sun-safe",
             truth,
@@ -445,6 +480,7 @@ fn figure_with(
 /// effect at all.
 fn causes(
     name: &str,
+    figure_key: &str,
     what: &str,
     scenario: fn() -> Result<Scenario, acs::host::sim::SimError>,
     metric: fn(&[Sample]) -> (f64, f64),
@@ -461,6 +497,13 @@ fn causes(
     };
     let all = figure_with(scenario, full.clone(), metric);
     let none = figure_with(scenario, nothing.clone(), metric);
+    let fig = |what: &str, f: (f64, f64)| {
+        figure(&format!("causes.{figure_key}.{what}.worst_deg"), f.0);
+        figure(&format!("causes.{figure_key}.{what}.rms_deg"), f.1);
+    };
+    fig("ideal", ideal);
+    fig("realistic", all);
+    fig("nothing", none);
     println!("causes, {name} ({what}):");
     println!("  ideal truth {:.3}° / {:.3}°", ideal.0, ideal.1);
     println!("  realistic truth {:.3}° / {:.3}°", all.0, all.1);
@@ -472,6 +515,9 @@ fn causes(
     for e in Effect::ALL {
         let without = figure_with(scenario, full.without(e), metric);
         let alone = figure_with(scenario, full.only(e), metric);
+        let slug = e.name().replace(' ', "_");
+        fig(&format!("without.{slug}"), without);
+        fig(&format!("alone.{slug}"), alone);
         println!(
             "  | {} | {:.3}° / {:.3}° | {:.3}° / {:.3}° |",
             e.name(),
@@ -512,6 +558,7 @@ fn causes(
         let mut alone = full.only(Effect::Wheel).without(Effect::Wheel);
         set(&mut alone);
         let f = figure_with(scenario, alone, metric);
+        fig(&format!("alone.{}", part.replace([' ', ':', ','], "_")), f);
         println!("  | {part} | | {:.3}° / {:.3}° |", f.0, f.1);
     }
     for (part, keep) in parts {
@@ -521,6 +568,10 @@ fn causes(
         alone.timing = full.timing.clone();
         keep(&mut alone);
         let f = figure_with(scenario, alone, metric);
+        fig(
+            &format!("alone.spacecraft_field.{}", part.replace(' ', "_")),
+            f,
+        );
         println!(
             "  | spacecraft field: {part} alone | | {:.3}° / {:.3}° |",
             f.0, f.1
@@ -559,6 +610,7 @@ fn realistic_figures_by_cause() {
     }
     let none = causes(
         "tracking",
+        "tracking_tail",
         "worst / RMS pointing error from 1 200 s on",
         tracking,
         tracking_tail,
@@ -566,12 +618,14 @@ fn realistic_figures_by_cause() {
     assert!(none.0 < 0.2, "{none:?}");
     causes(
         "tracking",
+        "tracking_transient",
         "worst / RMS pointing error from 200 s to 1 200 s",
         tracking,
         transient,
     );
     let none = causes(
         "thesis-slew",
+        "thesis_slew",
         "error at the end of the plan / at the end of the run",
         thesis,
         plan_end,

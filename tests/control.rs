@@ -4,6 +4,8 @@
 use std::collections::HashMap;
 
 mod common;
+mod figures;
+use figures::figure;
 
 use acs::attitude::Dcm;
 use acs::control::principal_axes::{principal_axes, PrincipalAxes, PrincipalAxesError};
@@ -58,6 +60,8 @@ fn principal_axes_reproduce_thesis_e_and_moments() {
     let axes = principal_axes(&mat(&d, "inertia")).unwrap();
     let e_err = (axes.e - mat(&d, "e")).abs().max();
     let m_err = rel(&axes.moments, &vec3(&d, "moments"));
+    figure("control.principal_axes.e", e_err);
+    figure("control.principal_axes.moments_rel", m_err);
     println!("principal axes: max |E - E_thesis| = {e_err:.3e}, moments rel err = {m_err:.3e}");
     // bound: eps_f32 * |I| / gap = 6e-8 * 7.3e-3 / 4.1e-5 ~ 1e-5 (module docs)
     assert!(e_err < 2e-5, "{e_err}");
@@ -133,6 +137,7 @@ fn chapter10_example() {
     for (g, e) in got.iter().zip(expected) {
         worst = worst.max(((*g as f64) - e).abs() / e.abs());
     }
+    figure("control.chapter_10.angles_rel", worst);
     println!("chapter 10: worst relative angle error {worst:.2e}");
     assert!(worst < 1e-5, "{got:?} vs {expected:?}");
     assert!((ang.to_matrix() - m).abs().max() < 2e-6);
@@ -150,6 +155,7 @@ fn chapter10_example() {
         let w = rel(&s.omega_body_radps, &vec3(&d, omegas[k]));
         let l = rel(&s.h_body, &vec3(&d, momenta[k]));
         let t = rel(&(s.h_body / 1e-4), &vec3(&d, torques[k]));
+        figure(&format!("control.chapter_10.step{k}_rel"), w.max(l).max(t));
         println!("chapter 10 step {k}: rel err omega {w:.2e}, L {l:.2e}, impulse torque {t:.2e}");
         assert!(w < 1e-5 && l < 1e-5 && t < 1e-5, "step {k}: {w} {l} {t}");
     }
@@ -198,6 +204,10 @@ fn check_thesis_test(d: &HashMap<String, Vec<f64>>, a: &Dcm, prefix: &str) {
         rel(&p.steps[1].h_body, &vec3(d, &format!("{prefix}_l2"))),
         rel(&p.steps[2].h_body, &vec3(d, &format!("{prefix}_l1"))),
     ];
+    figure(
+        &format!("control.{prefix}_rel"),
+        l_err.iter().fold(angle_err, |m, e| m.max(*e)),
+    );
     println!("{prefix}: angle rel err {angle_err:.2e}, L3 L2 L1 rel err {l_err:?}");
     assert!(angle_err < 1e-5, "{got:?} vs {expected:?}");
     for e in l_err {

@@ -1,5 +1,7 @@
 //! Closed-loop laws on their own: signs, units, saturation, degenerate field, zero rates, NaN.
 
+mod figures;
+
 use acs::attitude::{Dcm, Quaternion};
 use acs::control::bdot::{bdot_from_rates, BdotConfig, BdotState};
 use acs::control::magnetorquer::{
@@ -262,6 +264,7 @@ fn tracking_converges_from_a_large_error_and_takes_the_short_way() {
             .min(1.0)
             .asin()
             .to_degrees();
+    figures::figure("control_laws.tracking_300s_deg", angle_deg);
     println!(
         "tracking after 300 s: error {angle_deg:.2e}°, |ω| {:.2e} rad/s",
         w.norm()
@@ -370,6 +373,7 @@ fn sun_safe_points_the_axis_and_damps_in_eclipse() {
     });
     let s = q.to_dcm().to_body(&sun_ref);
     let err_deg = s.cross(&axis).norm().atan2(s.dot(&axis)).to_degrees();
+    figures::figure("control_laws.sun_safe_600s_deg", err_deg);
     println!(
         "sun-safe after 600 s: pointing error {err_deg:.3e}°, |ω| {:.2e}",
         w.norm()

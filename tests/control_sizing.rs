@@ -2,6 +2,8 @@
 //! 004, from tests/data/atmocube_tables.txt. Each value is compared to half a unit of its last
 //! printed digit.
 
+mod figures;
+
 use acs::control::disturbance::{
     aero_force_n, circular_speed_m_s, dipole_polar_field_t, gravity_gradient_max_nm,
     residual_dipole_torque_nm, solar_pressure_force_n, two_body_torque_nm, MU_EARTH_M3_S2,
@@ -137,6 +139,7 @@ fn tables_3_4_to_3_7_dipole_and_torque_versus_power() {
             );
         }
     }
+    figures::figure("control_sizing.dipole_beyond_half_unit", beyond.len());
     println!(
         "dipole entries of Tables 3.4–3.6 beyond half a printed unit ({} of 70):",
         beyond.len()
@@ -230,6 +233,10 @@ fn atmocube_disturbance_budget_and_the_lever_arm_slip() {
         let printed: f64 = r[2].parse().unwrap();
         let tol = half_unit(&r[2]) + printed.abs() * half_unit(&r[1]) / rho;
         let err = (*t as f64 - printed).abs();
+        figures::figure(
+            &format!("control_sizing.table_3_1.{}km_rel", r[0]),
+            err / printed,
+        );
         println!(
             "Table 3.1 {} km: T_a {t:.4e} printed {} (rel err {:.2}%)",
             r[0],
@@ -247,6 +254,8 @@ fn atmocube_disturbance_budget_and_the_lever_arm_slip() {
     // the consistent arms (6.2 cm offset): cube and boom nearly cancel, ~1000x smaller
     let (ta_ok, tsp_ok) = atmocube_budget(0.062, 1.488);
     let at600 = ta_ok.last().copied().unwrap();
+    figures::figure("control_sizing.consistent_600km_nm", at600);
+    figures::figure("control_sizing.thesis_600km_nm", ta.last().unwrap());
     println!(
         "AtmoCube at 600 km: T_a = {:.3e} N·m (thesis arms) vs {at600:.3e} (consistent)",
         ta.last().unwrap()

@@ -8,6 +8,7 @@ use std::collections::HashMap;
 use std::path::PathBuf;
 
 mod common;
+mod figures;
 
 use acs::attitude::{Dcm, Quaternion};
 use acs::determination::{
@@ -130,6 +131,10 @@ fn thesis_tests_1_and_2() {
             .fold(0.0, f64::max);
         let de = (a_eo * dir - dir).norm();
         let de_ref = d[&format!("{t}_de_norm_km")][0];
+        figures::figure(&format!("determination.thesis_{t}.a_eo"), e_aeo);
+        figures::figure(&format!("determination.thesis_{t}.a_minus_aobt"), e_diff);
+        figures::figure(&format!("determination.thesis_{t}.euler_rad"), e_euler);
+        figures::figure(&format!("determination.thesis_{t}.de_km"), de);
         println!(
             "thesis {t}: max |ΔA_eo| = {e_aeo:.2e}, max |Δ(A − A_obt)| = {e_diff:.2e}, \
              Euler {euler:?}° (max Δ {e_euler:.2e} rad), |d_e| = {de:.6e} km (thesis {de_ref:.6e}), \
@@ -171,6 +176,7 @@ fn thesis_test_3_is_not_reproducible() {
     );
     let e_note = max_abs64(&a_eo, &note);
     let e_thesis = max_abs64(&a_eo, &mat3_f64(&d["t3_a_eo"]));
+    figures::figure("determination.thesis_t3.note_f64", e_note);
     println!(
         "thesis t3: B_uvw = {:?}; max |A_eo − note 000 f64| = {e_note:.2e}; \
          max |A_eo − thesis printed| = {e_thesis:.2e} (not reproducible)",
@@ -277,6 +283,8 @@ fn least_squares_on_presets() {
         assert!(mag_cache.is_some() && gyro_cache.is_some());
         println!("least squares {name}: ok");
     }
+    figures::figure("determination.least_squares.field_rel", worst_b);
+    figures::figure("determination.least_squares.rate_rel", worst_w);
     println!("least squares: max relative error field {worst_b:.2e}, rate {worst_w:.2e}");
     println!("cached least squares vs one-shot: max relative difference field {cached_b:.2e}, rate {cached_w:.2e}");
     assert!(worst_b < 1e-6, "{worst_b:e}");
@@ -706,13 +714,15 @@ mod wahba_json {
                 );
             }
         }
-        for (name, errs) in [
-            ("SVD + refinement (wahba_svd::solve)", &e_svd),
-            ("QUEST + refinement (quest::solve)", &e_quest),
-            ("SVD alone (wahba_svd::solve_raw)", &e_svd_raw),
-            ("QUEST alone (quest::solve_raw)", &e_quest_raw),
+        for (name, key, errs) in [
+            ("SVD + refinement (wahba_svd::solve)", "svd", &e_svd),
+            ("QUEST + refinement (quest::solve)", "quest", &e_quest),
+            ("SVD alone (wahba_svd::solve_raw)", "svd_raw", &e_svd_raw),
+            ("QUEST alone (quest::solve_raw)", "quest_raw", &e_quest_raw),
         ] {
             let (m, r) = stats(errs);
+            crate::figures::figure(&format!("determination.wahba.{key}.max_deg"), m);
+            crate::figures::figure(&format!("determination.wahba.{key}.rms_deg"), r);
             println!("wahba.json {name}: max {m:.3e}°, RMS {r:.3e}° from the f64 optimum");
         }
     }
@@ -749,6 +759,7 @@ mod wahba_json {
             e_opt.push(angle64(&a, &p.optimal_dcm).to_degrees());
         }
         let (m, r) = stats(&e_true);
+        crate::figures::figure("determination.triad.ratio_max", ratio_max);
         println!("wahba.json TRIAD: max {m:.3e}°, RMS {r:.3e}° from the true attitude; largest error/bound {ratio_max:.3}");
         let (m, r) = stats(&e_opt);
         println!("wahba.json TRIAD: max {m:.3e}°, RMS {r:.3e}° from the f64 optimum");
@@ -760,6 +771,7 @@ mod wahba_json {
                 .map(|(_, e)| *e)
                 .collect();
             let (m, r) = stats(&errs);
+            crate::figures::figure(&format!("determination.triad.noise_{noise:e}.max_deg"), m);
             println!("  noise {noise:.0e} rad ({} problems): TRIAD max {m:.3e}°, RMS {r:.3e}° from truth", errs.len());
         }
     }
@@ -964,6 +976,7 @@ fn thesis_scene_physical_mode() {
     ] {
         let sol = solver(&obs).unwrap();
         let e = sol.dcm.angle_to(&a32);
+        figures::figure(&format!("determination.thesis_physical.{name}_rad"), e);
         println!("thesis scene, physical mode, lit tiles {lit:?}: {name} error {e:.2e} rad");
         assert!(e < 1e-6, "{name}: {e:e}");
     }

@@ -4,6 +4,8 @@
 //! Run with `cargo test --test frames -- --nocapture` to print the measured errors.
 
 mod common;
+mod figures;
+use figures::figure;
 
 use acs::frames::nutation::nutation;
 use acs::frames::{
@@ -66,6 +68,7 @@ fn teme_to_pef_vallado_example_3_15() {
     let v_expected = Vec3d::new(-3.225_636_520, -2.872_451_450, 5.531_924_446);
     let dr = (r_pef - r_expected).norm();
     let dv = (v_pef - v_expected).norm();
+    figure("frames.teme_pef_mm", dr * 1e6);
     println!(
         "Vallado ex. 3-15 TEME->PEF: |dr| = {:.3} mm, |dv| = {:.3} mm/s",
         dr * 1e6,
@@ -195,6 +198,10 @@ fn geodetic_round_trip_accuracy() {
         max_fwd32 = max_fwd32.max((r32 - r_ref).norm() / r_ref.norm());
     }
     let rms32 = (sum32 / f64::from(n_leo)).sqrt();
+    figure("frames.geodetic.f64_max_m", max64);
+    figure("frames.geodetic.f32_leo_max_m", max32);
+    figure("frames.geodetic.f32_leo_rms_m", rms32);
+    figure("frames.geodetic.f32_max_rel", max_rel32);
     println!("geodetic: f64 round trip max {max64:.2e} m");
     println!("geodetic f32 inverse, heights -10..2000 km: max {max32:.3} m, RMS {rms32:.3} m (position of the result)");
     println!("geodetic f32 inverse, heights -10..40000 km: max {max_rel32:.2e} x |r|, latitude {max_lat32:.2e} rad, height {max_alt32:.3} m; forward max {max_fwd32:.2e} x |r|");
@@ -467,6 +474,9 @@ fn nutation_truncation_and_f32() {
         lib32_dpsi = lib32_dpsi.max((f64::from(n32.dpsi_rad) * arcsec - p_full).abs());
         lib32 = lib32.max((f64::from(n32.deps_rad) * arcsec - e_full).abs());
     }
+    figure("frames.nutation.truncation_arcsec", trunc);
+    figure("frames.nutation.f32_dpsi_arcsec", lib32_dpsi);
+    figure("frames.nutation.f32_deps_arcsec", lib32);
     println!("nutation library ({count} terms): f64 vs same-term reference {lib64:.1e}\"; truncation {trunc:.4}\"; f32 vs full series: dpsi {lib32_dpsi:.4}\", deps {lib32:.4}\"");
     assert!(lib64 < 1e-9);
     assert!(trunc < 0.05, "{trunc}");
@@ -527,6 +537,10 @@ fn teme_to_j2000_dtusat_week() {
         assert!((r_back - r_teme).norm() < 1e-6);
     }
     let rms_r = (sum_r / teme.len() as f64).sqrt();
+    figure("frames.j2000.rows", teme.len());
+    figure("frames.j2000.max_m", max_r);
+    figure("frames.j2000.rms_m", rms_r);
+    figure("frames.j2000.f32_max_m", max_r32);
     println!("TEME->J2000, DTUSAT week, {} rows: position max {max_r:.3} m, RMS {rms_r:.3} m; velocity max {max_v:.2e} m/s; f32 position max {max_r32:.3} m", teme.len());
     println!("  (diagnostic: with the J2000->GCRS frame bias applied, max {max_biased:.3} m)");
     assert!(max_r <= 20.0, "{max_r}");

@@ -9,6 +9,7 @@ use acs::env::igrf::{Degree, Igrf, IgrfError, FLIGHT, FULL, MIN_RADIUS_KM, RECEN
 use acs::linalg::Vec3;
 
 mod common;
+mod figures;
 use common::data_path;
 
 /// One row of `ref/igrf/igrf14_points.csv` (ppigrf, f64, degree 13).
@@ -110,6 +111,8 @@ fn every_reference_point_within_1_nt_at_full_degree() {
         points.len()
     );
     for (name, s) in names.iter().zip(&stats) {
+        figures::figure(&format!("igrf.ppigrf.{name}.max_nt"), s.max);
+        figures::figure(&format!("igrf.ppigrf.{name}.rms_nt"), s.rms());
         println!("  {name:>7}: max {:.4} nT, RMS {:.4} nT", s.max, s.rms());
     }
     assert!(
@@ -371,6 +374,8 @@ fn f32_error_against_f64_synthesis() {
         points.len()
     );
     for (name, s) in ["br", "btheta", "bphi"].iter().zip(&err) {
+        figures::figure(&format!("igrf.f64_synthesis.{name}.max_nt"), s.max);
+        figures::figure(&format!("igrf.f64_synthesis.{name}.rms_nt"), s.rms());
         println!("  {name:>7}: max {:.4} nT, RMS {:.4} nT", s.max, s.rms());
     }
     println!(
@@ -435,6 +440,11 @@ fn truncation_error_of_lower_degrees_in_leo() {
                     angle_deg.add(f64::from(va.angle(&vb)).to_degrees());
                 }
             }
+            let key = format!("igrf.truncation.degree{degree}.{alt_km}km");
+            figures::figure(&format!("{key}.max_nt"), norm.max);
+            figures::figure(&format!("{key}.rms_nt"), norm.rms());
+            figures::figure(&format!("{key}.direction_max_deg"), angle_deg.max);
+            figures::figure(&format!("{key}.direction_rms_deg"), angle_deg.rms());
             println!(
                 "degree {degree} vs 13 at {alt_km} km: |dB| max {:.1} nT RMS {:.1} nT; per component max {:.1} RMS {:.1}; direction max {:.3}° RMS {:.3}°",
                 norm.max,
@@ -800,6 +810,12 @@ fn cli_reproduces_the_reference_points() {
             n += 1;
         }
         assert_eq!(n, points.len());
+        let form = if args.is_empty() {
+            "geodetic"
+        } else {
+            "geocentric"
+        };
+        figures::figure(&format!("igrf.cli.{form}.max_nt"), max);
         println!("acs igrf {args:?}: {n} rows, max error {max:.4} nT");
         assert!(max < 1.0);
     }

@@ -6,6 +6,9 @@ use acs::orbit::kepler::{solve_kepler, Kepler, KeplerError, MU_THESIS_KM3_S2};
 use acs::time::{Epoch, TimeSpan};
 use acs::tle::Tle;
 
+mod figures;
+use figures::figure;
+
 /// DTUSAT, the thesis's element set (note 000 §3.3):
 /// 1 27842U 03031C   09166.20608466  .00000024  00000-0  31026-4 0  5778
 /// 2 27842  98.7036 176.3713 0009831 124.5029 235.7083 14.20982944309069
@@ -108,6 +111,7 @@ fn note_000_test_values() {
                 .r_teme_km,
         );
         let e = dist(r, expected) * 1e3;
+        figure(&format!("kepler.note_000.t{t_min}_m"), e);
         println!("t = {t_min:>6} min: {e:.3} m from note 000 §3.2");
         // the note's values have four decimals (0.05 m); f32 floor as in the test below
         assert!(e < 2.0, "t = {t_min}: {e} m");
@@ -132,6 +136,10 @@ fn against_f64_over_seven_days() {
         n += 1;
     }
     let (rms_r, rms_v) = ((sum_r / n as f64).sqrt(), (sum_v / n as f64).sqrt());
+    figure("kepler.f64.pos_max_m", max_r);
+    figure("kepler.f64.pos_rms_m", rms_r);
+    figure("kepler.f64.vel_max_mmps", max_v);
+    figure("kepler.f64.vel_rms_mmps", rms_v);
     println!(
         "Kepler f32 vs f64, DTUSAT ±7 days, n={n}: pos max {max_r:.3} m rms {rms_r:.3} m | vel max {max_v:.3} mm/s rms {rms_v:.3} mm/s"
     );

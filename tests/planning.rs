@@ -16,6 +16,9 @@ use acs::planning::kinematics::{
 use acs::planning::spline::{AttitudeSpline, ClampedSpline};
 use acs::planning::PlanningError;
 
+mod figures;
+use figures::figure;
+
 fn quat_f64_const_rate(q0: [f64; 4], w: [f64; 3], t: f64) -> [f64; 4] {
     // q(t) = q0 ⊗ (cos(|w|t/2), ŵ sin(|w|t/2)) solves q̇ = ½ q ⊗ (0, ω) for constant body ω
     let n = (w[0] * w[0] + w[1] * w[1] + w[2] * w[2]).sqrt();
@@ -57,6 +60,10 @@ fn kinematics_scalar_last_conversion_and_euler_vector() {
         q.q2 - crate_q.q2,
         q.q3 - crate_q.q3,
     ];
+    figure(
+        "planning.thesis_q",
+        err.iter().fold(0.0f64, |m, e| m.max(f64::from(e.abs()))),
+    );
     println!("kinematics: thesis (6.1a) vs crate Euler321: {err:?}");
     assert!(err.iter().all(|e| e.abs() < 2e-6));
     assert_eq!(to_scalar_last(&q), thesis);
@@ -109,6 +116,8 @@ fn kinematics_round_trip_and_known_rotation() {
         let expect = -w32.cross_matrix() * q.to_dcm().matrix();
         assert!((a_dot - expect).norm() < 2e-4 * w32.norm().max(1e-2) + 1e-4);
     }
+    figure("planning.round_trip_rel", max_rt);
+    figure("planning.finite_difference_rel", max_fd);
     println!("kinematics: round trip max rel {max_rt:e}; vs f64 finite difference {max_fd:e}");
     assert!(max_rt < 4e-7);
     assert!(max_fd < 1e-6);
@@ -172,6 +181,9 @@ fn spline_reproduces_a_cubic() {
         e1 = e1.max((p.d1 as f64 - yd(t)).abs());
         e2 = e2.max((p.d2 as f64 - ydd(t)).abs());
     }
+    figure("planning.spline_cubic.value", e0);
+    figure("planning.spline_cubic.d1_rel", e1 / 2e-4);
+    figure("planning.spline_cubic.d2_rel", e2 / 6e-7);
     println!("spline cubic: max err value {e0:e}, d1 {e1:e} (scale 2e-4), d2 {e2:e} (scale 6e-7)");
     assert!(e0 < 1e-6);
     assert!(e1 < 2e-4 * 1e-5);
@@ -206,6 +218,7 @@ fn spline_worked_example_note_001() {
             worst = worst.max(rel);
         }
     }
+    figure("planning.spline_example_rel", worst);
     println!("spline worked example: worst relative coefficient error {worst:e}");
     // the note prints 7 significant digits
     assert!(worst < 1e-6, "{worst}");

@@ -9,6 +9,8 @@ use acs::orbit::sgp4::{Gravity, Sgp4, Sgp4Error};
 use acs::time::TimeSpan;
 use acs::tle::{Checksum, Tle};
 
+mod figures;
+
 // ---------------------------------------------------------------------------------------------
 // Reference files
 
@@ -107,6 +109,15 @@ impl Stats {
     }
     fn rms_v(&self) -> f64 {
         (self.sum_v2 / self.n.max(1) as f64).sqrt()
+    }
+    /// Prints the figures of `docs/accuracy.md` as `key.{n, pos_max_m, pos_rms_m, vel_max_mmps,
+    /// vel_rms_mmps}`.
+    fn figures(&self, key: &str) {
+        figures::figure(&format!("{key}.n"), self.n);
+        figures::figure(&format!("{key}.pos_max_m"), self.max_r_m);
+        figures::figure(&format!("{key}.pos_rms_m"), self.rms_r());
+        figures::figure(&format!("{key}.vel_max_mmps"), self.max_v_mmps);
+        figures::figure(&format!("{key}.vel_rms_mmps"), self.rms_v());
     }
     fn line(&self, what: &str) -> String {
         format!(
@@ -244,6 +255,8 @@ fn vallado_verification_cases() {
         }
     }
     assert_eq!(near_earth, 9, "near-Earth cases of SGP4-VER.TLE");
+    all.figures("sgp4.verification.acs");
+    all_naive.figures("sgp4.verification.plain");
     println!("{}", all.line("all near-Earth, acs"));
     println!("{}", all_naive.line("all near-Earth, plain f32"));
 }
@@ -293,6 +306,8 @@ fn catalogue_files_minus_one_to_plus_three_days() {
         );
     }
     assert_eq!(files, 12);
+    all.figures("sgp4.sat900xx.acs");
+    all_naive.figures("sgp4.sat900xx.plain");
     println!("{}", all.line("all sat900xx, acs"));
     println!("{}", all_naive.line("all sat900xx, plain f32"));
 }
@@ -341,6 +356,9 @@ fn dtusat_seven_days() {
             let (r3, v3) = ours(&f32_elements, t / 60.0).unwrap();
             st_f32_elements.add(dist(r3, r) * 1e3, dist(v3, v) * 1e6);
         }
+        let key = file.trim_end_matches(".e");
+        st.figures(&format!("sgp4.{key}.acs"));
+        st_naive.figures(&format!("sgp4.{key}.plain"));
         println!("{}", st.line(file));
         println!("{}", st_naive.line(&format!("{file} plain f32")));
         println!("{}", st_f32_elements.line(&format!("{file} f32 elements")));
@@ -380,11 +398,13 @@ fn thesis_vector_at_1080_min() {
         -5_829.143_554_687_5,
     ];
     let e = dist(r, thesis) * 1e3;
+    figures::figure("sgp4.thesis_vector_m", e);
     println!("thesis vector at 1080 min (WGS-84): {e:.3} m");
     assert!(e <= 5.0, "{e} m");
     // note 000 §4.10 (Vallado f64): (4097.629289, −1100.920941, −5829.143176)
     let vallado = [4097.629289, -1100.920941, -5829.143176];
     let e = dist(r, vallado) * 1e3;
+    figures::figure("sgp4.vallado_vector_m", e);
     println!("Vallado f64 vector at 1080 min (WGS-84): {e:.3} m");
     assert!(e <= 5.0, "{e} m");
 }
@@ -540,6 +560,7 @@ fn cli_propagate_dtusat_week_teme_and_j2000() {
             assert_eq!(t, tr);
             st.add(dist(*r, *rr), dist(*v, *vr) * 1e3);
         }
+        st.figures(&format!("sgp4.cli.{gravity}_{frame}"));
         println!("{}", st.line(&format!("acs propagate {gravity} {frame}")));
         assert!(st.max_r_m <= 100.0, "{file}: {} m", st.max_r_m);
     }

@@ -6,6 +6,7 @@
 #![cfg(feature = "host")]
 
 mod common;
+mod figures;
 
 use acs::host::stk::{self, CoordinateSystem, StateRow, StkEphemeris, StkErrorKind};
 use acs::time::{Calendar, Epoch, Utc};
@@ -390,6 +391,9 @@ fn reference_rows_count_from_the_tle_epoch() {
             header_epoch.add(distance_m(q.position, row.r_m), &at);
         }
     }
+    figures::figure("stk.sgp4_crate.max_m", tle_epoch.max());
+    figures::figure("stk.sgp4_crate.rms_m", tle_epoch.rms());
+    figures::figure("stk.sgp4_crate.velocity_max_mps", velocity.max());
     tle_epoch.print();
     velocity.print();
     header_epoch.print();

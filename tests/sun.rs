@@ -4,6 +4,7 @@
 //! `docs/accuracy.md`.
 
 mod common;
+mod figures;
 
 use acs::env::sun::{precise, thesis, SunError};
 use acs::time::{Calendar, Epoch, TimeError, Tt, Utc};
@@ -166,6 +167,10 @@ fn precise_within_15_arcsec_of_de421_on_every_row() {
             row.dist_au
         );
     }
+    figures::figure("sun.precise.n", dir.n);
+    figures::figure("sun.precise.max_arcsec", dir.max);
+    figures::figure("sun.precise.rms_arcsec", dir.rms());
+    figures::figure("sun.precise.distance_max_au", dist.max);
     println!(
         "precise vs DE421 (TEME of date, {} rows): max {:.2}″ (at {}), RMS {:.2}″; distance max {:.2e} AU, RMS {:.2e} AU",
         dir.n, dir.max, dir.worst, dir.rms(), dist.max, dist.rms()
@@ -194,6 +199,12 @@ fn thesis_model_matches_its_f64_values_in_the_csv() {
         vs_de421.add(angle_arcsec(to_f64(&sun.direction), row.dir), &row.label);
         low.add(angle_arcsec(low_precision(&row.utc), row.dir), &row.label);
     }
+    figures::figure("sun.thesis.f64_ra_max_deg", ra.max);
+    figures::figure("sun.thesis.f64_dec_max_deg", dec.max);
+    figures::figure("sun.thesis.max_arcsec", vs_de421.max);
+    figures::figure("sun.thesis.rms_arcsec", vs_de421.rms());
+    figures::figure("sun.almanac.max_arcsec", low.max);
+    figures::figure("sun.almanac.rms_arcsec", low.rms());
     println!(
         "thesis f32 vs thesis f64 (CSV): RA max {:.2e}° RMS {:.2e}°, Dec max {:.2e}° RMS {:.2e}°",
         ra.max,
@@ -463,6 +474,9 @@ fn precise_truncation_over_1950_2100() {
         );
         day += 5;
     }
+    figures::figure("sun.vsop87_vs_de421.max_arcsec", floor.max);
+    figures::figure("sun.precise_vs_vsop87.max_arcsec", trunc.max);
+    figures::figure("sun.precise_vs_vsop87.rms_arcsec", trunc.rms());
     println!(
         "full abridged VSOP87 (f64) vs DE421: max {:.2}″, RMS {:.2}″; precise (f32) vs full series 1950–2100: max {:.2}″ ({}), RMS {:.2}″",
         floor.max,

@@ -9,6 +9,9 @@ use acs::time::{
 };
 use core::f64::consts::{PI, TAU};
 
+mod figures;
+use figures::figure;
+
 fn cal(year: i32, month: u8, day: u8, hour: u8, minute: u8, second: u8, nano: u32) -> Calendar {
     Calendar {
         year,
@@ -259,6 +262,7 @@ fn jday_matches_epoch_and_round_trips() {
         let one = Epoch::<Utc>::from_jd_split(jd + fr, 0.0).unwrap();
         assert!(one.span_since(&e).as_seconds_f64().abs() < 30e-6);
     }
+    figure("time.jd_round_trip_ns", max_ns);
     println!("Julian date split round trip: max error {max_ns} ns");
     assert!(max_ns <= 1);
     assert_eq!(
@@ -407,6 +411,9 @@ fn gmst_accuracy_1990_2050() {
     println!(
         "GMST f32 vs f64 gstime, 1990-2050, {n} instants: max {max32:.2e} rad, RMS {rms32:.2e} rad"
     );
+    figure("time.gmst.f32_max_rad", max32);
+    figure("time.gmst.f32_rms_rad", rms32);
+    figure("time.gmst.f64_max_rad", max64);
     println!("GMST f64 vs f64 gstime: max {max64:.2e} rad");
     assert!(max32 <= 2.5e-7, "{max32}");
     assert!(max64 <= 1e-10, "{max64}"); // the reference's own rounding (~4e-11 rad)
