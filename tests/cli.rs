@@ -1,4 +1,4 @@
-//! The `acs` binary against `../shared/cli.md`: `--help` lists every subcommand, usage errors exit
+//! The `acs` binary against `docs/cli.md`: `--help` lists every subcommand, usage errors exit
 //! 2, a subcommand that is not built yet exits 3 with a clear message, and `acs propagate` writes
 //! an STK file that `host::stk::read` reads back with the TLE epoch as `ScenarioEpoch`.
 //!

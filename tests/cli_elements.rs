@@ -1,4 +1,4 @@
-//! `acs elements` against `../shared/cli.md` and issue #17 (decision 1): every reference element
+//! `acs elements` against `docs/cli.md` and issue #17 (decision 1): every reference element
 //! set that SGP4 accepts goes TLE → words → `--check` in both formats and both gravity models,
 //! and the board's propagator from the words (`Sgp4::from_words`) is bit for bit that of the TLE
 //! (`Sgp4::new`); `--check` refuses every single-bit flip naming the flipped word, a truncated

@@ -845,7 +845,7 @@ fn thesis_solver_two_rows() {
     }
 }
 
-/// `acs attitude` end to end (`../shared/cli.md`): JSON in, JSON out, exit 2 for malformed
+/// `acs attitude` end to end (`docs/cli.md`): JSON in, JSON out, exit 2 for malformed
 /// input or mismatched lengths, 3 for degenerate geometry, ≥ 9 significant digits.
 #[cfg(feature = "host")]
 #[test]

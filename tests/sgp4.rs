@@ -509,7 +509,7 @@ fn never_panics_and_errors_are_typed() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// `acs propagate` end to end (../shared/cli.md)
+// `acs propagate` end to end (docs/cli.md)
 
 fn acs_propagate(args: &[&str]) -> (Option<i32>, String, String) {
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_acs"))

@@ -1,4 +1,4 @@
-//! The `acs` host tool; see `../shared/cli.md` and [`acs::host::cli`].
+//! The `acs` host tool; see `docs/cli.md` and [`acs::host::cli`].
 
 fn main() -> std::process::ExitCode {
     acs::host::cli::main()

@@ -1,7 +1,7 @@
 //! STK ephemeris files (`.e`, `EphemerisTimePosVel`): reader and writer (host only).
 //!
 //! The subset of the STK 11 external-ephemeris format that the reference files in
-//! `tests/data/sgp4/*.e` use and that `acs propagate` writes (`../shared/cli.md`):
+//! `tests/data/sgp4/*.e` use and that `acs propagate` writes (`docs/cli.md`):
 //!
 //! ```text
 //! stk.v.11.0

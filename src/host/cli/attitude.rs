@@ -1,4 +1,4 @@
-//! `acs attitude`: optimal attitude from vector pairs (JSON in, JSON out; `../shared/cli.md`).
+//! `acs attitude`: optimal attitude from vector pairs (JSON in, JSON out; `docs/cli.md`).
 //!
 //! stdin: `{"body": [[x,y,z],...], "reference": [[x,y,z],...], "weights": [w,...]}` (blank lines
 //! and lines starting with `#` ignored; `weights` may be omitted for equal weights). The vectors

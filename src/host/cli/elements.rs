@@ -1,4 +1,4 @@
-//! `acs elements`: the uplink of SGP4 initialised on the ground (`../shared/cli.md`; issue #17,
+//! `acs elements`: the uplink of SGP4 initialised on the ground (`docs/cli.md`; issue #17,
 //! product decision 1).
 //!
 //! Flight operations initialise SGP4 on the ground and uplink the element set as the

@@ -1,4 +1,4 @@
-//! `acs igrf`: IGRF-14 field at points read from stdin (`../shared/cli.md`).
+//! `acs igrf`: IGRF-14 field at points read from stdin (`docs/cli.md`).
 //!
 //! stdin: CSV `decimal_year,lat_deg,lon_deg,alt_km` (geodetic WGS-84) or, with `--geocentric`,
 //! `decimal_year,r_km,colat_deg,lon_deg`; an optional header line (a first line with no

@@ -1,4 +1,4 @@
-//! The `acs` command-line tool: the interface contract of `../shared/cli.md`.
+//! The `acs` command-line tool: the interface contract of `docs/cli.md`.
 //!
 //! Exit codes: 0 success, 2 invalid input (the message names the line, column or field),
 //! 3 failure of the computation (decayed orbit, model out of range, degenerate geometry) or a

@@ -1,4 +1,4 @@
-//! `acs propagate`: SGP4 ephemeris of a TLE as an STK `.e` file (`../shared/cli.md`).
+//! `acs propagate`: SGP4 ephemeris of a TLE as an STK `.e` file (`docs/cli.md`).
 //!
 //! The TLE file is parsed with [`Tle::parse_text`] (checksums verified); the propagation is the
 //! flight [`Sgp4`] (f32); the optional J2000 output rotates each f32 TEME state with the f64

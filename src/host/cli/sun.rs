@@ -1,4 +1,4 @@
-//! `acs sun`: Sun direction for UTC timestamps read from stdin (`../shared/cli.md`).
+//! `acs sun`: Sun direction for UTC timestamps read from stdin (`docs/cli.md`).
 //!
 //! stdin: one ISO 8601 UTC timestamp a line (`2009-06-16T00:00:00Z`, fractional seconds allowed;
 //! blank lines and `#` comments ignored). stdout: CSV `utc,x,y,z,dist_au`, the geocentric unit
