@@ -1,6 +1,7 @@
 //! Monte Carlo campaigns (`acs sim SCENARIO --runs N`, `acs::host::sim::campaign`): results
 //! that do not depend on the number of threads nor on slicing, runs reproducible alone,
-//! dispersions within their declared distributions, and the command line's refusals.
+//! dispersions within their declared distributions, and the command line's refusals; and
+//! scenario files (`acs sim FILE`).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -208,4 +209,42 @@ fn command_line_refuses_bad_campaigns() {
     for p in [&d, &slice, &merged] {
         let _ = std::fs::remove_dir_all(p);
     }
+}
+
+/// `acs sim FILE` (`acs::host::sim::scenario_file`): a file on a built-in base runs like it,
+/// with its replacements; a bad file exits 2 naming the key.
+#[test]
+fn scenario_files() {
+    let dir = temp("file");
+    std::fs::create_dir_all(&dir).unwrap();
+    let good = dir.join("short.json");
+    std::fs::write(
+        &good,
+        r#"{"base": "tracking", "duration_s": 120, "commands": [{"t_s": 1, "sun_safe": true}]}"#,
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let run = Command::new(env!("CARGO_BIN_EXE_acs"))
+        .args([
+            "sim",
+            good.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(stdout.contains("duration_s: 120.0"), "{stdout}");
+    assert!(stdout.contains("final_mode: SunSafe"), "{stdout}");
+    let bad = dir.join("bad.json");
+    std::fs::write(&bad, r#"{"base": "tracking", "duration_s": -3}"#).unwrap();
+    let (code, err) = acs(&["sim", bad.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert!(err.contains("duration_s"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
 }

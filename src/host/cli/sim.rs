@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use super::CliError;
 use crate::host::sim::campaign::{self, Campaign, Progress, Summary};
 use crate::host::sim::realistic::TruthLevel;
-use crate::host::sim::{pil, plan_flight, plot, scenarios, Sample};
+use crate::host::sim::{pil, plan_flight, plot, scenario_file, scenarios, Sample};
 
 /// `--truth`: what the simulator's truth is ([`crate::host::sim::realistic`]).
 #[derive(clap::ValueEnum, Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -32,7 +32,7 @@ impl From<Truth> for TruthLevel {
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// Built-in scenario: detumble, thesis-slew, thesis-slew-noisy, sun-safe, tracking,
-    /// failed-tile, slew; or plan-flight / plan-flight-wheels (a ground plan flown open loop,
+    /// failed-tile, slew; or a scenario file (JSON, [`scenario_file`]); or plan-flight / plan-flight-wheels (a ground plan flown open loop,
     /// [`plan_flight`]: seed 001's manoeuvre with magnetorquers alone, or with three wheels).
     scenario: String,
     /// Output folder for CSV and SVG files (default: `acs-sim-<scenario>`, with `--pil`
@@ -82,8 +82,15 @@ pub struct Args {
 fn scenario(name: &str, truth: Truth) -> Result<scenarios::Scenario, CliError> {
     match scenarios::by_name_with(name, truth.into()) {
         Some(s) => s.map_err(|e| CliError::Compute(e.to_string())),
+        None if std::path::Path::new(name).is_file() => {
+            let text = std::fs::read_to_string(name)
+                .map_err(|e| CliError::Input(format!("{name}: {e}")))?;
+            scenario_file::parse(&text)
+                .map(|s| s.with_truth(truth.into()))
+                .map_err(|e| CliError::Input(format!("{name}: {e}")))
+        }
         None => Err(CliError::Input(format!(
-            "scenario `{name}`: not a built-in scenario ({}); scenario files are not supported yet",
+            "scenario `{name}`: not a built-in scenario ({}) nor a scenario file",
             scenarios::NAMES.join(", ")
         ))),
     }

@@ -57,6 +57,7 @@ pub mod pil;
 pub mod plan_flight;
 pub mod plot;
 pub mod realistic;
+pub mod scenario_file;
 pub mod scenarios;
 
 use std::f64::consts::PI;
