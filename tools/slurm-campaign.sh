@@ -9,9 +9,9 @@
 #SBATCH --cpus-per-task=2
 #SBATCH --time=00:30:00
 set -euo pipefail
-RUNS=100000 PER=1000 SEED=1 OUT=${OUT:-campaign-tracking}
+RUNS=${RUNS:-100000} PER=${PER:-1000} SEED=${SEED:-1} OUT=${OUT:-campaign-tracking}
 A=$((SLURM_ARRAY_TASK_ID * PER)); B=$((A + PER))
-acs sim tracking --runs "$RUNS" --seed "$SEED" --range "$A..$B" --jobs "$SLURM_CPUS_PER_TASK" \
+acs sim tracking --runs "$RUNS" --seed "$SEED" --range "$A..$B" --jobs "${SLURM_CPUS_PER_TASK:-1}" \
   --out "$OUT/slice-$SLURM_ARRAY_TASK_ID"
 # the last task to finish is not known here: merge in a job that depends on the whole array, e.g.
 #     sbatch --dependency=afterok:$ARRAY_JOB_ID --wrap "acs sim merge $OUT/slice-* --out $OUT/all"
