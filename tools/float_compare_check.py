@@ -73,7 +73,7 @@ FLIGHT = [
     "src/env/igrf/tables.rs",
     "src/env/sun/mod.rs",
     "src/env/sun/precise.rs",
-    "src/env/sun/thesis.rs",
+    "src/env/sun/schlyter.rs",
     "src/flight.rs",
     "src/fmath.rs",
     "src/frames/mod.rs",
