@@ -9,7 +9,7 @@
 //! # One step
 //! 1. Magnetorquers off (the magnetometers must not see them, note 002 §8.5).
 //! 2. SGP4 position at the step's UTC epoch; the Sun by the thesis's model
-//!    ([`crate::env::sun::thesis`], Schlyter: 46.9″ at most against JPL DE421) and the
+//!    ([`crate::env::sun::schlyter`], Schlyter: 46.9″ at most against JPL DE421) and the
 //!    cylindrical shadow test ([`crate::env::eclipse::cylindrical_illumination`]): the flight
 //!    image carries these rather than the precise Sun (2.2″) and the conical shadow, which
 //!    together take 7.5 KB more of the MSP430's flash (issue #17; the loop's pointing
@@ -69,7 +69,7 @@ use crate::determination::sun_sensor::sun_direction_body;
 use crate::determination::{wahba_svd, Observation};
 use crate::env::eclipse::{cylindrical_illumination, Illumination, Shadow};
 use crate::env::igrf::{coefficient_count, Degree, Igrf, IgrfError, Model, FULL_COEFFS};
-use crate::env::sun::{thesis, Sun};
+use crate::env::sun::{schlyter, Sun};
 use crate::hal::TileBus;
 use crate::linalg::{Vec2, Vec3};
 use crate::orbit::sgp4::Sgp4;
@@ -818,7 +818,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
             .as_ref()
             .and_then(|o| o.propagate(now.span_since(&o.epoch())).ok());
         faults.orbit = orbit.is_none();
-        let sun = thesis::sun(now).ok();
+        let sun = schlyter::sun(now).ok();
         let gmst = now.to_ut1(None).ok().map(|ut1| gmst_rad(&ut1));
         let illumination = match (&orbit, &sun) {
             (Some(o), Some(s)) => cylindrical_illumination(&o.r_teme_km, &s.direction).ok(),

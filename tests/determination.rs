@@ -12,7 +12,8 @@ mod figures;
 
 use acs::attitude::{Dcm, Quaternion};
 use acs::determination::{
-    least_squares, quest, sun_sensor, thesis, triad, wahba_svd, DeterminationError, Observation,
+    least_squares, pseudoinverse, quest, sun_sensor, triad, wahba_svd, DeterminationError,
+    Observation,
 };
 use acs::linalg::{Mat3, Vec2, Vec3};
 use acs::tiles::{self, SunAngles, Tile, TileState};
@@ -85,7 +86,7 @@ fn run_thesis_test(
         reference: Vec3::new(b_ijk[0] as f32, b_ijk[1] as f32, b_ijk[2] as f32),
         weight: 1.0,
     };
-    let a = thesis::solve(
+    let a = pseudoinverse::solve(
         &cube,
         &readings,
         d["sun_ra_deg"][0].to_radians() as f32,
@@ -488,7 +489,7 @@ fn degenerate_inputs() {
         b_rad: 0.2,
     });
     assert!(matches!(
-        thesis::solve(&cube, &r, 1.0, 0.3, None),
+        pseudoinverse::solve(&cube, &r, 1.0, 0.3, None),
         Err(DeterminationError::TooFewObservations {
             count: 1,
             needed: 2
@@ -838,7 +839,8 @@ fn thesis_solver_two_rows() {
             reference: b_ijk.map(|x| x as f32),
             weight: 1.0,
         };
-        let a = thesis::solve(&cube, &readings, ra as f32, dec as f32, Some(&magnetic)).unwrap();
+        let a =
+            pseudoinverse::solve(&cube, &readings, ra as f32, dec as f32, Some(&magnetic)).unwrap();
         let e = (to_f64(&a) - a_true).amax();
         println!("thesis solver, lit tile {lit} + field (N = 2): max |A − A_true| = {e:.2e}");
         assert!(e < 2e-6, "tile {lit}: {e:e}");

@@ -688,3 +688,70 @@ fn cli_grazing_eclipses_shorter_than_the_step() {
     println!("grazing: {compared} eclipses compared, {short} shorter than the 60 s step; largest event difference {worst_ms} ms, largest (Δt − 1 ms)·D = {worst_k:.2} s²");
     assert!(short >= 3, "no eclipse shorter than the step: {short}");
 }
+
+/// The library's eclipse search (`host::eclipse_search`, what `acs eclipses` prints) on DTUSAT
+/// over one day: events sorted, segments tiling the span and alternating in lighting, every
+/// eclipse inside the span, orbits from node to node whose times add up to the span, and a bad
+/// grid refused.
+#[cfg(feature = "host")]
+#[test]
+fn eclipse_search_library() {
+    use acs::host::eclipse_search::{
+        eclipses, orbits, summary, EventKind, Light, Search, SearchError, Shadow,
+    };
+    use acs::orbit::sgp4::{Gravity, Sgp4};
+
+    let tle = acs::tle::Tle::parse_text(&common::read_data("sgp4/dtusat.tle")).unwrap();
+    let sgp4 = Sgp4::new(&tle, Gravity::Wgs72).unwrap();
+    let span_s = 86_400.0;
+    for shadow in [Shadow::Conical, Shadow::Cylindrical] {
+        let search = Search::new(sgp4.clone(), tle.epoch, tle.epoch, shadow);
+        let events = search.events(span_s, 10.0).unwrap();
+        assert!(events.windows(2).all(|w| w[0].t_s <= w[1].t_s));
+        assert!(events.iter().all(|e| (0.0..=span_s).contains(&e.t_s)));
+        let nodes = events.iter().filter(|e| e.kind == EventKind::Node).count();
+        assert!((14..=16).contains(&nodes), "{shadow:?}: {nodes} nodes");
+        if shadow == Shadow::Cylindrical {
+            assert!(events.iter().all(|e| e.kind != EventKind::Umbra));
+        }
+        let segs = search.segments(span_s, &events).unwrap();
+        assert_eq!(segs.first().unwrap().t0_s, 0.0);
+        assert_eq!(segs.last().unwrap().t1_s, span_s);
+        for w in segs.windows(2) {
+            assert_eq!(w[0].t1_s, w[1].t0_s);
+            assert!(w[0].light != w[1].light || w[0].light == Light::Penumbra);
+        }
+        for s in &segs {
+            assert!(s.lit_s >= 0.0 && s.lit_s <= s.t1_s - s.t0_s + 1e-9, "{s:?}");
+        }
+        let ecl = eclipses(&segs, span_s);
+        assert!(ecl.len() >= 13, "{shadow:?}: {} eclipses", ecl.len());
+        for e in &ecl {
+            assert!(e.penumbra_entry_s < e.penumbra_exit_s);
+            assert!(e.umbra_s <= e.penumbra_exit_s - e.penumbra_entry_s);
+        }
+        let orb = orbits(&segs, span_s, &events);
+        let total: f64 = orb.iter().map(|o| o.t1_s - o.t0_s).sum();
+        assert!((total - span_s).abs() < 1e-6, "{total}");
+        let sum = summary(&segs, span_s, &ecl, &orb);
+        assert!(
+            sum.sunlit_fraction > 0.5 && sum.sunlit_fraction < 1.0,
+            "{sum:?}"
+        );
+        assert!(
+            sum.umbra_fraction <= 1.0 - sum.sunlit_fraction + 1e-9,
+            "{sum:?}"
+        );
+        assert_eq!(
+            sum.complete_orbits,
+            orb.iter().filter(|o| o.complete).count()
+        );
+    }
+    let search = Search::new(sgp4, tle.epoch, tle.epoch, Shadow::Conical);
+    for (span, step) in [(86_400.0, 0.0), (86_400.0, f64::NAN), (-1.0, 10.0)] {
+        assert!(matches!(
+            search.events(span, step),
+            Err(SearchError::Grid { .. })
+        ));
+    }
+}

@@ -6,7 +6,7 @@
 mod common;
 mod figures;
 
-use acs::env::sun::{precise, thesis, SunError};
+use acs::env::sun::{precise, schlyter, SunError};
 use acs::time::{Calendar, Epoch, TimeError, Tt, Utc};
 use common::data_path;
 
@@ -184,7 +184,7 @@ fn thesis_model_matches_its_f64_values_in_the_csv() {
     let mut vs_de421 = Stats::new();
     let mut low = Stats::new();
     for row in rows() {
-        let sun = thesis::sun(&row.utc).unwrap();
+        let sun = schlyter::sun(&row.utc).unwrap();
         let (r, d) = ra_dec_deg(to_f64(&sun.direction));
         let e_ra = dangle_deg(r, row.thesis_ra_deg).abs();
         let e_dec = (d - row.thesis_dec_deg).abs();
@@ -230,7 +230,7 @@ fn thesis_model_matches_its_f64_values_in_the_csv() {
 #[test]
 fn thesis_values() {
     // 14 Aug 2009 00:00 UT: RA 9h34m56.76s, Dec 14°22′57.1″ (thesis algorithm, note 000 §4.1).
-    let sun = thesis::sun(&parse_utc("2009-08-14T00:00:00Z")).unwrap();
+    let sun = schlyter::sun(&parse_utc("2009-08-14T00:00:00Z")).unwrap();
     let (ra, dec) = ra_dec_deg(to_f64(&sun.direction));
     let ra_expected = (9.0 + 34.0 / 60.0 + 56.76 / 3600.0) * 15.0;
     let dec_expected = 14.0 + 22.0 / 60.0 + 57.1 / 3600.0;
@@ -238,7 +238,7 @@ fn thesis_values() {
     assert!(dangle_deg(ra, ra_expected).abs() < 2e-4);
     assert!((dec - dec_expected).abs() < 2e-4);
     // Chapter 12, 16 Jun 2009 00:00 UT: RA 84.553993°, Dec 23.343618° (note 000 §4.2).
-    let sun = thesis::sun(&parse_utc("2009-06-16T00:00:00Z")).unwrap();
+    let sun = schlyter::sun(&parse_utc("2009-06-16T00:00:00Z")).unwrap();
     let (ra, dec) = ra_dec_deg(to_f64(&sun.direction));
     println!("chapter 12: RA {ra:.6}° (thesis 84.553993°), Dec {dec:.6}° (thesis 23.343618°)");
     assert!(dangle_deg(ra, 84.553_993).abs() < 2e-4);
@@ -265,7 +265,7 @@ fn out_of_range_years_are_errors_not_panics() {
             let e = Epoch::<Tt>::from_parts(day, second, 999_999_999).unwrap();
             assert!(matches!(precise::sun_tt(&e), Err(SunError::Year(_))));
             let u = Epoch::<Utc>::from_parts(day, second, 999_999_999).unwrap();
-            assert!(matches!(thesis::sun(&u), Err(SunError::Year(_))));
+            assert!(matches!(schlyter::sun(&u), Err(SunError::Year(_))));
         }
     }
     let u = |y: i32| Epoch::<Utc>::from_parts(acs::time::days_from_civil(y, 1, 1), 0, 0).unwrap();
@@ -282,8 +282,8 @@ fn out_of_range_years_are_errors_not_panics() {
         precise::sun(&not_leap.unwrap()),
         Err(SunError::Time(_))
     ));
-    assert_eq!(thesis::sun(&u(1899)), Err(SunError::Year(1899)));
-    assert!(thesis::sun(&u(2100)).is_ok());
+    assert_eq!(schlyter::sun(&u(1899)), Err(SunError::Year(1899)));
+    assert!(schlyter::sun(&u(2100)).is_ok());
 }
 
 /// Every instant of the valid range at a coarse step gives a unit vector and a sane distance.
@@ -301,7 +301,7 @@ fn whole_range_is_finite() {
             "{day}: {}",
             s.distance_au
         );
-        let s = thesis::sun(&e.relabel()).unwrap();
+        let s = schlyter::sun(&e.relabel()).unwrap();
         assert!((s.direction.norm() - 1.0).abs() < 1e-6);
         day += 37;
     }

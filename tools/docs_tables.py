@@ -332,7 +332,7 @@ def sun(f, bench, pil):
         f"1950–2100 within {f('sun.precise_vs_vsop87.max_arcsec', '.2f')}″ (RMS {f('sun.precise_vs_vsop87.rms_arcsec', '.2f')}″) "
         f"of the full abridged VSOP87 (itself {f('sun.vsop87_vs_de421.max_arcsec', '.2f')}″ from DE421). Before #9's rewrite "
         f"(17 sincos + 40-term nutation): 3.72″ / 1.43″ |",
-        f"| `thesis` (f32): Schlyter, seed 000 §7.1, mean equinox of date, no nutation/aberration | {f('sun.thesis.max_arcsec', '.1f')}″ | "
+        f"| `schlyter` (f32, `acs sun --model thesis`): Schlyter, seed 000 §7.1, mean equinox of date, no nutation/aberration | {f('sun.thesis.max_arcsec', '.1f')}″ | "
         f"{f('sun.thesis.rms_arcsec', '.1f')}″ | equals Schlyter in f64 (the CSV's columns) to {f('sun.thesis.f64_ra_max_deg', '.1e')}° "
         f"in RA, {f('sun.thesis.f64_dec_max_deg', '.1e')}° in Dec |",
         f"| usual low-precision formula (Astronomical Almanac, f64, in the test only) | {f('sun.almanac.max_arcsec', '.1f')}″ | "

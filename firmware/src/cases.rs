@@ -581,7 +581,7 @@ pub fn run_flight<S: Sink>(s: &mut S) {
         s.begin("sun (thesis)");
         let sun = utc
             .as_ref()
-            .and_then(|e| acs::env::sun::thesis::sun(e).ok());
+            .and_then(|e| acs::env::sun::schlyter::sun(e).ok());
         let sun = core::hint::black_box(sun);
         s.end();
         out3(s, &sun.map_or(nan3, |x| x.direction));

@@ -2,7 +2,7 @@
 //! then the two Sun models at the instant, as the tool runs them. Never panics.
 #![no_main]
 
-use acs::env::sun::{precise, thesis};
+use acs::env::sun::{precise, schlyter};
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
@@ -13,7 +13,7 @@ fuzz_target!(|data: &[u8]| {
             continue;
         }
         if let Ok(epoch) = acs::host::cli::sun::parse_utc_iso(t) {
-            let _ = thesis::sun(&epoch);
+            let _ = schlyter::sun(&epoch);
             let _ = precise::sun(&epoch);
             if let Ok(tt) = epoch.to_tt_extrapolated() {
                 let _ = acs::frames::teme_to_j2000_matrix::<f64>(&tt);

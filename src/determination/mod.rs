@@ -7,7 +7,7 @@
 //! | [`complementary`] | gyro-aided complementary filter of the loop's attitude | note 000 §5 kinematics |
 //! | [`least_squares`] | body magnetic field from two-axis magnetometers, body rate from one-axis gyros | seed 000 §8.2–8.3, eqs. 8.14–8.25 |
 //! | [`sun_sensor`] | Sun direction in the body frame from the lit tiles' sensor angles | note 000 §7 item 1 |
-//! | [`thesis`] | the thesis's generalised solver `Aᵀ = G⁺F` (with its Sun-sensor equation) | seed 000 §8.4, eqs. 8.1–8.2, 8.27–8.31 |
+//! | [`pseudoinverse`] | attitude by pseudoinverse, `Aᵀ = G⁺F`: the thesis's generalised solver (with its Sun-sensor equation) | seed 000 §8.4, eqs. 8.1–8.2, 8.27–8.31 |
 //! | [`wahba_svd`] | optimal attitude from weighted vector pairs by SVD | Markley 1988 |
 //! | [`quest`] | the same by QUEST | Shuster and Oh 1981 |
 //! | [`triad`] | attitude from two vector pairs | Black 1964; Shuster and Oh 1981 |
@@ -15,14 +15,14 @@
 //! The physically correct chain is: [`least_squares::magnetic_field_body`] and
 //! [`sun_sensor::sun_direction_body`] give two body vectors; the field and Sun models give the
 //! same two directions in the reference frame; [`wahba_svd`] (or [`quest`], [`triad`]) gives
-//! the attitude. The [`thesis`] solver is kept to reproduce the thesis's tests: its Sun-sensor
+//! the attitude. The [`pseudoinverse`] solver is kept to reproduce the thesis's tests: its Sun-sensor
 //! equation is not geometry (note 000 §0 item 6).
 
 pub mod complementary;
 pub mod least_squares;
+pub mod pseudoinverse;
 pub mod quest;
 pub mod sun_sensor;
-pub mod thesis;
 pub mod triad;
 pub mod wahba_svd;
 

@@ -1,8 +1,8 @@
-//! Sun direction and distance: the thesis's model and the project's precise model.
+//! Sun direction and distance: Schlyter's model (the thesis's) and the project's precise model.
 //!
 //! | model | module | accuracy vs JPL DE421 (1990–2050, 400 instants) | cost |
 //! |---|---|---|---|
-//! | Schlyter's algorithm, seed 000 §7.1 | [`thesis`] | 46.9″ max, 26.2″ RMS | 3 sincos, 1 atan2, 1 sqrt |
+//! | Schlyter's algorithm, seed 000 §7.1 | [`schlyter`] | 46.9″ max, 26.2″ RMS | 3 sincos, 1 atan2, 1 sqrt |
 //! | VSOP87 (equation of the centre + 19 planetary/lunar terms) + 5-term nutation + aberration | [`precise`] | 2.22″ max, 0.82″ RMS (bound 15″) | 2 table sine-cosines, 36 table cosines, no f64; ≈ 47 400 MSP430 cycles |
 //!
 //! Both take an exact [`Epoch`](crate::time::Epoch) and never form a Julian date in f32: the whole
@@ -22,7 +22,7 @@ use crate::linalg::Vec3;
 use crate::time::{civil_from_days, TimeError, Wide};
 
 pub mod precise;
-pub mod thesis;
+pub mod schlyter;
 
 /// The Sun as seen from the Earth's centre.
 #[derive(Copy, Clone, Debug, PartialEq)]

@@ -10,7 +10,7 @@ use crate::determination::least_squares::magnetic_field_body;
 use crate::determination::sun_sensor::sun_direction_body;
 use crate::determination::{quest, Observation};
 use crate::env::igrf::{Degree, Igrf, FULL};
-use crate::env::sun::{precise, thesis};
+use crate::env::sun::{precise, schlyter};
 use crate::hal::TileBus;
 use crate::host::sim::realistic::TruthLevel;
 use crate::host::sim::scenarios::{self, DTUSAT_TLE};
@@ -91,7 +91,7 @@ pub fn run(_args: &Args) -> Result<(), CliError> {
     );
 
     // 2. Sun
-    let sun_t = thesis::sun(&now).map_err(|e| compute(format!("{e:?}")))?;
+    let sun_t = schlyter::sun(&now).map_err(|e| compute(format!("{e:?}")))?;
     let (ra, dec) = sun_t.right_ascension_declination();
     let sun_p = precise::sun(&now).map_err(|e| compute(format!("{e:?}")))?;
     println!("\n2. Sun at {}", super::iso_utc_ms(&now));

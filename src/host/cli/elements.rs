@@ -32,8 +32,8 @@
 //! - the **gravity model** is recognised from words 4–6, compared with the words
 //!   [`Sgp4::new`] writes for each model (a set with other constants is refused, word 4–6);
 //! - the **satellite number** is not in the words: the board does not need it, and adding it
-//!   would change the layout (the lead's, in `src/orbit/sgp4.rs`). The JSON form carries it as
-//!   `norad` (outside the checksum, like `epoch_utc`); for hex words the summary says
+//!   would change the layout (the lead's, in `src/orbit/sgp4/words.rs`). The JSON form carries
+//!   it as `norad` (outside the checksum, like `epoch_utc`); for hex words the summary says
 //!   `satellite unknown (not in hex words)`.
 //!
 //! # Naming the bad word
@@ -145,7 +145,7 @@ const SOURCE_WORDS: [usize; 19] = [
     SINIO,
 ];
 
-/// What each word holds (the symbols of `src/orbit/sgp4.rs`), for the messages.
+/// What each word holds (the symbols of `src/orbit/sgp4/`), for the messages.
 pub const WORD_NAMES: [&str; ELEMENT_WORDS] = [
     "format tag",
     "epoch day",

@@ -9,7 +9,7 @@
 
 use std::io::{BufRead, Write};
 
-use crate::env::sun::{precise, thesis, Sun};
+use crate::env::sun::{precise, schlyter, Sun};
 use crate::frames::teme_to_j2000_matrix;
 use crate::time::{Calendar, Epoch, Utc};
 
@@ -127,7 +127,7 @@ pub fn run(args: &Args) -> Result<(), CliError> {
         let epoch =
             parse_utc_iso(text).map_err(|m| CliError::Input(format!("line {line_no}: {m}")))?;
         let result: Result<Sun, _> = if thesis_model {
-            thesis::sun(&epoch)
+            schlyter::sun(&epoch)
         } else {
             precise::sun(&epoch)
         };

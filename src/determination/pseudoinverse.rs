@@ -1,6 +1,6 @@
-//! The thesis's generalised attitude solver `Aᵀ = G⁺·F` (seed 000 §8.4, eqs. 8.27–8.31; note
-//! 000 §3.8 e), with the thesis's Sun-sensor equation (§8.1, eqs. 8.1–8.2) — the
-//! "thesis-compatible" mode of note 000 §7 item 1.
+//! Attitude by pseudoinverse, `Aᵀ = G⁺·F`: the thesis's generalised attitude solver (seed 000
+//! §8.4, eqs. 8.27–8.31; note 000 §3.8 e), with the thesis's Sun-sensor equation (§8.1,
+//! eqs. 8.1–8.2) — the "thesis-compatible" mode of note 000 §7 item 1.
 //!
 //! **Not physical.** Eq. 8.1 turns each lit tile's sensor angles into that tile's normal in the
 //! reference frame, `α_m = RA − a_m`, `β_m = Dec − b_m`, which does not follow from rotation

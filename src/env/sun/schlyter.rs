@@ -1,4 +1,4 @@
-//! The thesis's Sun model: P. Schlyter's algorithm, as in seed 000 §7.1.
+//! Schlyter's Sun model: P. Schlyter's algorithm, the thesis's Sun model (seed 000 §7.1).
 //!
 //! Source: P. Schlyter, "How to compute planetary positions" (stjarnhimlen.se), the thesis's
 //! ref. \[8\]; the thesis's §7.1 and eqs. 7.1–7.9 (note 000 §3.4). Kept exactly as the thesis has it,
@@ -46,7 +46,7 @@ const LAST_DAY: i32 = days_from_civil(2100, 12, 31);
 /// M: 356.0470° + 0.9856002585°·d (Schlyter).
 const MEAN_ANOMALY: LinearAngle = LinearAngle::from_degrees(356.0470, 0.985_600_258_5);
 
-/// The Sun by the thesis's algorithm at a UTC instant (UT1 ≈ UTC, as in the thesis).
+/// The Sun by Schlyter's algorithm (the thesis's) at a UTC instant (UT1 ≈ UTC, as in the thesis).
 ///
 /// Returns the unit vector in the thesis's IJK (equator and mean equinox of date, no nutation)
 /// and the distance in AU. Years outside 1900..=2100 give [`SunError::Year`].
