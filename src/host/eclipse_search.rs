@@ -84,28 +84,17 @@ pub enum SearchError {
     },
 }
 
-/// `YYYY-MM-DDThh:mm:ss.mmmZ`.
-fn iso_ms(e: &Epoch<Utc>) -> String {
-    let c = e.to_calendar();
-    format!(
-        "{:04}-{:02}-{:02}T{:02}:{:02}:{:02}.{:03}Z",
-        c.year,
-        c.month,
-        c.day,
-        c.hour,
-        c.minute,
-        c.second,
-        c.nano / 1_000_000
-    )
-}
-
 impl fmt::Display for SearchError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             Self::Time { t_s, error } => write!(f, "time {t_s} s: {error}"),
-            Self::Sgp4 { epoch, error } => write!(f, "SGP4 at {}: {error}", iso_ms(epoch)),
-            Self::Sun { epoch, error } => write!(f, "Sun at {}: {error}", iso_ms(epoch)),
-            Self::Shadow { epoch, error } => write!(f, "shadow at {}: {error}", iso_ms(epoch)),
+            Self::Sgp4 { epoch, error } => {
+                write!(f, "SGP4 at {}: {error}", super::iso_utc_ms(epoch))
+            }
+            Self::Sun { epoch, error } => write!(f, "Sun at {}: {error}", super::iso_utc_ms(epoch)),
+            Self::Shadow { epoch, error } => {
+                write!(f, "shadow at {}: {error}", super::iso_utc_ms(epoch))
+            }
             Self::Grid { span_s, step_s } => {
                 write!(
                     f,
