@@ -328,8 +328,11 @@ fn campaign_run(args: &Args) -> Result<(), CliError> {
         }
         .validate()
         .map_err(CliError::Input)?;
-        let (scenario, samples) = campaign
-            .replay(k)
+        let (scenario, drawn) = campaign
+            .scenario_of_run(k)
+            .map_err(|e| CliError::Compute(e.to_string()))?;
+        let samples = scenario
+            .run()
             .map_err(|e| CliError::Compute(e.to_string()))?;
         let files = plot::write_all(&out, &samples).map_err(CliError::Compute)?;
         print_summary(&scenario, &samples, &files, &out)?;
@@ -338,8 +341,9 @@ fn campaign_run(args: &Args) -> Result<(), CliError> {
             campaign.seed,
             campaign::run_seed(campaign.seed, k)
         );
-        let r = campaign.run_one(k);
-        for (m, v) in campaign.metrics().iter().zip(r.values.iter()) {
+        let metrics = campaign.metrics();
+        let values = campaign::requirements::evaluate(&metrics, &samples, scenario.dt_s);
+        for (m, v) in metrics.iter().zip(values.iter()) {
             let verdict = match m.limit {
                 None => String::new(),
                 Some(_) if m.met(*v) => format!(" (met: {})", m.limit_text()),
@@ -347,7 +351,7 @@ fn campaign_run(args: &Args) -> Result<(), CliError> {
             };
             println!("{}: {v}{verdict}", m.key);
         }
-        for (d, v) in campaign::dispersion::DRAWN.iter().zip(r.drawn.iter()) {
+        for (d, v) in campaign::dispersion::DRAWN.iter().zip(drawn.iter()) {
             println!("dispersed_{d}: {v}");
         }
         return Ok(());
