@@ -17,7 +17,7 @@
 //!   below); beyond that (where adjacent f32 are more than 0.5 rad apart, no angle is left) and for
 //!   non-finite input the result is NaN.
 //! - **Polynomials**: minimax (relative error) on the reduced interval, derived by
-//!   `firmware/tools/fmath_coeffs.py` (Lawson's algorithm in f64, coefficients rounded to f32).
+//!   `tools/fmath_coeffs.py` (Lawson's algorithm in f64, coefficients rounded to f32).
 //!   They agree with S. L. Moshier's Cephes single-precision sets (`sinf.c`, `atanf.c`,
 //!   `asinf.c`, Cephes Math Library 2.2, 1992) to the printed digits.
 //! - **sqrt**: exact digit-by-digit integer square root of the significand on 16-bit words (a

@@ -8,7 +8,7 @@ Lawson's iteratively reweighted least squares on 4000 Chebyshev-distributed poin
 maximum relative error of the f64-evaluated polynomial with the f32-rounded coefficients, i.e.
 the approximation error alone; the f32 evaluation error is measured by `tests/fmath.rs`.
 
-Usage: python3 firmware/tools/fmath_coeffs.py   (needs numpy: pip install numpy)
+Usage: python3 tools/fmath_coeffs.py   (needs numpy: pip install numpy)
 """
 import numpy as np
 
