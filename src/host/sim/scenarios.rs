@@ -289,7 +289,8 @@ fn quat_f64(q: &Quaternion) -> [f64; 4] {
     ]
 }
 
-fn epoch(y: i32, mo: u8, d: u8, h: u8) -> Result<Epoch<Utc>, SimError> {
+/// `y-mo-d h:00:00` UTC.
+pub(super) fn epoch(y: i32, mo: u8, d: u8, h: u8) -> Result<Epoch<Utc>, SimError> {
     Epoch::from_calendar(Calendar {
         year: y,
         month: mo,

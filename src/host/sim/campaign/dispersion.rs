@@ -22,9 +22,9 @@ use crate::acs_loop::Command;
 use crate::attitude::Quaternion;
 use crate::linalg::{Mat3d, Vec3d};
 use crate::orbit::sgp4::Sgp4;
-use crate::time::{Calendar, Epoch, TimeSpan, Utc};
+use crate::time::{Epoch, TimeSpan, Utc};
 
-use super::super::scenarios::{make_tle, Scenario};
+use super::super::scenarios::{self, make_tle, Scenario};
 use super::super::{dcm_of, Rng, SimError};
 
 /// How the initial attitude is dispersed.
@@ -305,16 +305,7 @@ fn seconds(s: f64) -> Result<TimeSpan, SimError> {
 /// The TLE epoch `(yy, day of year with fraction)` of `t`.
 fn tle_epoch(t: &Epoch<Utc>) -> Result<(u8, f64), SimError> {
     let c = t.to_calendar();
-    let jan1 = Epoch::<Utc>::from_calendar(Calendar {
-        year: c.year,
-        month: 1,
-        day: 1,
-        hour: 0,
-        minute: 0,
-        second: 0,
-        nano: 0,
-    })
-    .map_err(|e| SimError::Model(e.to_string()))?;
+    let jan1 = scenarios::epoch(c.year, 1, 1, 0)?;
     let day = 1.0 + t.span_since(&jan1).as_seconds_f64() / 86_400.0;
     Ok(((c.year.rem_euclid(100)) as u8, day))
 }
