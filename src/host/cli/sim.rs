@@ -322,12 +322,7 @@ fn campaign_run(args: &Args) -> Result<(), CliError> {
                 campaign.runs
             )));
         }
-        Campaign {
-            runs: 1,
-            ..campaign.clone()
-        }
-        .validate()
-        .map_err(CliError::Input)?;
+        campaign.validate().map_err(CliError::Input)?;
         let (scenario, drawn) = campaign
             .scenario_of_run(k)
             .map_err(|e| CliError::Compute(e.to_string()))?;

@@ -210,10 +210,6 @@ fn grid(samples: &[Sample], f: impl Fn(&Sample) -> f64) -> Vec<f32> {
         .collect()
 }
 
-fn truth_name(t: TruthLevel) -> &'static str {
-    t.name()
-}
-
 fn truth_of(name: &str) -> Option<TruthLevel> {
     match name {
         "ideal" => Some(TruthLevel::Ideal),
@@ -258,7 +254,7 @@ pub fn write_slice(
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let meta = serde_json::json!({
         "scenario": campaign.scenario,
-        "truth": truth_name(campaign.truth),
+        "truth": campaign.truth.name(),
         "seed": campaign.seed,
         "runs": campaign.runs,
         "range": [range.start, range.end],
@@ -424,11 +420,11 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<(Campaign, Vec<RunResult>),
                     "{}: a slice of another campaign ({} {} seed {} runs {}, not {} {} seed {} runs {})",
                     d.display(),
                     c.scenario,
-                    truth_name(c.truth),
+                    c.truth.name(),
                     c.seed,
                     c.runs,
                     first.scenario,
-                    truth_name(first.truth),
+                    first.truth.name(),
                     first.seed,
                     first.runs
                 ));
@@ -574,7 +570,7 @@ impl Summary {
         format!(
             "acs sim {} --truth {} --runs {} --seed {} --out DIR",
             c.scenario,
-            truth_name(c.truth),
+            c.truth.name(),
             c.runs,
             c.seed
         )
@@ -593,7 +589,7 @@ impl Summary {
         let runs = c.runs;
         serde_json::json!({
             "scenario": c.scenario,
-            "truth": truth_name(c.truth),
+            "truth": c.truth.name(),
             "seed": c.seed,
             "runs": runs,
             "command": self.command(),
@@ -628,7 +624,7 @@ impl Summary {
         let mut s = format!(
             "# Campaign `{}` ({} truth), {} runs, seed {}\n\n`{}`\n\n",
             c.scenario,
-            truth_name(c.truth),
+            c.truth.name(),
             c.runs,
             c.seed,
             self.command()
@@ -682,7 +678,7 @@ impl Summary {
             s,
             "\nRun `k` replays alone with `acs sim {} --truth {} --seed {} --run k --out DIR`; the dispersions are in `runs.csv` and in `acs::host::sim::campaign::dispersion`.",
             c.scenario,
-            truth_name(c.truth),
+            c.truth.name(),
             c.seed
         );
         s
