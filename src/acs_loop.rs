@@ -35,9 +35,13 @@
 //! | `SunSafe` | Sun pointing + rate damping; damping only in eclipse | wheels (coils if no wheel), coils dump momentum | a ground command → `Slew` or `Tracking` |
 //! | `Slew` | the thesis's open-loop plan (principal-axis rotations at constant momentum), executed by time (it needs no attitude) | wheels | plan done → `Tracking` of the commanded attitude |
 //! | `Tracking` | quaternion feedback | wheels, coils dump momentum | a new command |
-//! From any mode: `|ω| > enter_rate` → `Detumble`. In `Slew` and `Tracking`, an invalid
-//! attitude makes the step hold the wheels (no new momentum command) with the coils off, and
-//! after [`INVALID_STEPS_TO_SAFE`] steps the loop falls back to `SunSafe`.
+//! From any mode: `|ω| > enter_rate` → `Detumble`; a ground command (sun-safe, track, a slew
+//! that could be planned) → its mode. In `Slew` and `Tracking`, an invalid attitude makes the
+//! step hold the wheels (no new momentum command) with the coils off, and after
+//! [`INVALID_STEPS_TO_SAFE`] steps the loop falls back to `SunSafe`. The mode carries its data
+//! (a slew its plan's progress and target, tracking its target) and one function makes every
+//! transition (`next_mode`, over these events; leaving `Detumble` forgets the B-dot derivative's
+//! last sample).
 //!
 //! # Safe state
 //! Whenever the attitude is not valid and the mode needs it, or any model fails, the coils are
@@ -315,8 +319,7 @@ impl StepReport {
 }
 
 /// A slew in progress: what its execution needs of the plan (the rotations' durations, rounded
-/// to whole control periods, and body momenta, in execution order) and the start; its target
-/// is the loop's tracking target, set with it.
+/// to whole control periods, and body momenta, in execution order) and the start.
 #[derive(Copy, Clone, Debug, PartialEq)]
 struct SlewProgress {
     /// `(duration_s, h_body)` of each rotation.
@@ -324,6 +327,76 @@ struct SlewProgress {
     started: Epoch<Utc>,
     /// Wheel momentum (body) before the slew: the plan's momenta are added to it.
     h_base: Vec3,
+}
+
+/// The mode with the data it runs on (issue #19 item 3): a slew carries its plan's progress and
+/// its target, tracking its target, so no mode can run without its data. [`Mode`] is its tag
+/// (telemetry); [`next_mode`] holds every transition.
+#[derive(Copy, Clone, Debug, PartialEq)]
+enum ModeState {
+    Detumble,
+    SunSafe,
+    /// The thesis's open-loop slew, then tracking of `target` (reference → body).
+    Slew {
+        progress: SlewProgress,
+        target: Quaternion,
+    },
+    /// Tracking of `target` (reference → body).
+    Tracking {
+        target: Quaternion,
+    },
+}
+
+impl ModeState {
+    /// The mode's tag.
+    fn mode(&self) -> Mode {
+        match self {
+            Self::Detumble => Mode::Detumble,
+            Self::SunSafe => Mode::SunSafe,
+            Self::Slew { .. } => Mode::Slew,
+            Self::Tracking { .. } => Mode::Tracking,
+        }
+    }
+}
+
+/// What changes the mode: the step's findings and the ground's commands (a slew's plan by
+/// reference: on the MSP430 an event the size of a plan would sit in the step's frame).
+#[derive(Copy, Clone, Debug, PartialEq)]
+enum Event<'p> {
+    /// The body rate is above `detumble_enter_radps`.
+    RateAbove,
+    /// The body rate is below `detumble_exit_radps`.
+    RateBelow,
+    /// [`INVALID_STEPS_TO_SAFE`] steps in a row without a valid attitude.
+    AttitudeLost,
+    /// The slew's plan is done.
+    SlewDone,
+    /// Ground: sun-safe.
+    SunSafe,
+    /// Ground: track `target` (reference → body).
+    Track(Quaternion),
+    /// Ground: a slew to the target, planned from the attitude at the command.
+    Slew(&'p SlewProgress, Quaternion),
+}
+
+/// The mode machine's one transition function (the table of the module docs): `state` becomes
+/// the mode after `event`, in place (on the MSP430 a mode returned by value would be a plan-sized
+/// copy). An event that does not apply to the mode leaves it.
+fn next_mode(state: &mut ModeState, event: Event) {
+    use ModeState as S;
+    *state = match (&*state, event) {
+        (_, Event::RateAbove) => S::Detumble,
+        (S::Detumble, Event::RateBelow) => S::SunSafe,
+        (S::Slew { .. } | S::Tracking { .. }, Event::AttitudeLost) => S::SunSafe,
+        (S::Slew { target, .. }, Event::SlewDone) => S::Tracking { target: *target },
+        (_, Event::SunSafe) => S::SunSafe,
+        (_, Event::Track(target)) => S::Tracking { target },
+        (_, Event::Slew(progress, target)) => S::Slew {
+            progress: *progress,
+            target,
+        },
+        (_, Event::RateBelow | Event::AttitudeLost | Event::SlewDone) => return,
+    };
 }
 
 /// The loop's state: mode, estimator memories, commands in force, device health; for at most
@@ -340,10 +413,8 @@ pub struct AcsLoop<'c, const N: usize = MAX_TILES, const F: usize = FULL_COEFFS>
     /// Bit `i` set: tile `i` is out of service (failed at run time or configured failed).
     failed: u32,
     orbit: Option<Sgp4>,
-    mode: Mode,
+    mode: ModeState,
     bdot: BdotState,
-    slew: Option<SlewProgress>,
-    target: Option<Quaternion>,
     invalid_steps: u16,
     last_time: Option<Epoch<Utc>>,
     /// Filtered attitude and the seconds since it last saw a measurement.
@@ -514,10 +585,8 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
             config,
             failed,
             orbit: orbit.into(),
-            mode: Mode::Detumble,
+            mode: ModeState::Detumble,
             bdot: BdotState::default(),
-            slew: None,
-            target: None,
             invalid_steps: 0,
             last_time: None,
             estimate: None,
@@ -540,7 +609,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
 
     /// The current mode.
     pub fn mode(&self) -> Mode {
-        self.mode
+        self.mode.mode()
     }
 
     /// The configured tiles (their run-time state: [`AcsLoop::tile_state`]).
@@ -599,32 +668,35 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         now: Epoch<Utc>,
     ) -> Result<(), AcsError> {
         match command {
-            Command::SunSafe => {
-                self.mode = Mode::SunSafe;
-                self.slew = None;
-                self.target = None;
-            }
-            Command::Track { target } => {
-                self.target = Some(target);
-                self.slew = None;
-                self.mode = Mode::Tracking;
-            }
+            Command::SunSafe => self.transition(Event::SunSafe),
+            Command::Track { target } => self.transition(Event::Track(target)),
             Command::Slew { target, within_s } => {
                 let attitude = attitude.ok_or(AcsError::CannotSlew)?;
-                self.plan_slew(attitude, &target, within_s, now)?;
-                self.mode = Mode::Slew;
+                self.start_slew(attitude, &target, within_s, now)?;
             }
         }
         Ok(())
     }
 
+    /// Applies [`next_mode`]; leaving `Detumble` forgets the B-dot derivative's last sample
+    /// (a later detumble must not difference against it). Out of line: the modes' copies stay
+    /// off the step's frame.
+    #[cfg_attr(target_arch = "msp430", inline(never))]
+    fn transition(&mut self, event: Event) {
+        let was_detumbling = matches!(self.mode, ModeState::Detumble);
+        next_mode(&mut self.mode, event);
+        if was_detumbling && !matches!(self.mode, ModeState::Detumble) {
+            self.bdot.reset();
+        }
+    }
+
     /// The thesis's open-loop plan from `attitude` to `target` within `within_s`, each rotation
-    /// rounded up to whole control periods with its momentum scaled to keep the angle, written
-    /// into the loop's slew and target (left as they were if the planner refuses; out of line:
-    /// the planner's temporaries stay off the step's stack).
+    /// rounded up to whole control periods with its momentum scaled to keep the angle, started
+    /// `now` (the mode left as it was if the planner refuses; out of line: the planner's
+    /// temporaries stay off the step's stack).
     #[inline(never)]
     #[cfg_attr(target_arch = "msp430", optimize(size))]
-    fn plan_slew(
+    fn start_slew(
         &mut self,
         attitude: &Quaternion,
         target: &Dcm,
@@ -642,12 +714,11 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         .map_err(|_| AcsError::CannotSlew)?;
         // whole control periods, same angle: L·t constant
         let period = self.config.control_period_s;
-        let h_base = self.wheels_body();
-        let slew = self.slew.insert(SlewProgress {
+        let mut slew = SlewProgress {
             steps: [(0.0f32, Vec3::zeros()); 3],
             started: now,
-            h_base,
-        });
+            h_base: self.wheels_body(),
+        };
         for ((duration, h), s) in slew.steps.iter_mut().zip(plan.steps.iter()) {
             if s.duration_s > 0.0 {
                 let ticks = crate::fmath::max(s.duration_s / period - 1e-4, 0.0) as u32 + 1;
@@ -656,7 +727,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
                 *duration = rounded;
             }
         }
-        self.target = Some(target.to_quaternion());
+        self.transition(Event::Slew(&slew, target.to_quaternion()));
         Ok(())
     }
 
@@ -758,7 +829,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
 
     /// One control step at UTC epoch `now`, `dt_s` seconds after the previous one.
     pub fn step<B: TileBus>(&mut self, bus: &mut B, now: Epoch<Utc>, dt_s: f32) -> StepReport {
-        let mut report = StepReport::empty(self.mode);
+        let mut report = StepReport::empty(self.mode());
         self.step_into(bus, now, dt_s, &mut report);
         report
     }
@@ -782,13 +853,13 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         // the determination (and the magnetometers see the coils' field decay meanwhile).
         let models = self.models(&now, &mut faults);
         // The determination writes its results straight into the report.
-        report.reset(self.mode);
+        report.reset(self.mode());
         report.sun_fraction = models.illumination.map(|i| i.fraction);
         let dt = self.sense(bus, &models, &now, dt_s, &mut faults, report);
         self.change_mode(report);
         let (dipole, h_target) = self.laws(report, dt, &now, &mut faults);
         let (dipole, h_wheels) = self.actuate(bus, report, dipole, h_target, &mut faults);
-        report.mode = self.mode;
+        report.mode = self.mode();
         report.dipole_body_am2 = dipole;
         report.h_wheels_body = h_wheels;
         report.faults = faults;
@@ -956,26 +1027,23 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         sun_direction_body(tiles, sun.get(..tiles.len())?).ok()
     }
 
-    /// Step phase 5a: mode transitions on the rate and on the validity of the attitude.
+    /// Step phase 5a: the events of the rate and of the validity of the attitude.
     fn change_mode(&mut self, det: &StepReport) {
         let rate = det.omega_body_radps.map(|w| crate::linalg::norm(&w));
         if let Some(r) = rate {
-            if r > self.config.detumble_enter_radps && self.mode != Mode::Detumble {
-                self.mode = Mode::Detumble;
-                self.slew = None;
-            } else if self.config.detumble_exit_radps > r && self.mode == Mode::Detumble {
-                self.mode = Mode::SunSafe;
-                self.bdot.reset();
+            if r > self.config.detumble_enter_radps {
+                self.transition(Event::RateAbove);
+            } else if self.config.detumble_exit_radps > r {
+                self.transition(Event::RateBelow);
             }
         }
-        if matches!(self.mode, Mode::Slew | Mode::Tracking) {
+        if matches!(self.mode(), Mode::Slew | Mode::Tracking) {
             if det.attitude.is_some() {
                 self.invalid_steps = 0;
             } else {
                 self.invalid_steps = self.invalid_steps.saturating_add(1);
                 if self.invalid_steps >= INVALID_STEPS_TO_SAFE {
-                    self.mode = Mode::SunSafe;
-                    self.slew = None;
+                    self.transition(Event::AttitudeLost);
                 }
             }
         }
@@ -997,8 +1065,8 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         let mut dipole = Vec3::zeros();
         let mut torque: Option<Vec3> = None;
         let mut h_target: Option<Vec3> = None;
-        match self.mode {
-            Mode::Detumble => {
+        match &self.mode {
+            ModeState::Detumble => {
                 dipole = match (omega, b_body_nt) {
                     (Some(w), Some(b)) => {
                         // the derivative form must not difference against a sample taken
@@ -1014,7 +1082,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
                     _ => Vec3::zeros(),
                 };
             }
-            Mode::SunSafe => {
+            ModeState::SunSafe => {
                 if let Some(w) = omega {
                     torque = sun_safe_torque(
                         &self.config.sun_safe,
@@ -1026,25 +1094,17 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
                     faults.law |= torque.is_none();
                 }
             }
-            Mode::Slew => {
-                match self.slew.as_ref().map(|p| self.slew_momentum(p, now)) {
-                    Some(Some(h)) => h_target = Some(h),
-                    Some(None) => {
-                        // done: track the slew's target (set with it, `self.target`)
-                        self.mode = Mode::Tracking;
-                        self.slew = None;
-                    }
-                    None => {}
-                }
-            }
-            Mode::Tracking => {}
+            ModeState::Slew { progress, .. } => match self.slew_momentum(progress, now) {
+                Some(h) => h_target = Some(h),
+                // done: track the slew's target
+                None => self.transition(Event::SlewDone),
+            },
+            ModeState::Tracking { .. } => {}
         }
         // the wheels' momentum in force, summed once for the tracking law and the integration
         let mut h_now: Option<Vec3> = None;
-        if self.mode == Mode::Tracking {
-            if let (Some(q), Some(w), Some(target)) =
-                (det.attitude.as_ref(), omega, self.target.as_ref())
-            {
+        if let ModeState::Tracking { target } = &self.mode {
+            if let (Some(q), Some(w)) = (det.attitude.as_ref(), omega) {
                 let h_w = self.wheels_body();
                 h_now = Some(h_w);
                 torque = tracking_torque(
@@ -1110,7 +1170,9 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         // what the wheels now hold: dumped through the coils and reported
         let h_wheels = self.wheels_body();
         let mut dipole = dipole;
-        if self.mode != Mode::Detumble && self.config.dumping_gain_per_s > 0.0 && self.have_wheels()
+        if !matches!(self.mode, ModeState::Detumble)
+            && self.config.dumping_gain_per_s > 0.0
+            && self.have_wheels()
         {
             if let Some(b) = det.b_body_nt {
                 let dump = dumping_dipole(
@@ -1236,5 +1298,63 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
             }
         }
         produced
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every (mode, event) pair through `next_mode` against the table of the module docs; the
+    /// scripted-bus walk of every transition through the public API is `tests/modes.rs`.
+    #[test]
+    fn next_mode_table() {
+        let q = |x: f32| Quaternion {
+            q0: 1.0,
+            q1: x,
+            q2: 0.0,
+            q3: 0.0,
+        };
+        let progress = SlewProgress {
+            steps: [(1.0, Vec3::x()); 3],
+            started: Epoch::<Utc>::from_parts(0, 0, 0).unwrap(),
+            h_base: Vec3::zeros(),
+        };
+        let detumble = ModeState::Detumble;
+        let sun_safe = ModeState::SunSafe;
+        let slew = ModeState::Slew {
+            progress,
+            target: q(0.1),
+        };
+        let tracking = ModeState::Tracking { target: q(0.2) };
+        let new_slew = ModeState::Slew {
+            progress,
+            target: q(0.3),
+        };
+        let events = [
+            Event::RateAbove,
+            Event::RateBelow,
+            Event::AttitudeLost,
+            Event::SlewDone,
+            Event::SunSafe,
+            Event::Track(q(0.4)),
+            Event::Slew(&progress, q(0.3)),
+        ];
+        let track_new = ModeState::Tracking { target: q(0.4) };
+        // rows: the state before; the state after each event, in `events`' order
+        #[rustfmt::skip]
+        let table = [
+            (detumble, [detumble, sun_safe, detumble, detumble, sun_safe, track_new, new_slew]),
+            (sun_safe, [detumble, sun_safe, sun_safe, sun_safe, sun_safe, track_new, new_slew]),
+            (slew, [detumble, slew, sun_safe, ModeState::Tracking { target: q(0.1) }, sun_safe, track_new, new_slew]),
+            (tracking, [detumble, tracking, sun_safe, tracking, sun_safe, track_new, new_slew]),
+        ];
+        for (before, afters) in table.iter() {
+            for (event, after) in events.iter().zip(afters.iter()) {
+                let mut state = *before;
+                next_mode(&mut state, *event);
+                assert_eq!(state, *after, "{before:?} + {event:?}");
+            }
+        }
     }
 }

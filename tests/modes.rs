@@ -1,7 +1,8 @@
 //! The loop's mode machine, transition by transition (issue 19 item 3): a table of (mode before,
 //! what happens, mode after), each row run on the flight loop (`FlightLoop` over `CONFIG`) with a
-//! scripted tile bus. The transitions live in `AcsLoop::change_mode` (rates, attitude), the slew
-//! law (a plan done) and `AcsLoop::command` (the ground).
+//! scripted tile bus. Every transition is made by one function, `acs_loop::next_mode`, from the
+//! events the step finds (rates, attitude lost, a plan done) and the ground's commands; its own
+//! table of every (mode, event) pair is the unit test `acs_loop::tests::next_mode_table`.
 
 use acs::acs_loop::{AcsError, Command, Mode, StepReport, INVALID_STEPS_TO_SAFE};
 use acs::attitude::{Dcm, Quaternion};
