@@ -416,6 +416,9 @@ pub struct AcsLoop<'c, const N: usize = MAX_TILES, const F: usize = FULL_COEFFS>
     mode: ModeState,
     bdot: BdotState,
     invalid_steps: u16,
+    /// A device answered in the previous step: failures mark a tile failed only then (a
+    /// bus-wide burst is not the tiles' fault).
+    bus_answered: bool,
     last_time: Option<Epoch<Utc>>,
     /// Filtered attitude and the seconds since it last saw a measurement.
     estimate: Option<Estimate>,
@@ -588,6 +591,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
             mode: ModeState::Detumble,
             bdot: BdotState::default(),
             invalid_steps: 0,
+            bus_answered: true,
             last_time: None,
             estimate: None,
             wheel_h: [0.0; N],
@@ -732,6 +736,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
     }
 
     /// Total commanded wheel momentum in body axes, kg·m²/s.
+    #[cfg_attr(target_arch = "msp430", optimize(size))]
     fn wheels_body(&self) -> Vec3 {
         self.config
             .tiles
@@ -751,7 +756,11 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         faults
     }
 
-    /// Step phase 3: reads every working tile (see the module docs), counting read failures.
+    /// Step phase 3: reads every working tile (see the module docs), counting read failures. A
+    /// tile is marked failed at [`FAILURES_TO_MARK_FAILED`] failures in a row only if some
+    /// device answered in the previous step: when none does, the bus is failing, not the tiles
+    /// (a bus-wide burst once took every tile out of service for good), and a sole tile left in
+    /// service with sensors is never marked.
     #[inline(never)]
     fn read_tiles<B: TileBus>(&mut self, bus: &mut B, faults: &mut Faults) -> Readings<N> {
         let mut r = Readings {
@@ -763,6 +772,8 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
             gyro_read: 0,
         };
         let config = self.config;
+        // a device answered this step
+        let mut any_read = false;
         for (i, (tile, (sun, (mag, gyro)))) in config
             .tiles
             .iter()
@@ -785,8 +796,9 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
                     Ok(Some([a, b])) if !pinned(a) && !pinned(b) => {
                         *sun = [a, b];
                         r.sun_seen |= here;
+                        any_read = true;
                     }
-                    Ok(None) => {}
+                    Ok(None) => any_read = true,
                     _ => failed = true,
                 }
             }
@@ -795,6 +807,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
                     Ok([x, y]) if !pinned(x) && !pinned(y) => {
                         *mag = [x, y];
                         r.mag_read |= here;
+                        any_read = true;
                     }
                     _ => failed = true,
                 }
@@ -804,6 +817,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
                     Ok(w) if !pinned(w) => {
                         *gyro = w;
                         r.gyro_read |= here;
+                        any_read = true;
                     }
                     _ => failed = true,
                 }
@@ -812,7 +826,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
                 if failed {
                     faults.device_read = true;
                     *count = count.saturating_add(1);
-                    if *count >= FAILURES_TO_MARK_FAILED {
+                    if *count >= FAILURES_TO_MARK_FAILED && self.bus_answered {
                         // out of service from this step on: its readings of this step too
                         self.failed |= here;
                         r.sun_seen &= !here;
@@ -824,6 +838,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
                 }
             }
         }
+        self.bus_answered = any_read;
         r
     }
 
@@ -1053,6 +1068,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
     /// momentum to hold (body, kg·m²/s; `None`: hold the momentum in force). A law that
     /// refuses its input sets `faults.law` and commands nothing (coils off, wheels held).
     #[inline(never)]
+    #[cfg_attr(target_arch = "msp430", optimize(size))]
     fn laws(
         &mut self,
         det: &StepReport,
@@ -1201,6 +1217,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
     /// coefficients of the on-board model at `now`, built on this function's stack (out of
     /// line: the `4·F` bytes exist only while the field is evaluated).
     #[cfg_attr(target_arch = "msp430", inline(never))]
+    #[cfg_attr(target_arch = "msp430", optimize(size))]
     fn field_teme(
         &self,
         now: &Epoch<Utc>,

@@ -563,51 +563,43 @@ fn bus_error_bursts() {
 
 /// A longer burst: 5 s of bus errors marks every tile failed; the ground restores them 60 s
 /// after the burst.
-fn long_burst_run(ground: &[(f64, Ground)]) -> (Run, f64, f64) {
-    let (clear, end) = (FAULT_AT + 5.0, 1200.0);
+fn long_burst_run(seconds: f64, ground: &[(f64, Ground)]) -> (Run, f64, f64) {
+    let (clear, end) = (FAULT_AT + seconds, 1200.0);
     let f = [(Fault::BusErrors, FAULT_AT, clear)];
     (fly(&f, ground, end), clear, end)
 }
 
+/// After a 5 s bus burst (every transaction failing) the loop keeps its tiles in service and
+/// its attitude (finding 3, fixed: before, every tile was marked failed at the burst's third
+/// step, for good without a ground `RESTORE`, and the loop ended 165° off its target).
 #[test]
-fn long_bus_burst_restored_by_ground() {
-    let (run, clear, end) = long_burst_run(&[
-        (FAULT_AT + 65.0, Ground::RestoreFailed),
-        (FAULT_AT + 70.0, Ground::Track),
-    ]);
-    let back = summary(
-        "bus error burst (5 s), ground restore + track",
-        &run,
-        clear,
-        end,
-    );
+fn long_bus_burst_recovers_alone() {
+    let (run, clear, end) = long_burst_run(5.0, &[]);
+    let back = summary("bus error burst (5 s), no ground action", &run, clear, end);
     assert!(every_step(&run, FAULT_AT, clear, DEVICE_READ | ACTUATOR));
     assert!(run
         .tile_states
-        .last()
-        .unwrap()
-        .1
         .iter()
-        .all(|x| *x == TileState::Working));
+        .all(|(_, s)| s.iter().all(|x| *x == TileState::Working)));
     assert_eq!(run.samples.last().unwrap().mode, Mode::Tracking);
-    recovered("long bus burst", back);
+    recovered("long bus burst alone", back);
 }
 
-/// Finding: after a 5 s bus burst the loop has marked every tile failed and never takes them
-/// back by itself (no readings, every wheel commanded to rest).
+/// A burst longer than the loop waits without an attitude (60 s): the tiles stay in service,
+/// the loop falls back to sun-safe, and the ground commands `TRACK` again 10 s after the clear.
+/// Finding (open): the tracking that follows does not settle.
 #[test]
-#[ignore = "issue 19: a bus-wide error burst of >= FAILURES_TO_MARK_FAILED steps marks every tile failed (AcsLoop::read_tiles counts it per tile) and nothing returns them to service without a ground RESTORE: the loop is left with no sensor and spins every wheel down"]
-fn long_bus_burst_recovers_alone() {
-    let (run, clear, end) = long_burst_run(&[]);
-    let back = summary("bus error burst (5 s), no ground action", &run, clear, end);
+#[ignore = "issue 19: after a 60 s bus burst the loop falls back to sun-safe (tiles kept); the ground's TRACK at 370 s (12.5 deg off, 2.1 deg/s after the sun acquisition) falls into a limit cycle of the tracking law: the V wheels' momentum swings +-1.5 mN.m.s about every 60 s, true rate up to 6.5 deg/s, pointing 1-12 deg to the end (1 200 s); the same TRACK after a sun-safe command without a burst (83 deg off, 1.5 deg/s) settles in 20 s. Cause not established"]
+fn minute_bus_burst() {
+    let (run, clear, end) = long_burst_run(60.0, &[(FAULT_AT + 70.0, Ground::Track)]);
+    let back = summary("bus error burst (60 s), ground track", &run, clear, end);
+    assert!(every_step(&run, FAULT_AT, clear, DEVICE_READ | ACTUATOR));
     assert!(run
         .tile_states
-        .last()
-        .unwrap()
-        .1
         .iter()
-        .all(|x| *x == TileState::Working));
-    recovered("long bus burst alone", back);
+        .all(|(_, s)| s.iter().all(|x| *x == TileState::Working)));
+    assert_eq!(run.samples.last().unwrap().mode, Mode::Tracking);
+    recovered("minute bus burst", back);
 }
 
 /// A wheel that stops: the wheel accepts every command and comes to rest, 120 s: tile 2's (+W,
