@@ -20,6 +20,7 @@ use acs::host::sim::realistic::{Effect, Realism, TruthLevel};
 use acs::host::sim::scenarios::{self, Scenario};
 use acs::host::sim::{angle_between_deg, Sample};
 
+mod common;
 mod figures;
 use figures::figure;
 
@@ -798,6 +799,16 @@ impl ConstantBus {
             coils: [None; 6],
         }
     }
+
+    /// The bus whose field has the on-board model's magnitude at `now` on `orbit` (the loop
+    /// refuses a field of any other: `acs_loop::FIELD_MAGNITUDE_TOLERANCE`).
+    fn physical(orbit: &acs::orbit::sgp4::Sgp4, now: &acs::time::Epoch<acs::time::Utc>) -> Self {
+        let pattern: Vec<[f32; 2]> = (0..6)
+            .map(|t| [1.0 + 3.0 * t as f32, -2.0 + t as f32])
+            .collect();
+        let scale = common::field_scale(&pattern, orbit, now).unwrap();
+        Self::new(scale.round() as i16)
+    }
 }
 
 impl acs::hal::TileBus for ConstantBus {
@@ -833,9 +844,9 @@ fn refused_law_is_reported_and_the_wheels_hold() {
     use acs::time::TimeSpan;
 
     let (_, tle, orbit) = tracking_setup();
-    let mut acs = FlightLoop::new(&CONFIG, orbit).unwrap();
-    let mut bus = ConstantBus::new(100);
     let t0 = tle.epoch.add(TimeSpan::new(60, 0));
+    let mut bus = ConstantBus::physical(&orbit, &t0);
+    let mut acs = FlightLoop::new(&CONFIG, orbit).unwrap();
     let target = Quaternion::new_normalize(0.5, 0.5, -0.5, 0.5).unwrap();
     acs.command(Command::Track { target }, None, t0).unwrap();
     let mut report = acs::acs_loop::StepReport::empty(Mode::Tracking);
@@ -865,35 +876,47 @@ fn refused_law_is_reported_and_the_wheels_hold() {
     assert!(!report.faults.law, "{:?}", report.faults);
 }
 
-/// Issue 19: magnetometers stuck at zero (a zero field) leave the momentum dumping without a
-/// coil solution: the refusal is reported and the coils stay off, with no NaN.
+/// Issue 19: magnetometers stuck at zero (a zero field). With a field model (an orbit) the loop
+/// refuses the field as a measurement: its magnitude is not the model's (`faults.field`). Without
+/// one (no element set) the zero field reaches the momentum dumping, which has no coil solution:
+/// the refusal is reported (`faults.law`). Either way the coils stay off, with no NaN.
 #[test]
 fn zero_field_is_reported() {
     use acs::time::TimeSpan;
 
     let (_, tle, orbit) = tracking_setup();
-    let mut acs = FlightLoop::new(&CONFIG, orbit).unwrap();
-    acs.command(acs::acs_loop::Command::SunSafe, None, tle.epoch)
-        .unwrap();
-    let mut bus = ConstantBus::new(0);
-    let t0 = tle.epoch.add(TimeSpan::new(60, 0));
-    let mut report = acs::acs_loop::StepReport::empty(Mode::SunSafe);
-    for k in 0..3 {
-        acs.step_into(&mut bus, t0.add(TimeSpan::new(k, 0)), 1.0, &mut report);
+    for orbit in [Some(orbit), None] {
+        let with_model = orbit.is_some();
+        let mut acs = FlightLoop::new(&CONFIG, orbit).unwrap();
+        acs.command(acs::acs_loop::Command::SunSafe, None, tle.epoch)
+            .unwrap();
+        let mut bus = ConstantBus::new(0);
+        let t0 = tle.epoch.add(TimeSpan::new(60, 0));
+        let mut report = acs::acs_loop::StepReport::empty(Mode::SunSafe);
+        for k in 0..3 {
+            acs.step_into(&mut bus, t0.add(TimeSpan::new(k, 0)), 1.0, &mut report);
+        }
+        assert_eq!(report.mode, Mode::SunSafe);
+        if with_model {
+            assert!(
+                report.faults.field && report.b_body_nt.is_none(),
+                "{report:?}"
+            );
+        } else {
+            assert!(report.faults.law && !report.faults.field, "{report:?}");
+        }
+        assert_eq!(report.dipole_body_am2, nalgebra::Vector3::zeros());
+        assert!(
+            bus.coils.iter().flatten().all(|m| *m == 0.0),
+            "{:?}",
+            bus.coils
+        );
+        assert!(
+            bus.wheels.iter().flatten().all(|h| h.is_finite()),
+            "{:?}",
+            bus.wheels
+        );
     }
-    assert_eq!(report.mode, Mode::SunSafe);
-    assert!(report.faults.law, "{report:?}");
-    assert_eq!(report.dipole_body_am2, nalgebra::Vector3::zeros());
-    assert!(
-        bus.coils.iter().flatten().all(|m| *m == 0.0),
-        "{:?}",
-        bus.coils
-    );
-    assert!(
-        bus.wheels.iter().flatten().all(|h| h.is_finite()),
-        "{:?}",
-        bus.wheels
-    );
 }
 
 /// Issue 19: an allocator that refuses (here every wheel's limit is negative, which the
@@ -943,14 +966,14 @@ fn clock_jump_is_not_integrated_into_the_wheels() {
     let target = {
         let mut probe = FlightLoop::new(&CONFIG, orbit.clone()).unwrap();
         let mut report = acs::acs_loop::StepReport::empty(Mode::SunSafe);
-        let mut bus = ConstantBus::new(100);
+        let mut bus = ConstantBus::physical(&orbit, &t0);
         probe.step_into(&mut bus, t0, 1.0, &mut report);
         report.attitude.unwrap()
     };
     let start = || {
         let mut acs = FlightLoop::new(&CONFIG, orbit.clone()).unwrap();
         acs.command(Command::Track { target }, None, t0).unwrap();
-        let bus = ConstantBus::new(100);
+        let bus = ConstantBus::physical(&orbit, &t0);
         (acs, bus)
     };
     // the largest change of a wheel command in the step at t0 + t s, and the step's faults

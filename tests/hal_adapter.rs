@@ -18,6 +18,8 @@ use acs::orbit::sgp4::{Gravity, Sgp4};
 use acs::tiles::TileState;
 use acs::time::{Epoch, TimeSpan, Utc};
 use embedded_hal::i2c::{ErrorKind as I2cErrorKind, NoAcknowledgeSource};
+
+mod common;
 use embedded_hal_mock::eh1::digital::{Mock as PinMock, State, Transaction as PinTx};
 use embedded_hal_mock::eh1::i2c::{Mock as I2cMock, Transaction as I2cTx};
 use embedded_hal_mock::eh1::pwm::{Mock as PwmMock, Transaction as PwmTx};
@@ -85,16 +87,20 @@ struct Sky {
 
 impl Sky {
     /// The Sun on tile 1's normal (angles 0, 0), the other tiles dark; a field and rates that
-    /// differ per tile.
+    /// differ per tile (the field of the on-board model's magnitude at the start: the loop
+    /// refuses a field of any other).
     fn new(faults: Vec<(Device, Fault)>) -> Self {
         let mut sun = [None; TILES];
         sun[1] = Some([0, 0]);
+        let pattern: Vec<[f32; 2]> = (0..TILES)
+            .map(|i| [1.0 + 3.0 * i as f32, -2.0 + i as f32])
+            .collect();
+        let scale = common::field_scale(&pattern, &orbit(), &t0()).unwrap();
         let mut mag = [[0; 2]; TILES];
         let mut gyro = [0; TILES];
-        for i in 0..TILES {
-            let k = i as i16;
-            mag[i] = [100 * (1 + 3 * k), -200 + 100 * k];
-            gyro[i] = 20 - 7 * k;
+        for (i, [x, y]) in pattern.iter().enumerate() {
+            mag[i] = [(x * scale).round() as i16, (y * scale).round() as i16];
+            gyro[i] = 20 - 7 * i as i16;
         }
         Self {
             sun,
@@ -357,6 +363,11 @@ fn done(mocks: &mut Mocks) {
     mocks.coil_dir.iter_mut().for_each(PinMock::done);
 }
 
+/// The first step's epoch.
+fn t0() -> Epoch<Utc> {
+    Epoch::<Utc>::from_parts(9_210, 43_260, 0).unwrap()
+}
+
 fn orbit() -> Sgp4 {
     let tle = acs::tle::Tle::parse(
         "1 90101U 25001A   25079.50000000  .00000000  00000-0  00000-0 0  9997",
@@ -384,7 +395,7 @@ fn fly(sky: &Sky, steps: i32) -> (Vec<Flown>, FlightLoop) {
         bus,
         calls: Vec::new(),
     };
-    let t0 = Epoch::<Utc>::from_parts(9_210, 43_260, 0).unwrap();
+    let t0 = t0();
     let mut flown = Vec::new();
     for k in 0..steps {
         let now = t0.add(TimeSpan::new(k, 0));

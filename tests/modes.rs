@@ -11,17 +11,26 @@ use acs::host::sim::realistic::TruthLevel;
 use acs::host::sim::scenarios;
 use acs::time::{Epoch, TimeSpan, Utc};
 
+mod common;
+
 /// Raw gyro words: every tile reads `gyro`, so the rate is `gyro`·1e-4 rad/s about U (the only
 /// gyro on U, tile 3, −U, reads −ω_U; the opposite pairs on V and W cancel).
 const STILL: i16 = 0; // 0 rad/s: below the detumble exit rate (0.0087 rad/s)
 const SLOW: i16 = 200; // 0.02 rad/s: between the exit and entry rates (hysteresis)
 const FAST: i16 = 10_000; // 1 rad/s: above the detumble entry rate (0.5 rad/s)
 
-/// A scripted tile bus: every gyro reads `gyro`, the magnetometers a fixed field, tile 1's Sun
-/// sensor the Sun on its normal when `sun` (none otherwise).
+/// The magnetometers' words before scaling: a fixed direction in the body.
+fn mag_pattern() -> Vec<[f32; 2]> {
+    (0..6).map(|t| [100.0 + 300.0 * t as f32, -200.0]).collect()
+}
+
+/// A scripted tile bus: every gyro reads `gyro`, the magnetometers a fixed field direction
+/// with the on-board model's magnitude (`scale` × [`mag_pattern`]: the loop refuses a field of
+/// any other), tile 1's Sun sensor the Sun on its normal when `sun` (none otherwise).
 struct Scripted {
     gyro: i16,
     sun: bool,
+    scale: f32,
 }
 
 impl acs::hal::TileBus for Scripted {
@@ -29,7 +38,11 @@ impl acs::hal::TileBus for Scripted {
         Ok((self.sun && tile == 1).then_some([0, 0]))
     }
     fn read_magnetometer(&mut self, tile: usize) -> Result<[i16; 2], acs::hal::ErrorKind> {
-        Ok([100 + tile as i16 * 300, -200])
+        let [x, y] = mag_pattern()[tile];
+        Ok([
+            (x * self.scale).round() as i16,
+            (y * self.scale).round() as i16,
+        ])
     }
     fn read_gyro(&mut self, _: usize) -> Result<i16, acs::hal::ErrorKind> {
         Ok(self.gyro)
@@ -66,6 +79,7 @@ enum Event {
 /// A loop at the start of a row: a fresh loop brought to `mode` with the Sun seen and no rate.
 struct Rig {
     acs: FlightLoop,
+    orbit: acs::orbit::sgp4::Sgp4,
     t: i32,
     t0: Epoch<Utc>,
     report: StepReport,
@@ -81,7 +95,8 @@ impl Rig {
         let orbit = acs::orbit::sgp4::Sgp4::new(&tle, scenario.gravity).unwrap();
         let t0 = tle.epoch.add(TimeSpan::new(60, 0));
         let mut rig = Self {
-            acs: FlightLoop::new(&CONFIG, orbit).unwrap(),
+            acs: FlightLoop::new(&CONFIG, orbit.clone()).unwrap(),
+            orbit,
             t: 0,
             t0,
             report: StepReport::empty(Mode::Detumble),
@@ -105,9 +120,11 @@ impl Rig {
     }
 
     fn steps(&mut self, gyro: i16, sun: bool, n: u32) {
-        let mut bus = Scripted { gyro, sun };
+        let pattern = mag_pattern();
         for _ in 0..n {
             let now = self.t0.add(TimeSpan::new(self.t, 0));
+            let scale = common::field_scale(&pattern, &self.orbit, &now).unwrap();
+            let mut bus = Scripted { gyro, sun, scale };
             self.acs.step_into(&mut bus, now, 1.0, &mut self.report);
             self.t += 1;
         }

@@ -21,6 +21,8 @@ use acs::time::{Epoch, TimeSpan, Utc};
 use acs::tle::Tle;
 use acs::uplink::{self, ARG_WORDS};
 
+mod common;
+
 /// SplitMix64.
 struct Rng(u64);
 
@@ -194,8 +196,12 @@ fn soak(steps: u64, seed: u64) -> Figures {
     let orbit = Sgp4::new(&tle, Gravity::Wgs72).unwrap();
     let good_words = orbit.to_words();
     let base = tle.epoch.add(TimeSpan::new(60, 0));
-    let mut acs = FlightLoop::new(&CONFIG, orbit).unwrap();
+    let mut acs = FlightLoop::new(&CONFIG, orbit.clone()).unwrap();
     let mut rng = Rng(seed);
+    // the regime's field direction (raw words); scaled to the on-board model's magnitude on the
+    // base orbit every 10 steps (the loop refuses a field of another magnitude: a random one
+    // would leave it without attitude)
+    let mut pattern = [[0f32; 2]; 6];
     let mut bus = RandomBus {
         rng: Rng(seed ^ 0x5eed),
         p_error: 0.01,
@@ -211,9 +217,9 @@ fn soak(steps: u64, seed: u64) -> Figures {
     for k in 0..steps {
         // a new regime every 500 steps: field, rates, error rate
         if k % 500 == 0 {
-            for t in 0..6 {
-                bus.field[t] = [rng.word(0, 4_000), rng.word(0, 4_000)];
-                bus.rate[t] = if rng.chance(0.8) {
+            for (p, rate) in pattern.iter_mut().zip(bus.rate.iter_mut()) {
+                *p = [f32::from(rng.word(0, 4_000)), f32::from(rng.word(0, 4_000))];
+                *rate = if rng.chance(0.8) {
                     rng.word(0, 40)
                 } else {
                     rng.word(0, 8_000)
@@ -301,6 +307,13 @@ fn soak(steps: u64, seed: u64) -> Figures {
         clock = clock.add(TimeSpan::from_seconds_f64(f64::from(dt)).unwrap_or(TimeSpan::ZERO));
         if clock.span_since(&base).as_seconds_f64().abs() > 3.0e8 || rng.chance(1e-4) {
             clock = base.add(TimeSpan::new(rng.below(86_400) as i32, 0));
+        }
+        if k % 10 == 0 {
+            let scale = common::field_scale(&pattern, &orbit, &clock).unwrap_or(1.0);
+            for (f, [x, y]) in bus.field.iter_mut().zip(pattern.iter()) {
+                // `as` saturates at the i16 range
+                *f = [(x * scale) as i16, (y * scale) as i16];
+            }
         }
         let dt_arg = if rng.chance(0.01) { rng.any_f32() } else { 1.0 };
         acs.step_into(&mut bus, clock, dt_arg, &mut report);

@@ -319,6 +319,20 @@ fn run_step_laws<S: Sink>(s: &mut S) {
     }
 }
 
+/// The magnetometer words of the ACS step's cases and of the flight image's run in
+/// `firmware/msp430-bench` (raw, one pair per tile; tile 0 has none): the body field
+/// (1, −2, 0.5)/|·| with the magnitude of the on-board model on the flight element set at the
+/// reset epoch (the loop refuses a field more than `FIELD_MAGNITUDE_TOLERANCE` from it), on each
+/// tile's axes. `firmware/bench-host` computes them and checks these at every benchmark run.
+pub const STEP_MAG: [[i16; 2]; 6] = [
+    [0, 0],
+    [-716, -1431],
+    [1431, -2862],
+    [-716, 2862],
+    [-716, 1431],
+    [-1431, -2862],
+];
+
 /// The ACS step as one call (`crate::flight`: the flight loop over the tile mailboxes), in every
 /// mode: the first step (IGRF coefficients and the least-squares operators built) and the
 /// steady state of Detumble, SunSafe, Slew and Tracking, each entered as in flight (the rate
@@ -335,9 +349,9 @@ fn run_step<S: Sink>(s: &mut S) {
         return;
     };
     let mut bus = crate::tiles::MailboxBus;
-    // Sensors as in orbit: the Sun on five tiles (the sensor model averages them), a 20–40 µT
-    // field, and first a tumble of ≈ 0.05 rad/s (Detumble), then rates of a few mrad/s (below
-    // the exit threshold: SunSafe, whose law drives the wheels). So a step runs every part:
+    // Sensors as in orbit: the Sun on five tiles (the sensor model averages them), the field
+    // `STEP_MAG`, and first a tumble of ≈ 0.05 rad/s (Detumble), then rates of a few mrad/s
+    // (below the exit threshold: SunSafe, whose law drives the wheels). So a step runs every part:
     // SGP4, Sun, eclipse, GMST, IGRF, least squares, Wahba's SVD, the filter, the mode's law and
     // the wheel and coil allocations.
     let sun = [
@@ -348,14 +362,7 @@ fn run_step<S: Sink>(s: &mut S) {
         [-2200, -1500],
         [700, 1900],
     ];
-    let mag = [
-        [0, 0],
-        [2100, -1800],
-        [-900, 3200],
-        [1500, 2400],
-        [-2600, 700],
-        [300, -3100],
-    ];
+    let mag = STEP_MAG;
     crate::tiles::set_readings(sun, 0b11_1110, mag, [0, 500, -400, 450, -380, 300]);
     let mut attitude = None;
     // (name, uplink before the step: 0 none, 3 slew, 2 track)

@@ -215,3 +215,35 @@ pub fn critical_tol(g: &acs::linalg::SymMat3, rank: u8) -> f64 {
     }
     10f64.powf(lo)
 }
+
+/// The factor that brings a tile bus's raw magnetometer words `pattern` (one pair per tile of
+/// the flight configuration, raw units) to the magnitude of the on-board field model at `now`
+/// on `orbit`: the loop refuses a field further than `acs_loop::FIELD_MAGNITUDE_TOLERANCE` from
+/// the model's, so a scripted bus must read a field of the model's magnitude (its direction is
+/// the pattern's). `None` if the model or the pattern gives no field.
+pub fn field_scale(
+    pattern: &[[f32; 2]],
+    orbit: &acs::orbit::sgp4::Sgp4,
+    now: &acs::time::Epoch<acs::time::Utc>,
+) -> Option<f32> {
+    use acs::flight::{CONFIG, FIELD_COEFFS};
+    let state = orbit.propagate(now.span_since(&orbit.epoch())).ok()?;
+    let gmst = acs::time::gmst_rad(&now.to_ut1(None).ok()?);
+    let igrf = acs::env::igrf::Igrf::<FIELD_COEFFS>::from_epoch(
+        CONFIG.igrf_model,
+        now,
+        CONFIG.igrf_degree,
+    )
+    .ok()?;
+    let model_nt = igrf.teme(&state.r_teme_km, gmst).ok()?.norm();
+    let lsb = acs::tiles::MAGNETOMETER_LSB_NT;
+    let readings: Vec<_> = pattern
+        .iter()
+        .map(|[x, y]| Some(acs::linalg::Vec2::new(x * lsb, y * lsb)))
+        .collect();
+    let tiles = CONFIG.tiles.as_slice();
+    let pattern_nt = acs::determination::least_squares::magnetic_field_body(tiles, &readings)
+        .ok()?
+        .norm();
+    (pattern_nt > 0.0).then(|| model_nt / pattern_nt)
+}

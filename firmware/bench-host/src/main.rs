@@ -2,7 +2,6 @@
 
 #[path = "../../src/elements.rs"]
 mod elements;
-#[cfg(feature = "group-step")]
 #[path = "../../src/flight.rs"]
 #[allow(dead_code)]
 mod flight;
@@ -66,11 +65,55 @@ fn flight_elements_source() -> String {
     )
 }
 
+/// `cases::STEP_MAG`: the body field (1, −2, 0.5)/|·| scaled to the magnitude of the on-board
+/// field model on the flight element set at the reset epoch, read on each tile's magnetometer
+/// axes, raw (tile 0 has no magnetometer).
+fn step_mag() -> [[i16; 2]; 6] {
+    use acs::flight::{CONFIG, FIELD_COEFFS};
+    let orbit = acs::orbit::sgp4::Sgp4::from_words(&flight_elements::FLIGHT_ELEMENT_WORDS)
+        .expect("flight elements");
+    let now = flight::reset_clock().expect("reset epoch");
+    let state = orbit
+        .propagate(now.span_since(&orbit.epoch()))
+        .expect("flight orbit");
+    let gmst = acs::time::gmst_rad(&now.to_ut1(None).expect("UT1"));
+    let igrf = acs::env::igrf::Igrf::<FIELD_COEFFS>::from_epoch(
+        CONFIG.igrf_model,
+        &now,
+        CONFIG.igrf_degree,
+    )
+    .expect("field model");
+    let model_nt = igrf.teme(&state.r_teme_km, gmst).expect("field").norm();
+    let b = acs::linalg::Vec3::new(1.0, -2.0, 0.5).normalize() * model_nt;
+    let lsb = acs::tiles::MAGNETOMETER_LSB_NT;
+    let mut words = [[0i16; 2]; 6];
+    for (w, tile) in words.iter_mut().zip(CONFIG.tiles.iter()) {
+        if tile.equipment.magnetometer {
+            *w = [
+                (tile.x_body().dot(&b) / lsb).round() as i16,
+                (tile.y_body().dot(&b) / lsb).round() as i16,
+            ];
+        }
+    }
+    words
+}
+
 fn main() {
     if std::env::args().any(|a| a == "--flight-elements") {
         print!("{}", flight_elements_source());
         return;
     }
+    if std::env::args().any(|a| a == "--step-mag") {
+        // what `cases::STEP_MAG` must be (msp430-bench checks it and reads it from here)
+        let words: Vec<String> = step_mag().iter().flatten().map(|w| w.to_string()).collect();
+        println!("{}", words.join(" "));
+        return;
+    }
+    assert_eq!(
+        cases::STEP_MAG,
+        step_mag(),
+        "firmware/src/cases.rs STEP_MAG is stale: set it to bench-host --step-mag"
+    );
     // the committed initialised flight elements are what the host initialisation gives
     let committed = std::fs::read_to_string(concat!(
         env!("CARGO_MANIFEST_DIR"),
