@@ -701,6 +701,9 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
                 self.start_slew(attitude, &target, within_s, now)?;
             }
         }
+        // a command starts the count of steps without attitude afresh (a fall-back left it at
+        // INVALID_STEPS_TO_SAFE: a `TRACK` would have gone straight back to `SunSafe`)
+        self.invalid_steps = 0;
         Ok(())
     }
 

@@ -253,3 +253,21 @@ fn every_transition_of_the_mode_machine() {
         );
     }
 }
+
+/// A ground command starts the count of steps without attitude afresh: after a fall-back to
+/// `SunSafe` (the count at `INVALID_STEPS_TO_SAFE`), a `TRACK` commanded while the attitude is
+/// still missing keeps `Tracking` for `INVALID_STEPS_TO_SAFE` steps again (before, the count
+/// carried over and the first step without attitude sent the loop straight back).
+#[test]
+fn a_command_restarts_the_count_of_steps_without_attitude() {
+    let bridge = CONFIG.max_propagation_s as u32;
+    let lost = bridge + INVALID_STEPS_TO_SAFE as u32 + 2;
+    let mut rig = Rig::new(Mode::Tracking);
+    rig.event(steps(STILL, false, lost));
+    assert_eq!(rig.acs.mode(), Mode::SunSafe, "fell back");
+    rig.event(Event::TrackCmd);
+    rig.event(steps(STILL, false, INVALID_STEPS_TO_SAFE as u32 - 1));
+    assert_eq!(rig.acs.mode(), Mode::Tracking, "a fresh count");
+    rig.event(steps(STILL, false, 1));
+    assert_eq!(rig.acs.mode(), Mode::SunSafe, "and the fall-back again");
+}
