@@ -4,7 +4,8 @@
 use acs::control::principal_axes::principal_axes;
 use acs::flight::{principal_axes_of_diagonal, FlightLoop, CONFIG, INERTIA_DIAGONAL_KGM2};
 use acs::linalg::{Mat3, Vec3};
-use acs::orbit::sgp4::{Gravity, Sgp4};
+
+mod common;
 
 /// The principal axes written as constants are those the eigen-decomposition gives.
 #[test]
@@ -21,12 +22,7 @@ fn principal_axes_of_the_diagonal_inertia() {
 /// coefficients fit the loop's room).
 #[test]
 fn flight_loop_builds() {
-    let tle = acs::tle::Tle::parse(
-        "1 90101U 25001A   25079.50000000  .00000000  00000-0  00000-0 0  9997",
-        "2 90101  97.4000  90.0000 0001000   0.0000   0.0000 15.21936487    10",
-    )
-    .unwrap();
-    let orbit = Sgp4::new(&tle, Gravity::Wgs72).unwrap();
+    let orbit = common::flight_orbit();
     let acs = FlightLoop::new(&CONFIG, orbit).unwrap();
     assert_eq!(acs.tiles().len(), acs::flight::TILES);
     // the flight degree is the flight tables' (decision 3 of #17), and the loop holds its

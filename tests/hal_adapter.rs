@@ -14,7 +14,7 @@ use acs::hal::drivers::{
     I2cGyro, I2cMagnetometer, I2cSunSensor, PwmMagnetorquer, PwmReactionWheel,
 };
 use acs::hal::{ErrorKind, TileBus};
-use acs::orbit::sgp4::{Gravity, Sgp4};
+use acs::orbit::sgp4::Sgp4;
 use acs::tiles::TileState;
 use acs::time::{Epoch, TimeSpan, Utc};
 use embedded_hal::i2c::{ErrorKind as I2cErrorKind, NoAcknowledgeSource};
@@ -369,12 +369,7 @@ fn t0() -> Epoch<Utc> {
 }
 
 fn orbit() -> Sgp4 {
-    let tle = acs::tle::Tle::parse(
-        "1 90101U 25001A   25079.50000000  .00000000  00000-0  00000-0 0  9997",
-        "2 90101  97.4000  90.0000 0001000   0.0000   0.0000 15.21936487    10",
-    )
-    .unwrap();
-    Sgp4::new(&tle, Gravity::Wgs72).unwrap()
+    common::flight_orbit()
 }
 
 /// What one step of both loops did.

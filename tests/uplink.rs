@@ -4,18 +4,15 @@
 use acs::acs_loop::Mode;
 use acs::attitude::Quaternion;
 use acs::flight::{FlightLoop, CONFIG};
-use acs::orbit::sgp4::{Gravity, Sgp4, ELEMENT_WORDS};
+use acs::orbit::sgp4::{Sgp4, ELEMENT_WORDS};
 use acs::tiles::TileState;
 use acs::time::{Epoch, Utc};
 use acs::uplink::{apply, kind, status, UplinkError, ARG_WORDS};
 
+mod common;
+
 fn orbit() -> Sgp4 {
-    let tle = acs::tle::Tle::parse(
-        "1 90101U 25001A   25079.50000000  .00000000  00000-0  00000-0 0  9997",
-        "2 90101  97.4000  90.0000 0001000   0.0000   0.0000 15.21936487    10",
-    )
-    .unwrap();
-    Sgp4::new(&tle, Gravity::Wgs72).unwrap()
+    common::flight_orbit()
 }
 
 fn words(first: &[u32]) -> [u32; ARG_WORDS] {

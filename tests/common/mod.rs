@@ -247,3 +247,14 @@ pub fn field_scale(
         .norm();
     (pattern_nt > 0.0).then(|| model_nt / pattern_nt)
 }
+
+/// The flight element set's orbit (`firmware/src/elements.rs`, `flight_tle`: the `tracking`
+/// scenario's dawn-dusk orbit, epoch 2025-03-20 12:00 UTC), from its text.
+pub fn flight_orbit() -> acs::orbit::sgp4::Sgp4 {
+    let tle = acs::tle::Tle::parse(
+        "1 90101U 25001A   25079.50000000  .00000000  00000-0  00000-0 0  9997",
+        "2 90101  97.4000  90.0000 0001000   0.0000   0.0000 15.21936487    10",
+    )
+    .unwrap();
+    acs::orbit::sgp4::Sgp4::new(&tle, acs::orbit::sgp4::Gravity::Wgs72).unwrap()
+}
