@@ -7,7 +7,7 @@
 //! | every one | (reported) | fallbacks: steps at which Slew or Tracking fell back to SunSafe |
 //! | every one | (reported) | peak of the wheels' total momentum (body), mN·m·s |
 //! | `detumble` | < 0.5°/s within 3 orbits | time of the first step below 0.5°/s (≤ 3 orbits), rate at the end (< 0.5°/s) |
-//! | `tracking` | < 0.1° within one orbit and after | first step below 0.1° (< 1 orbit); worst error from 600 s later (from 600 s if never below) to the end (< 0.1°) |
+//! | `tracking` | < 0.1° within one orbit and after | first step below 0.1° (< 1 orbit); worst error from 600 s later (from 600 s if never below) to the end (< 0.1°; ∞ if no step is left) |
 //! | `failed-tile` | still converges | error at the end (< 0.5°) |
 //! | `slew` | the plan completes, then converges | error at the end (< 0.5°); error at the end of the plan (reported) |
 //! | `thesis-slew`, `thesis-slew-noisy` | ≤ 0.15°, ≤ 0.45° at the end of the plan | error where Slew hands over to Tracking (∞ if the plan never completes) |
@@ -204,11 +204,14 @@ fn value(key: &str, samples: &[Sample], dt_s: f64) -> f64 {
                 .find(|s| pointing(s) < 0.1)
                 .map_or(0.0, |s| s.t_s)
                 + 600.0;
+            // a run that settles less than 600 s before its end has no "after": ∞ (not met),
+            // never the 0 of an empty window
             samples
                 .iter()
                 .filter(|s| s.t_s > from)
                 .map(pointing)
-                .fold(0.0, f64::max)
+                .reduce(f64::max)
+                .unwrap_or(f64::INFINITY)
         }
         "rms_from_1200s_deg" => {
             let v: Vec<f64> = samples
@@ -239,4 +242,47 @@ fn finite(s: &Sample) -> bool {
         && s.report.h_wheels_body.iter().all(|x| x.is_finite())
         && s.pointing_error_deg.is_none_or(f64::is_finite)
         && s.estimate_error_deg.is_none_or(f64::is_finite)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::acs_loop::StepReport;
+    use crate::linalg::{Vec3, Vec3d};
+
+    /// A `tracking` sample at `t_s` with pointing error `error_deg`.
+    fn sample(t_s: f64, error_deg: f64) -> Sample {
+        Sample {
+            t_s,
+            mode: Mode::Tracking,
+            omega_true: Vec3d::zeros(),
+            pointing_error_deg: Some(error_deg),
+            estimate_error_deg: Some(error_deg),
+            h_wheels_body: Vec3d::zeros(),
+            dipole_am2: Vec3::zeros(),
+            sun_fraction: 1.0,
+            report: StepReport::empty(Mode::Tracking),
+        }
+    }
+
+    /// The worst error after settling of a one-orbit run that first falls below 0.1° at
+    /// `settle_s` (1° before, 0.05° after).
+    fn after_settling(settle_s: f64) -> f64 {
+        let samples: Vec<Sample> = (1..=ORBIT_S as u32)
+            .map(f64::from)
+            .map(|t| sample(t, if t < settle_s { 1.0 } else { 0.05 }))
+            .collect();
+        value("error_after_settling_deg", &samples, 1.0)
+    }
+
+    #[test]
+    fn error_after_settling_needs_a_step_after_the_window() {
+        let metric = &metrics("tracking")[2];
+        assert_eq!(metric.key, "error_after_settling_deg");
+        assert_eq!(after_settling(1000.0), 0.05);
+        assert!(metric.met(after_settling(1000.0)));
+        // settled 400 s before the end: no "after" was flown, not met (it was 0, met, before)
+        assert_eq!(after_settling(ORBIT_S - 400.0), f64::INFINITY);
+        assert!(!metric.met(after_settling(ORBIT_S - 400.0)));
+    }
 }
