@@ -199,6 +199,12 @@ pub struct AcsConfig<const N: usize = MAX_TILES> {
     pub coils: heapless::Vec<Wheel, MAX_COILS>,
     /// Momentum limit of each reaction wheel, kg·m²/s.
     pub wheel_limit_nms: f32,
+    /// Torque the wheels deliver about each body axis, N·m: a torque law's body torque is
+    /// scaled, keeping its direction, so that no axis asks more before it is integrated into
+    /// the wheels' momentum (`ḣ = −τ`). Without it the loop commands a momentum the wheels
+    /// cannot follow and, having no read-back, falls into a limit cycle (finding 8,
+    /// `docs/faults.md`). Not finite: no limit.
+    pub wheel_torque_nm: Vec3,
     /// B-dot gain and dipole limits.
     pub bdot: BdotConfig,
     /// Tracking gains.
@@ -1169,6 +1175,13 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         // wheels: a torque law integrates into momentum (ḣ = −τ); a slew sets momentum
         if let Some(tau) = torque {
             if self.have_wheels() {
+                // no more than the wheels deliver: a momentum they cannot follow is never
+                // commanded (the loop has no read-back); an infinite limit is none
+                let tau = crate::control::magnetorquer::saturate_dipole(
+                    &tau,
+                    &self.config.wheel_torque_nm,
+                )
+                .map_or(tau, |(t, _)| t);
                 let h_w = h_now.unwrap_or_else(|| self.wheels_body());
                 h_target = Some(crate::linalg::sub_scaled(&h_w, &tau, dt));
             } else if let Some(b) = b_body_nt {

@@ -12,6 +12,7 @@
 //! | tiles | the thesis's cube: one telecom and five power tiles ([`crate::tiles::CUBE_THESIS`]) | seed 000 §1.1 |
 //! | inertia | diag(0.010, 0.012, 0.014) kg·m², body axes principal | AraMiS 1U class, seed 000 §4.2 order of magnitude |
 //! | wheels | one per power tile, ±1 mN·m·s | seed 000 §9 (tile wheel) |
+//! | wheel torque | 0.23 mN·m about each body axis: one wheel's ([`WHEEL_TORQUE_NM`]) | class (CubeWheel Small) |
 //! | coils | three, along body x, y, z, ±0.2 A·m² | seed 002 §8 (coil sizing) |
 //! | field model | IGRF-14 degree 8, 2025–2030, extrapolated to 2035 (flagged) ([`crate::env::igrf::FLIGHT`]: only the tables it evaluates) | issue #17 product decision |
 //! | Sun and shadow models | the thesis's Sun (Schlyter, 46.9″) and the cylindrical shadow, in the loop ([`crate::acs_loop`]) | issue #17: flash |
@@ -74,6 +75,12 @@ pub const INERTIA_DIAGONAL_KGM2: [f32; 3] = [0.010, 0.012, 0.014];
 /// Momentum limit of each reaction wheel, kg·m²/s.
 pub const WHEEL_LIMIT_NMS: f32 = 1.0e-3;
 
+/// Torque of one reaction wheel, N·m: the class of the 1–2 mN·m·s CubeSat wheels (CubeSpace
+/// CubeWheel Small, 0.23 mN·m). The loop asks at most this about each body axis
+/// ([`AcsConfig::wheel_torque_nm`]): one wheel's torque, which the y and z axes (two wheels
+/// each) keep with one of their tiles failed.
+pub const WHEEL_TORQUE_NM: f32 = 2.3e-4;
+
 /// Dipole limit of each magnetorquer coil, A·m².
 pub const COIL_LIMIT_AM2: f32 = 0.2;
 
@@ -130,6 +137,7 @@ pub static CONFIG: AcsConfig<TILES> = {
             coil(0.0, 0.0, 1.0),
         ]),
         wheel_limit_nms: WHEEL_LIMIT_NMS,
+        wheel_torque_nm: Vec3::new(WHEEL_TORQUE_NM, WHEEL_TORQUE_NM, WHEEL_TORQUE_NM),
         bdot: BdotConfig {
             gain: 3.0e4,
             max_dipole_am2: Vec3::new(COIL_LIMIT_AM2, COIL_LIMIT_AM2, COIL_LIMIT_AM2),

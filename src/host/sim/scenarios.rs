@@ -319,9 +319,13 @@ fn thesis_noise(percent: bool) -> SensorNoise {
     }
 }
 
+/// Torque of the thesis's wheels, N·m: they reach their momentum almost at once (see the
+/// [module docs](self)); the truth's wheels and the loop's limit.
+const THESIS_WHEEL_TORQUE_NM: f64 = 0.02;
+
 /// The thesis's satellite (seed 000 ch. 12; see the [module docs](self)): its inertia tensor
-/// (§4.2) and the principal axes of it, the cube's tiles (§1.2), no coils, 2e-3 kg·m²/s wheels,
-/// a 0.1 s period, IGRF degree 13 over the whole history (the date is 2009).
+/// (§4.2) and the principal axes of it, the cube's tiles (§1.2), no coils, 2e-3 kg·m²/s wheels
+/// of 0.02 N·m, a 0.1 s period, IGRF degree 13 over the whole history (the date is 2009).
 pub fn thesis_config() -> Result<AcsConfig<TILES>, SimError> {
     let inertia = thesis_inertia();
     let axes = principal_axes(&inertia).map_err(|e| SimError::Model(e.to_string()))?;
@@ -332,6 +336,7 @@ pub fn thesis_config() -> Result<AcsConfig<TILES>, SimError> {
         axes,
         coils: heapless::Vec::new(),
         wheel_limit_nms: wheel_limit,
+        wheel_torque_nm: Vec3::from_element(THESIS_WHEEL_TORQUE_NM as f32),
         bdot: BdotConfig {
             gain: 3.0e4,
             max_dipole_am2: Vec3::from_element(0.2),
@@ -390,7 +395,7 @@ pub fn thesis_slew(noisy: bool) -> Result<Scenario, SimError> {
         coils,
         wheel_max_h_nms,
         wheel_axes_body: vec![],
-        wheel_max_torque_nm: 0.02,
+        wheel_max_torque_nm: THESIS_WHEEL_TORQUE_NM,
         sun_fov_rad: 80f64.to_radians(),
         noise: thesis_noise(noisy),
         disturbances: Disturbances::none(),
