@@ -148,7 +148,8 @@ pub struct Faults {
     pub rate: bool,
     /// No attitude this step (eclipse, no lit tile, degenerate geometry...).
     pub attitude: bool,
-    /// A wheel or coil command was scaled down to its limit.
+    /// A wheel command was limited to its wheel's limit (that wheel alone: the others keep
+    /// theirs), or the coils' dipole scaled down to their limits.
     pub saturated: bool,
     /// A control law, the momentum dumping or an allocator refused its input (NaN, infinite
     /// or degenerate): its command is withheld, never replaced by a zero command unreported;
@@ -1283,17 +1284,27 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
     }
 
     /// Allocates a total body momentum to the wheels (the wheels hold `h`, the body the
-    /// opposite) and commands them. Returns true if saturated.
+    /// opposite) and commands them, each wheel limited on its own. Returns true if one was
+    /// limited. A limit that is not positive commands nothing (reported in `faults.law`).
     fn command_wheels<B: TileBus>(&mut self, bus: &mut B, h: &Vec3, faults: &mut Faults) -> bool {
         let mut wheels = [Wheel {
             axis_body: Vec3::z(),
             limit: 1.0,
             working: false,
         }; N];
+        // allocated without a limit, then each wheel limited on its own: a wheel at its limit
+        // stays there and the others keep the momentum they were asked to hold (scaling the
+        // whole allocation would take momentum from wheels the law never asked to change)
+        let limit = self.config.wheel_limit_nms;
+        if !(limit > 0.0) {
+            // no wheel can hold anything: none is commanded (they hold), reported
+            faults.law = true;
+            return false;
+        }
         for (i, (w, t)) in wheels.iter_mut().zip(self.config.tiles.iter()).enumerate() {
             *w = Wheel {
                 axis_body: t.normal_body(),
-                limit: self.config.wheel_limit_nms,
+                limit: f32::MAX,
                 working: self.has_working_wheel(i, t),
             };
         }
@@ -1308,6 +1319,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
                 return false;
             }
         };
+        let mut saturated = false;
         for (i, (cmd, (tile, wheel))) in self
             .wheel_h
             .iter_mut()
@@ -1318,16 +1330,21 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
                 continue;
             }
             let value = match &alloc {
-                Some(a) if wheel.working => a.wheel.get(i).copied().unwrap_or(0.0),
+                Some(a) if wheel.working => {
+                    let h = a.wheel.get(i).copied().unwrap_or(0.0);
+                    if crate::fmath::abs(h) > limit {
+                        saturated = true;
+                        libm::copysignf(limit, h)
+                    } else {
+                        h
+                    }
+                }
                 _ => 0.0,
             };
             *cmd = value;
             faults.actuator |= bus.set_wheel_momentum(i, value).is_err();
         }
-        let Some(alloc) = alloc else {
-            return false;
-        };
-        !(alloc.scale >= 1.0)
+        saturated
     }
 
     /// Allocates a body dipole to the coils (least squares over their axes, saturated keeping
@@ -1416,5 +1433,71 @@ mod tests {
                 assert_eq!(state, *after, "{before:?} + {event:?}");
             }
         }
+    }
+
+    /// Issue 19 item 5, wheel saturation: a momentum one wheel cannot hold is limited on that
+    /// wheel alone, and the wheels the request did not change keep their momentum (before, the
+    /// whole allocation was scaled down, so they gave theirs up to the body).
+    #[test]
+    fn saturation_limits_the_wheel_not_the_store() {
+        use crate::hal::ErrorKind;
+        struct Wheels([Option<f32>; 6]);
+        impl TileBus for Wheels {
+            fn read_sun(&mut self, _: usize) -> Result<Option<[i16; 2]>, ErrorKind> {
+                Err(ErrorKind::Other)
+            }
+            fn read_magnetometer(&mut self, _: usize) -> Result<[i16; 2], ErrorKind> {
+                Err(ErrorKind::Other)
+            }
+            fn read_gyro(&mut self, _: usize) -> Result<i16, ErrorKind> {
+                Err(ErrorKind::Other)
+            }
+            fn set_wheel_momentum(&mut self, tile: usize, h_nms: f32) -> Result<(), ErrorKind> {
+                let slot = self.0.get_mut(tile).ok_or(ErrorKind::Other)?;
+                *slot = Some(h_nms);
+                Ok(())
+            }
+            fn set_dipole(&mut self, _: usize, _: f32) -> Result<(), ErrorKind> {
+                Ok(())
+            }
+        }
+        let config = &crate::flight::CONFIG;
+        let limit = config.wheel_limit_nms;
+        let mut acs = crate::flight::FlightLoop::new(config, None).unwrap();
+        let mut bus = Wheels([None; 6]);
+        let mut faults = Faults::default();
+        // the two z wheels hold 0.8 of their limit each
+        let h0 = Vec3::new(0.0, 0.0, 1.6 * limit);
+        assert!(!acs.command_wheels(&mut bus, &h0, &mut faults));
+        let before = bus.0;
+        // three limits more about x, which has one wheel
+        let h1 = h0 + Vec3::new(3.0 * limit, 0.0, 0.0);
+        assert!(acs.command_wheels(&mut bus, &h1, &mut faults));
+        assert!(!faults.law);
+        for (i, tile) in config.tiles.iter().enumerate() {
+            let n = tile.normal_body();
+            if !tile.equipment.reaction_wheel {
+                assert_eq!(bus.0[i], None);
+            } else if n.z.abs() > 0.99 {
+                assert_eq!(bus.0[i], before[i], "tile {i}: z wheel changed");
+                assert!(bus.0[i].is_some_and(|h| (h.abs() - 0.8 * limit).abs() < 1e-9));
+            } else if n.x.abs() > 0.99 {
+                assert_eq!(bus.0[i].map(f32::abs), Some(limit), "tile {i}: x wheel");
+            }
+        }
+        assert_eq!(acs.wheels_body().z, h0.z);
+        // a negative limit (a NaN one is refused by `AcsLoop::new`): nothing commanded, reported
+        let bad = AcsConfig {
+            wheel_limit_nms: -1.0,
+            ..config.clone()
+        };
+        let mut acs =
+            AcsLoop::<{ crate::flight::TILES }, { crate::flight::FIELD_COEFFS }>::new(&bad, None)
+                .unwrap();
+        let mut bus = Wheels([None; 6]);
+        let mut faults = Faults::default();
+        assert!(!acs.command_wheels(&mut bus, &h0, &mut faults));
+        assert!(faults.law);
+        assert_eq!(bus.0, [None; 6]);
     }
 }
