@@ -204,7 +204,8 @@ pub struct AcsConfig<const N: usize = MAX_TILES> {
     /// scaled, keeping its direction, so that no axis asks more before it is integrated into
     /// the wheels' momentum (`ḣ = −τ`). Without it the loop commands a momentum the wheels
     /// cannot follow and, having no read-back, falls into a limit cycle (finding 8,
-    /// `docs/faults.md`). Not finite: no limit.
+    /// `docs/faults.md`). If any component is not a positive finite number the torque is not
+    /// limited at all (infinity: no limit; the flight value is checked at compile time).
     pub wheel_torque_nm: Vec3,
     /// B-dot gain and dipole limits.
     pub bdot: BdotConfig,
@@ -1177,7 +1178,8 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         if let Some(tau) = torque {
             if self.have_wheels() {
                 // no more than the wheels deliver: a momentum they cannot follow is never
-                // commanded (the loop has no read-back); an infinite limit is none
+                // commanded (the loop has no read-back). The coils' per-axis scaling keeping
+                // the direction; it refuses a limit that is not positive and finite: none
                 let tau = crate::control::magnetorquer::saturate_dipole(
                     &tau,
                     &self.config.wheel_torque_nm,

@@ -80,6 +80,7 @@ pub const WHEEL_LIMIT_NMS: f32 = 1.0e-3;
 /// ([`AcsConfig::wheel_torque_nm`]): one wheel's torque, which the y and z axes (two wheels
 /// each) keep with one of their tiles failed.
 pub const WHEEL_TORQUE_NM: f32 = 2.3e-4;
+const _: () = assert!(WHEEL_TORQUE_NM > 0.0 && !(WHEEL_TORQUE_NM >= f32::INFINITY));
 
 /// Dipole limit of each magnetorquer coil, A·m².
 pub const COIL_LIMIT_AM2: f32 = 0.2;
