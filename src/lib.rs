@@ -40,6 +40,7 @@
 
 pub mod acs_loop;
 pub mod attitude;
+pub mod attitude_node;
 pub mod control;
 pub mod determination;
 pub mod env;
@@ -48,8 +49,10 @@ pub mod fmath;
 pub mod frames;
 pub mod hal;
 pub mod linalg;
+pub mod link;
 pub mod orbit;
 pub mod planning;
+pub mod reference_node;
 pub mod tiles;
 pub mod time;
 pub mod tle;

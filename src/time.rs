@@ -293,6 +293,15 @@ impl<S: TimeScale> Epoch<S> {
     /// Largest supported year.
     pub const MAX_YEAR: i32 = 2100;
 
+    /// 2000-01-01 00:00 of the scale (day 0): a placeholder date, e.g. in a message whose clock
+    /// is not valid.
+    pub const DAY0: Self = Self {
+        day: 0,
+        second: 0,
+        nano: 0,
+        scale: PhantomData,
+    };
+
     /// An epoch from its parts: days since 2000-01-01, second of day (0..=86 400), nanoseconds.
     pub const fn from_parts(day: i32, second: u32, nano: u32) -> Result<Self, TimeError> {
         if second > SECONDS_PER_DAY {

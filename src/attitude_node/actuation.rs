@@ -1,0 +1,260 @@
+//! Step phase 5c: the actuators. Wheel momentum allocated over the working wheels and each wheel
+//! limited on its own; momentum dumping through the coils; the coils' dipole allocated over the
+//! working coils and saturated keeping its direction. The safe state: coils off, wheels holding
+//! their momentum.
+
+use super::laws::reported;
+use super::modes::ModeState;
+use super::{AttitudeNode, Faults};
+use crate::acs_loop::{StepReport, MAX_COILS};
+use crate::control::magnetorquer::dumping_dipole;
+use crate::control::wheels::{Allocator, Wheel, WheelAllocation, WheelError};
+use crate::hal::TileBus;
+use crate::linalg::Vec3;
+
+/// Allocates `l_body` with the cached allocator, rebuilding it first if the working set of
+/// `actuators` changed (a failure) or there is none yet.
+fn cached_allocation<const N: usize>(
+    cache: &mut Option<Allocator>,
+    actuators: &[Wheel; N],
+    l_body: &Vec3,
+) -> Result<WheelAllocation<N>, WheelError> {
+    if !cache.is_some_and(|a| a.is_for(actuators)) {
+        *cache = None;
+        *cache = Some(Allocator::new(actuators)?);
+    }
+    match cache {
+        Some(a) => a.allocate(actuators, l_body),
+        None => Err(WheelError::StaleAllocator),
+    }
+}
+
+impl<const N: usize> AttitudeNode<'_, N> {
+    /// Total commanded wheel momentum in body axes, kg·m²/s.
+    #[cfg_attr(target_arch = "msp430", optimize(size))]
+    pub(super) fn wheels_body(&self) -> Vec3 {
+        self.config
+            .tiles
+            .iter()
+            .zip(self.wheel_h.iter())
+            .enumerate()
+            .filter(|(i, (t, _))| self.has_working_wheel(*i, t))
+            .fold(Vec3::zeros(), |acc, (_, (t, h))| acc + t.normal_body() * *h)
+    }
+
+    /// Puts every actuator in the safe state: coils off, wheels hold their momentum.
+    pub fn safe<B: TileBus>(&mut self, bus: &mut B) -> Faults {
+        let mut faults = Faults::default();
+        for i in 0..self.config.coils.len() {
+            faults.actuator |= bus.set_dipole(i, 0.0).is_err();
+        }
+        faults
+    }
+    /// Step phase 5c: wheel momentum (the target, or the momentum in force re-sent: it stops
+    /// failed tiles' wheels), momentum dumping through the coils outside detumble, coil dipole.
+    /// Returns the dipole commanded and the wheels' total momentum now commanded (body).
+    #[inline(never)]
+    pub(super) fn actuate<B: TileBus>(
+        &mut self,
+        bus: &mut B,
+        det: &StepReport,
+        dipole: Vec3,
+        h_target: Option<Vec3>,
+        faults: &mut Faults,
+    ) -> (Vec3, Vec3) {
+        let h = h_target.unwrap_or_else(|| self.wheels_body());
+        faults.saturated |= self.command_wheels(bus, &h, faults);
+        // what the wheels now hold: dumped through the coils and reported
+        let h_wheels = self.wheels_body();
+        let mut dipole = dipole;
+        if !matches!(self.mode, ModeState::Detumble)
+            && self.config.dumping_gain_per_s > 0.0
+            && self.have_wheels()
+        {
+            if let Some(b) = det.b_body_nt {
+                let dump = dumping_dipole(
+                    &h_wheels,
+                    &Vec3::zeros(),
+                    self.config.dumping_gain_per_s,
+                    &b,
+                )
+                .ok();
+                dipole += reported(dump, faults);
+            }
+        }
+        (self.command_coils(bus, &dipole, faults), h_wheels)
+    }
+
+    /// True if any tile has a working wheel.
+    pub(super) fn have_wheels(&self) -> bool {
+        self.config
+            .tiles
+            .iter()
+            .enumerate()
+            .any(|(i, t)| self.has_working_wheel(i, t))
+    }
+
+    /// Allocates a total body momentum to the wheels (the wheels hold `h`, the body the
+    /// opposite) and commands them, each wheel limited on its own. Returns true if one was
+    /// limited. A limit that is not positive commands nothing (reported in `faults.law`).
+    fn command_wheels<B: TileBus>(&mut self, bus: &mut B, h: &Vec3, faults: &mut Faults) -> bool {
+        let mut wheels = [Wheel {
+            axis_body: Vec3::z(),
+            limit: 1.0,
+            working: false,
+        }; N];
+        // allocated without a limit, then each wheel limited on its own: a wheel at its limit
+        // stays there and the others keep the momentum they were asked to hold (scaling the
+        // whole allocation would take momentum from wheels the law never asked to change)
+        let limit = self.config.wheel_limit_nms;
+        if !(limit > 0.0) {
+            // no wheel can hold anything: none is commanded (they hold), reported
+            faults.law = true;
+            return false;
+        }
+        for (i, (w, t)) in wheels.iter_mut().zip(self.config.tiles.iter()).enumerate() {
+            *w = Wheel {
+                axis_body: t.normal_body(),
+                limit: f32::MAX,
+                working: self.has_working_wheel(i, t),
+            };
+        }
+        // the allocator gives the wheels −W⁺L: ask for the body momentum −h so they hold +h;
+        // with no working wheel every wheel is commanded to stop; on any other refusal (a NaN
+        // target...) no wheel is commanded: they hold the momentum in force, reported
+        let alloc = match cached_allocation(&mut self.wheel_allocator, &wheels, &(-h)) {
+            Ok(a) => Some(a),
+            Err(WheelError::NoWorkingWheel) => None,
+            Err(_) => {
+                faults.law = true;
+                return false;
+            }
+        };
+        let mut saturated = false;
+        for (i, (cmd, (tile, wheel))) in self
+            .wheel_h
+            .iter_mut()
+            .zip(self.config.tiles.iter().zip(wheels.iter()))
+            .enumerate()
+        {
+            if !tile.equipment.reaction_wheel {
+                continue;
+            }
+            let value = match &alloc {
+                Some(a) if wheel.working => {
+                    let h = a.wheel.get(i).copied().unwrap_or(0.0);
+                    if crate::fmath::abs(h) > limit {
+                        saturated = true;
+                        libm::copysignf(limit, h)
+                    } else {
+                        h
+                    }
+                }
+                _ => 0.0,
+            };
+            *cmd = value;
+            faults.actuator |= bus.set_wheel_momentum(i, value).is_err();
+        }
+        saturated
+    }
+
+    /// Allocates a body dipole to the coils (least squares over their axes, saturated keeping
+    /// direction) and commands them; returns the dipole commanded.
+    fn command_coils<B: TileBus>(&mut self, bus: &mut B, m: &Vec3, faults: &mut Faults) -> Vec3 {
+        let mut coils = [Wheel {
+            axis_body: Vec3::z(),
+            limit: 1.0,
+            working: false,
+        }; MAX_COILS];
+        for (c, cfg) in coils.iter_mut().zip(self.config.coils.iter()) {
+            *c = *cfg;
+        }
+        let alloc = match cached_allocation(&mut self.coil_allocator, &coils, &(-m)) {
+            Ok(a) => a,
+            Err(e) => {
+                // the coils stay off (`safe`); a refused dipole is reported
+                faults.law |= !matches!(e, WheelError::NoWorkingWheel);
+                return Vec3::zeros();
+            }
+        };
+        faults.saturated |= !(alloc.scale >= 1.0);
+        let mut produced = Vec3::zeros();
+        for (i, (value, coil)) in alloc.wheel.iter().zip(self.config.coils.iter()).enumerate() {
+            if coil.working {
+                faults.actuator |= bus.set_dipole(i, *value).is_err();
+                produced += coil.axis_body * *value;
+            }
+        }
+        produced
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Issue 19 item 5, wheel saturation: a momentum one wheel cannot hold is limited on that
+    /// wheel alone, and the wheels the request did not change keep their momentum (before, the
+    /// whole allocation was scaled down, so they gave theirs up to the body).
+    #[test]
+    fn saturation_limits_the_wheel_not_the_store() {
+        use crate::acs_loop::AcsConfig;
+        use crate::hal::ErrorKind;
+        struct Wheels([Option<f32>; 6]);
+        impl TileBus for Wheels {
+            fn read_sun(&mut self, _: usize) -> Result<Option<[i16; 2]>, ErrorKind> {
+                Err(ErrorKind::Other)
+            }
+            fn read_magnetometer(&mut self, _: usize) -> Result<[i16; 2], ErrorKind> {
+                Err(ErrorKind::Other)
+            }
+            fn read_gyro(&mut self, _: usize) -> Result<i16, ErrorKind> {
+                Err(ErrorKind::Other)
+            }
+            fn set_wheel_momentum(&mut self, tile: usize, h_nms: f32) -> Result<(), ErrorKind> {
+                let slot = self.0.get_mut(tile).ok_or(ErrorKind::Other)?;
+                *slot = Some(h_nms);
+                Ok(())
+            }
+            fn set_dipole(&mut self, _: usize, _: f32) -> Result<(), ErrorKind> {
+                Ok(())
+            }
+        }
+        let config = &crate::flight::CONFIG;
+        let limit = config.wheel_limit_nms;
+        let mut acs = AttitudeNode::<{ crate::flight::TILES }>::new(config).unwrap();
+        let mut bus = Wheels([None; 6]);
+        let mut faults = Faults::default();
+        // the two z wheels hold 0.8 of their limit each
+        let h0 = Vec3::new(0.0, 0.0, 1.6 * limit);
+        assert!(!acs.command_wheels(&mut bus, &h0, &mut faults));
+        let before = bus.0;
+        // three limits more about x, which has one wheel
+        let h1 = h0 + Vec3::new(3.0 * limit, 0.0, 0.0);
+        assert!(acs.command_wheels(&mut bus, &h1, &mut faults));
+        assert!(!faults.law);
+        for (i, tile) in config.tiles.iter().enumerate() {
+            let n = tile.normal_body();
+            if !tile.equipment.reaction_wheel {
+                assert_eq!(bus.0[i], None);
+            } else if n.z.abs() > 0.99 {
+                assert_eq!(bus.0[i], before[i], "tile {i}: z wheel changed");
+                assert!(bus.0[i].is_some_and(|h| (h.abs() - 0.8 * limit).abs() < 1e-9));
+            } else if n.x.abs() > 0.99 {
+                assert_eq!(bus.0[i].map(f32::abs), Some(limit), "tile {i}: x wheel");
+            }
+        }
+        assert_eq!(acs.wheels_body().z, h0.z);
+        // a negative limit (a NaN one is refused by `AttitudeNode::new`): nothing commanded, reported
+        let bad = AcsConfig {
+            wheel_limit_nms: -1.0,
+            ..config.clone()
+        };
+        let mut acs = AttitudeNode::<{ crate::flight::TILES }>::new(&bad).unwrap();
+        let mut bus = Wheels([None; 6]);
+        let mut faults = Faults::default();
+        assert!(!acs.command_wheels(&mut bus, &h0, &mut faults));
+        assert!(faults.law);
+        assert_eq!(bus.0, [None; 6]);
+    }
+}

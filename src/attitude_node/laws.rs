@@ -1,0 +1,140 @@
+//! Step phase 5: the mode's events and the mode's law (B-dot, sun-safe, the slew's momentum
+//! from the reference node's plan, quaternion tracking), as a coil dipole and a wheel momentum.
+//!
+//! Attitudes are `v_body = A(q) · v_ref`, reference TEME of date ([`crate::attitude`]).
+
+use super::modes::{Event, ModeState, INVALID_STEPS_TO_SAFE};
+use super::{AttitudeNode, Faults, Mode};
+use crate::acs_loop::StepReport;
+use crate::control::bdot::bdot_from_rates;
+use crate::control::magnetorquer::dipole_for_torque;
+use crate::control::sun_safe::sun_safe_torque;
+use crate::control::tracking::tracking_torque;
+use crate::linalg::Vec3;
+use crate::link::messages::{Guidance, GuidanceKind};
+
+/// A law's command, or none (zero) with the refusal reported in `faults.law`.
+pub(super) fn reported(command: Option<Vec3>, faults: &mut Faults) -> Vec3 {
+    faults.law |= command.is_none();
+    command.unwrap_or_else(Vec3::zeros)
+}
+
+impl<const N: usize> AttitudeNode<'_, N> {
+    /// Step phase 5a: the events of the rate and of the validity of the attitude.
+    pub(super) fn change_mode(&mut self, det: &StepReport) {
+        let rate = det.omega_body_radps.map(|w| crate::linalg::norm(&w));
+        if let Some(r) = rate {
+            if r > self.config.detumble_enter_radps {
+                self.transition(Event::RateAbove);
+            } else if self.config.detumble_exit_radps > r {
+                self.transition(Event::RateBelow);
+            }
+        }
+        if matches!(self.mode(), Mode::Slew | Mode::Tracking) {
+            if det.attitude.is_some() {
+                self.invalid_steps = 0;
+            } else {
+                self.invalid_steps = self.invalid_steps.saturating_add(1);
+                if self.invalid_steps >= INVALID_STEPS_TO_SAFE {
+                    self.transition(Event::AttitudeLost);
+                }
+            }
+        }
+    }
+
+    /// Step phase 5b: the mode's law. Returns the coil dipole (body, A·m²) and the wheel
+    /// momentum to hold (body, kg·m²/s; `None`: hold the momentum in force). A law that
+    /// refuses its input sets `faults.law` and commands nothing (coils off, wheels held).
+    #[inline(never)]
+    #[cfg_attr(target_arch = "msp430", optimize(size))]
+    pub(super) fn laws(
+        &mut self,
+        det: &StepReport,
+        dt: f32,
+        guidance: Option<&Guidance>,
+        faults: &mut Faults,
+    ) -> (Vec3, Option<Vec3>) {
+        // by reference: on the MSP430 each copy of an option is a `memcpy` call
+        let (omega, b_body_nt) = (det.omega_body_radps.as_ref(), det.b_body_nt.as_ref());
+        let mut dipole = Vec3::zeros();
+        let mut torque: Option<Vec3> = None;
+        let mut h_target: Option<Vec3> = None;
+        match &self.mode {
+            ModeState::Detumble => {
+                dipole = match (omega, b_body_nt) {
+                    (Some(w), Some(b)) => {
+                        // the derivative form must not difference against a sample taken
+                        // before a gyro outage: forget it while the gyro form runs
+                        self.bdot.reset();
+                        reported(bdot_from_rates(&self.config.bdot, w, b).ok(), faults)
+                    }
+                    // `Ok(None)`: the first sample of the derivative form, nothing to command
+                    (None, Some(b)) => match self.bdot.update(&self.config.bdot, b, dt) {
+                        Ok(m) => m.unwrap_or_else(Vec3::zeros),
+                        Err(_) => reported(None, faults),
+                    },
+                    _ => Vec3::zeros(),
+                };
+            }
+            ModeState::SunSafe => {
+                if let Some(w) = omega {
+                    torque = sun_safe_torque(
+                        &self.config.sun_safe,
+                        det.sun_body.as_ref(),
+                        &self.config.sun_axis_body,
+                        w,
+                    )
+                    .ok();
+                    faults.law |= torque.is_none();
+                }
+            }
+            // the slew's momentum from the reference node's plan, this step's (none without a
+            // REF: the wheels hold); its guidance turned to tracking: done, track the target
+            ModeState::Slew { h_base, .. } => match guidance.map(|g| g.kind) {
+                Some(GuidanceKind::Slew) => {
+                    h_target = guidance.map(|g| h_base - g.h_ff_body_nms);
+                }
+                Some(GuidanceKind::Track) => self.transition(Event::SlewDone),
+                _ => {}
+            },
+            ModeState::Tracking { .. } => {}
+        }
+        // the wheels' momentum in force, summed once for the tracking law and the integration
+        let mut h_now: Option<Vec3> = None;
+        if let ModeState::Tracking { target } = &self.mode {
+            if let (Some(q), Some(w)) = (det.attitude.as_ref(), omega) {
+                let h_w = self.wheels_body();
+                h_now = Some(h_w);
+                torque = tracking_torque(
+                    &self.config.tracking,
+                    &self.config.axes.inertia_body,
+                    q,
+                    w,
+                    target,
+                    &Vec3::zeros(),
+                    &h_w,
+                )
+                .ok();
+                faults.law |= torque.is_none();
+            }
+        }
+        // wheels: a torque law integrates into momentum (ḣ = −τ); a slew sets momentum
+        if let Some(tau) = torque {
+            if self.have_wheels() {
+                // no more than the wheels deliver: a momentum they cannot follow is never
+                // commanded (the loop has no read-back). The coils' per-axis scaling keeping
+                // the direction; it refuses a limit that is not positive and finite: none
+                let tau = crate::control::magnetorquer::saturate_dipole(
+                    &tau,
+                    &self.config.wheel_torque_nm,
+                )
+                .map_or(tau, |(t, _)| t);
+                let h_w = h_now.unwrap_or_else(|| self.wheels_body());
+                h_target = Some(crate::linalg::sub_scaled(&h_w, &tau, dt));
+            } else if let Some(b) = b_body_nt {
+                dipole = reported(dipole_for_torque(&tau, b).ok(), faults);
+            }
+        }
+        (dipole, h_target)
+    }
+}

@@ -1,0 +1,321 @@
+//! The attitude node (issue #29): tile reads, determination, the mode machine and fault
+//! management, the laws and the allocation; the only component that commands actuators. It owns
+//! the control period: each step it takes the REF made for that step (the reference node's Sun,
+//! shadow, field and guidance, [`crate::link::messages`]) if one is usable, runs the step and
+//! returns STATUS.
+//!
+//! Attitudes follow [`crate::attitude`]: `v_body = A · v_ref` with the reference frame TEME of
+//! date; quaternions scalar-first.
+//!
+//! # One step ([`AttitudeNode::step_into`])
+//! 1. Magnetorquers off (the magnetometers must not see them, note 002 §8.5).
+//! 2. The REF: used if it was made for this step and its clock is valid
+//!    ([`crate::link::messages::Reference::usable_at`]); otherwise the step runs without
+//!    reference (no Wahba attitude: the filter propagates with the gyros; detumble and
+//!    sun-safe need none), reported as [`Faults::link`]. A guidance with a new id is the
+//!    ground's track or slew command.
+//! 3. Read every working tile ([`sensing`]).
+//! 4. Body field, rate, Sun; attitude by Wahba's SVD, filtered ([`estimation`]).
+//! 5. Mode events and the mode's law ([`laws`]), wheel and coil commands ([`actuation`]).
+//!
+//! | module | what |
+//! |---|---|
+//! | [`modes`] | the modes and their one transition function |
+//! | [`faults`] | the step's faults and their telemetry word |
+//! | [`sensing`] | tile reads, tiles taken out of service |
+//! | [`estimation`] | field, rate, Sun, Wahba attitude, the filter, the node's clock |
+//! | [`laws`] | mode events, B-dot, sun-safe, slew momentum, tracking |
+//! | [`actuation`] | wheel and coil allocation, saturation, dumping, the safe state |
+
+use crate::acs_loop::{AcsConfig, AcsError, StepReport};
+use crate::control::bdot::BdotState;
+use crate::control::wheels::Allocator;
+use crate::determination::complementary::Estimate;
+use crate::determination::least_squares::TileSolver;
+use crate::hal::TileBus;
+use crate::link::messages::{GuidanceKind, Reference, Status};
+use crate::tiles::{Tile, TileState, MAX_TILES};
+use crate::time::{Epoch, TimeSpan, Utc};
+
+pub mod actuation;
+pub mod estimation;
+pub mod faults;
+pub mod laws;
+pub mod modes;
+pub mod sensing;
+
+pub use estimation::FIELD_MAGNITUDE_TOLERANCE;
+pub use faults::Faults;
+pub use modes::{Mode, INVALID_STEPS_TO_SAFE};
+pub use sensing::FAILURES_TO_MARK_FAILED;
+
+use modes::{next_mode, Event, ModeState};
+
+/// The attitude node's state: mode, estimator memories, commands in force, device health; for
+/// at most `N` ≤ 32 tiles. It borrows its configuration (`'c`: on the MSP430 a `static` in
+/// flash); the tiles' run-time health is kept here ([`AttitudeNode::tile_state`]), the
+/// configuration's tile states are the initial ones.
+#[derive(Clone, Debug)]
+pub struct AttitudeNode<'c, const N: usize = MAX_TILES> {
+    config: &'c AcsConfig<N>,
+    /// Bit `i` set: tile `i` is out of service (failed at run time or configured failed).
+    failed: u32,
+    mode: ModeState,
+    bdot: BdotState,
+    invalid_steps: u16,
+    /// A device answered in the previous step: failures mark a tile failed only then (a
+    /// bus-wide burst is not the tiles' fault).
+    bus_answered: bool,
+    /// The node's copy of the clock: the UTC of the last step (the REF's, or one period on).
+    clock: Option<Epoch<Utc>>,
+    /// The control period as a time span.
+    period: TimeSpan,
+    /// The step number (the next step's).
+    step: u32,
+    /// Resets since first power (kept by the caller, reported in STATUS).
+    boot_count: u16,
+    /// The id of the last guidance accepted.
+    guidance_id: u16,
+    /// Filtered attitude and the seconds since it last saw a measurement.
+    estimate: Option<Estimate>,
+    /// Commanded momentum of each tile's wheel, kg·m²/s along the tile normal.
+    wheel_h: [f32; N],
+    failures: [u8; N],
+    /// Allocators of the wheels and the coils, rebuilt when their working set changes.
+    wheel_allocator: Option<Allocator>,
+    coil_allocator: Option<Allocator>,
+    /// Least-squares operators of the magnetometers and the gyros, rebuilt when the set of
+    /// tiles giving a reading changes.
+    mag_solver: Option<TileSolver>,
+    gyro_solver: Option<TileSolver>,
+}
+
+impl<'c, const N: usize> AttitudeNode<'c, N> {
+    /// A node in `Detumble` at step 0 for the given configuration.
+    #[cfg_attr(target_arch = "msp430", optimize(size))]
+    pub fn new(config: &'c AcsConfig<N>) -> Result<Self, AcsError> {
+        let gain_ok = config.filter_gain > 0.0 && !(config.filter_gain > 1.0);
+        let finite = gain_ok
+            && config.max_propagation_s.is_finite()
+            && config.detumble_enter_radps.is_finite()
+            && config.detumble_exit_radps.is_finite()
+            && config.wheel_limit_nms.is_finite()
+            && config.dumping_gain_per_s.is_finite()
+            && config.control_period_s > 0.0
+            && config.control_period_s.is_finite();
+        if !finite || config.detumble_exit_radps >= config.detumble_enter_radps || N > 32 {
+            return Err(AcsError::InvalidConfig);
+        }
+        let failed = config
+            .tiles
+            .iter()
+            .enumerate()
+            .filter(|(_, t)| !t.is_working())
+            .fold(0u32, |m, (i, _)| {
+                m | 1u32.checked_shl(i as u32).unwrap_or(0)
+            });
+        Ok(Self {
+            config,
+            failed,
+            mode: ModeState::Detumble,
+            bdot: BdotState::default(),
+            invalid_steps: 0,
+            bus_answered: true,
+            clock: None,
+            period: period_span(config.control_period_s),
+            step: 0,
+            boot_count: 0,
+            guidance_id: 0,
+            estimate: None,
+            wheel_h: [0.0; N],
+            failures: [0; N],
+            wheel_allocator: None,
+            coil_allocator: None,
+            mag_solver: None,
+            gyro_solver: None,
+        })
+    }
+
+    /// Sets the boot count STATUS reports (the firmware keeps it across resets).
+    pub fn set_boot_count(&mut self, boot_count: u16) {
+        self.boot_count = boot_count;
+    }
+
+    /// The current mode.
+    pub fn mode(&self) -> Mode {
+        self.mode.mode()
+    }
+
+    /// The number of the next step (the REF it uses must carry it).
+    pub fn step_number(&self) -> u32 {
+        self.step
+    }
+
+    /// The configured tiles (their run-time state: [`AttitudeNode::tile_state`]).
+    pub fn tiles(&self) -> &[Tile] {
+        self.config.tiles.as_slice()
+    }
+
+    /// The run-time state of tile `tile`, `None` if there is no such tile.
+    pub fn tile_state(&self, tile: usize) -> Option<TileState> {
+        (self.config.tiles.len() > tile).then(|| {
+            if self.is_working(tile) {
+                TileState::Working
+            } else {
+                TileState::Failed
+            }
+        })
+    }
+
+    /// True if tile `tile` is in service at run time.
+    fn is_working(&self, tile: usize) -> bool {
+        self.failed & 1u32.checked_shl(tile as u32).unwrap_or(0) == 0
+    }
+
+    /// True if tile `tile` carries a wheel and is in service.
+    fn has_working_wheel(&self, tile: usize, t: &Tile) -> bool {
+        t.equipment.reaction_wheel && self.is_working(tile)
+    }
+
+    /// Marks a tile failed (ground command or fault detection); its devices are no longer used
+    /// and its wheel is stopped at the next step.
+    #[cfg_attr(target_arch = "msp430", optimize(size))]
+    pub fn mark_failed(&mut self, tile: usize) {
+        if self.config.tiles.len() > tile {
+            self.failed |= 1u32.checked_shl(tile as u32).unwrap_or(0);
+        }
+    }
+
+    /// Returns a tile to service (ground command, e.g. after a power cycle of a tile marked
+    /// failed): its devices are used again from the next step, its bus-failure count restarts,
+    /// and the cached allocators and least-squares operators are rebuilt for the new set.
+    #[cfg_attr(target_arch = "msp430", optimize(size))]
+    pub fn restore(&mut self, tile: usize) {
+        self.failed &= !1u32.checked_shl(tile as u32).unwrap_or(0);
+        if let Some(count) = self.failures.get_mut(tile) {
+            *count = 0;
+        }
+    }
+
+    /// The ground's sun-safe command (the attitude node's own: a dead link never takes it
+    /// away). It starts the count of steps without attitude afresh.
+    pub fn sun_safe(&mut self) {
+        self.transition(Event::SunSafe);
+        self.invalid_steps = 0;
+    }
+
+    /// Applies [`next_mode`]; leaving `Detumble` forgets the B-dot derivative's last sample
+    /// (a later detumble must not difference against it). Out of line: the modes' copies stay
+    /// off the step's frame.
+    #[cfg_attr(target_arch = "msp430", inline(never))]
+    fn transition(&mut self, event: Event) {
+        let was_detumbling = matches!(self.mode, ModeState::Detumble);
+        next_mode(&mut self.mode, event);
+        if was_detumbling && !matches!(self.mode, ModeState::Detumble) {
+            self.bdot.reset();
+        }
+    }
+
+    /// A guidance with a new id is the ground's command through the reference node: track, or
+    /// a slew from the wheels' momentum now. A command starts the count of steps without
+    /// attitude afresh (after a fall-back it stayed at [`INVALID_STEPS_TO_SAFE`]: a `TRACK`
+    /// would have gone straight back to `SunSafe`).
+    #[cfg_attr(target_arch = "msp430", inline(never))]
+    fn accept(&mut self, reference: &Reference) {
+        let g = &reference.guidance;
+        if g.id == self.guidance_id {
+            return;
+        }
+        self.guidance_id = g.id;
+        match g.kind {
+            GuidanceKind::None => return,
+            GuidanceKind::Track => self.transition(Event::Track(g.target)),
+            GuidanceKind::Slew => self.transition(Event::Slew {
+                h_base: self.wheels_body(),
+                target: g.target,
+            }),
+        }
+        self.invalid_steps = 0;
+    }
+
+    /// [`AttitudeNode::step_into`] returning its report.
+    pub fn step<B: TileBus>(
+        &mut self,
+        bus: &mut B,
+        reference: Option<&Reference>,
+        dt_s: f32,
+    ) -> (StepReport, Status) {
+        let mut report = StepReport::empty(self.mode());
+        let status = self.step_into(bus, reference, dt_s, &mut report);
+        (report, status)
+    }
+
+    /// One control step, `dt_s` seconds after the previous one by the node's timer, with the
+    /// REF that arrived for it (if any; one made for another step or without a valid clock is
+    /// not used); writes its report into `report` (every field is set) and returns STATUS.
+    ///
+    /// The phases are separate functions kept out of line, so that their temporaries do not
+    /// share one stack frame (on the MSP430 the step's peak stack is the deepest phase, not the
+    /// sum of them).
+    #[cfg_attr(target_arch = "msp430", inline(never))]
+    pub fn step_into<B: TileBus>(
+        &mut self,
+        bus: &mut B,
+        reference: Option<&Reference>,
+        dt_s: f32,
+        report: &mut StepReport,
+    ) -> Status {
+        let mut faults = self.safe(bus);
+        let reference = reference.filter(|r| r.usable_at(self.step));
+        match reference {
+            Some(r) => {
+                faults.take_reference(r.faults);
+                self.accept(r);
+            }
+            None => faults.link = true,
+        }
+        report.reset(self.mode());
+        report.sun_fraction = reference.and_then(|r| r.illumination.map(|i| i.fraction));
+        let dt = self.sense(bus, reference, dt_s, &mut faults, report);
+        self.change_mode(report);
+        let guidance = reference.map(|r| &r.guidance);
+        let (dipole, h_target) = self.laws(report, dt, guidance, &mut faults);
+        let (dipole, h_wheels) = self.actuate(bus, report, dipole, h_target, &mut faults);
+        report.mode = self.mode();
+        report.dipole_body_am2 = dipole;
+        report.h_wheels_body = h_wheels;
+        report.faults = faults;
+        let status = Status {
+            step: self.step,
+            boot_count: self.boot_count,
+            mode: self.mode().code() as u8,
+            attitude: report.attitude,
+            h_wheels_body_nms: h_wheels,
+            guidance_id: self.guidance_id,
+            faults: faults.bits(),
+            utc: self.clock,
+        };
+        self.step = self.step.wrapping_add(1);
+        status
+    }
+
+    /// Step phases 3 and 4: reads the tiles and determines from their readings (which live in
+    /// this frame only); returns the seconds since the previous step.
+    #[cfg_attr(target_arch = "msp430", inline(never))]
+    fn sense<B: TileBus>(
+        &mut self,
+        bus: &mut B,
+        reference: Option<&Reference>,
+        dt_s: f32,
+        faults: &mut Faults,
+        report: &mut StepReport,
+    ) -> f32 {
+        let readings = self.read_tiles(bus, faults);
+        self.determine(&readings, reference, dt_s, faults, report)
+    }
+}
+
+/// The control period as a time span (nanoseconds rounded from f32: exact for whole seconds).
+fn period_span(period_s: f32) -> TimeSpan {
+    TimeSpan::new(0, (period_s * 1e9) as i64)
+}

@@ -1,0 +1,420 @@
+//! The two nodes' messages and their timing contract (issue #29): STATUS from the attitude node,
+//! REF from the reference node, plain `Copy` data with a fixed big-endian layout on the wire.
+//!
+//! # Timing contract
+//! The attitude node owns the control period. At step `k` it reads its tiles with the REF that
+//! arrived for step `k`, commands its actuators and sends **STATUS(k)**: the step number, mode,
+//! attitude and its validity, wheel momentum, the last guidance it accepted, its boot count, its
+//! fault word and its copy of the clock. The reference node answers **REF(k+1)**: the step
+//! number `k+1`, the UTC of that step, the position, the Sun unit vector, the shadow and the
+//! field in TEME at that UTC, the guidance (an id, the target attitude, rate and feed-forward
+//! momentum), the flags `clock_valid` and `elements_valid`, and its own faults.
+//!
+//! - REF(k+1) is used at step `k+1` only if it is complete before that step's sensor reads and
+//!   carries that step number: freshness goes by step number, never by UTC (a ground clock
+//!   correction must not make every packet stale).
+//! - A REF without `clock_valid` is never used: a reference node just reset must not steer the
+//!   satellite with a default date ([`Reference::usable_at`]).
+//! - A guidance whose id differs from the last one the attitude node accepted is a new ground
+//!   command (track, or a slew then track); the same id is the same command, continued.
+//!
+//! Attitudes are `v_body = A(q) · v_ref` with the reference frame TEME of date, quaternions
+//! scalar-first ([`crate::attitude`]).
+//!
+//! # Layout
+//! Every field big-endian, `f32` as its IEEE 754 bits: a message crosses the link bit for bit.
+//! An absent optional value is sent as zeros with its validity bit clear and read back as
+//! `None`. [`Status::BYTES`] = 56, [`Reference::BYTES`] = 105.
+
+use core::fmt;
+
+use crate::attitude::Quaternion;
+use crate::env::eclipse::{Illumination, Shadow};
+use crate::linalg::Vec3;
+use crate::time::{Epoch, Utc};
+
+/// Why a message's bytes were refused.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum MessageError {
+    /// Not the message's length.
+    Length,
+    /// A field holds a value no sender writes (a mode, shadow or guidance code, an epoch out of
+    /// range).
+    Field,
+}
+
+impl fmt::Display for MessageError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Length => write!(f, "message of the wrong length"),
+            Self::Field => write!(f, "message field out of range"),
+        }
+    }
+}
+
+/// What the reference node asks the attitude node to do (the ground's track and slew commands,
+/// which the reference node owns).
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum GuidanceKind {
+    /// No command yet.
+    None,
+    /// Track `target` with the closed-loop law.
+    Track,
+    /// A slew in progress: the wheels hold the momentum before the slew less `h_ff_body_nms`;
+    /// then [`GuidanceKind::Track`] of the same id.
+    Slew,
+}
+
+/// The guidance of one step.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Guidance {
+    /// The command's id (0: none yet); a new id is a new command.
+    pub id: u16,
+    /// What is asked.
+    pub kind: GuidanceKind,
+    /// The target attitude (reference TEME → body).
+    pub target: Quaternion,
+    /// The target's body rate, rad/s.
+    pub rate_body_radps: Vec3,
+    /// Feed-forward momentum of the body (a slew's plan), kg·m²/s.
+    pub h_ff_body_nms: Vec3,
+}
+
+impl Guidance {
+    /// No guidance: id 0.
+    pub const NONE: Self = Self {
+        id: 0,
+        kind: GuidanceKind::None,
+        target: Quaternion {
+            q0: 1.0,
+            q1: 0.0,
+            q2: 0.0,
+            q3: 0.0,
+        },
+        rate_body_radps: Vec3::new(0.0, 0.0, 0.0),
+        h_ff_body_nms: Vec3::new(0.0, 0.0, 0.0),
+    };
+}
+
+/// STATUS(k), attitude node → reference node.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Status {
+    /// The step number `k`.
+    pub step: u32,
+    /// Resets of the attitude node since it was first powered.
+    pub boot_count: u16,
+    /// The mode after the step ([`crate::acs_loop::Mode::code`]).
+    pub mode: u8,
+    /// The filtered attitude (reference TEME → body), if valid.
+    pub attitude: Option<Quaternion>,
+    /// Total wheel momentum commanded (body), kg·m²/s.
+    pub h_wheels_body_nms: Vec3,
+    /// The id of the last guidance accepted.
+    pub guidance_id: u16,
+    /// The step's fault word ([`crate::acs_loop::Faults::bits`]).
+    pub faults: u16,
+    /// The UTC of the step by the attitude node's copy of the clock (the last REF's, advanced
+    /// one period a step): what a reference node just reset takes back; `None` before any.
+    pub utc: Option<Epoch<Utc>>,
+}
+
+/// REF(k), reference node → attitude node.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct Reference {
+    /// The step number it is for.
+    pub step: u32,
+    /// The UTC of that step.
+    pub utc: Epoch<Utc>,
+    /// The clock was set (by the ground or the attitude node) since the reference node's reset.
+    pub clock_valid: bool,
+    /// The reference node holds an element set.
+    pub elements_valid: bool,
+    /// Position, TEME, km (`None`: no orbit).
+    pub r_teme_km: Option<Vec3>,
+    /// Unit vector to the Sun, TEME.
+    pub sun_teme: Option<Vec3>,
+    /// The shadow at the position.
+    pub illumination: Option<Illumination>,
+    /// Geomagnetic field, TEME, nT.
+    pub b_teme_nt: Option<Vec3>,
+    /// The guidance.
+    pub guidance: Guidance,
+    /// The reference node's faults, as [`crate::acs_loop::Faults::bits`] (orbit, model,
+    /// extrapolated).
+    pub faults: u16,
+}
+
+impl Reference {
+    /// True if the attitude node may use it at step `step`: made for that step, with a valid
+    /// clock.
+    pub fn usable_at(&self, step: u32) -> bool {
+        self.step == step && self.clock_valid
+    }
+}
+
+/// Big-endian writer over a fixed buffer (the layouts are constant: every write fits).
+struct Writer<'a> {
+    out: &'a mut [u8],
+    at: usize,
+}
+
+impl Writer<'_> {
+    fn bytes(&mut self, b: &[u8]) {
+        if let Some(slot) = self.out.get_mut(self.at..self.at + b.len()) {
+            slot.copy_from_slice(b);
+        }
+        self.at += b.len();
+    }
+    fn u8(&mut self, v: u8) {
+        self.bytes(&[v]);
+    }
+    fn u16(&mut self, v: u16) {
+        self.bytes(&v.to_be_bytes());
+    }
+    fn u32(&mut self, v: u32) {
+        self.bytes(&v.to_be_bytes());
+    }
+    fn f32(&mut self, v: f32) {
+        self.u32(v.to_bits());
+    }
+    fn vec3(&mut self, v: Option<&Vec3>) {
+        let v = v.copied().unwrap_or_else(Vec3::zeros);
+        self.f32(v.x);
+        self.f32(v.y);
+        self.f32(v.z);
+    }
+    fn quaternion(&mut self, q: &Quaternion) {
+        for x in [q.q0, q.q1, q.q2, q.q3] {
+            self.f32(x);
+        }
+    }
+    fn epoch(&mut self, e: Option<&Epoch<Utc>>) {
+        let (day, second, nano) = e.map_or((0, 0, 0), |e| (e.day(), e.second_of_day(), e.nano()));
+        self.u32(day as u32);
+        self.u32(second);
+        self.u32(nano);
+    }
+}
+
+/// Big-endian reader; the caller checked the length.
+struct Reader<'a> {
+    bytes: &'a [u8],
+    at: usize,
+}
+
+impl Reader<'_> {
+    fn array<const K: usize>(&mut self) -> [u8; K] {
+        let mut a = [0u8; K];
+        if let Some(s) = self.bytes.get(self.at..self.at + K) {
+            a.copy_from_slice(s);
+        }
+        self.at += K;
+        a
+    }
+    fn u8(&mut self) -> u8 {
+        self.array::<1>()[0]
+    }
+    fn u16(&mut self) -> u16 {
+        u16::from_be_bytes(self.array())
+    }
+    fn u32(&mut self) -> u32 {
+        u32::from_be_bytes(self.array())
+    }
+    fn f32(&mut self) -> f32 {
+        f32::from_bits(self.u32())
+    }
+    fn vec3(&mut self, valid: bool) -> Option<Vec3> {
+        let v = Vec3::new(self.f32(), self.f32(), self.f32());
+        valid.then_some(v)
+    }
+    fn quaternion(&mut self) -> Quaternion {
+        Quaternion {
+            q0: self.f32(),
+            q1: self.f32(),
+            q2: self.f32(),
+            q3: self.f32(),
+        }
+    }
+    fn epoch(&mut self, valid: bool) -> Result<Option<Epoch<Utc>>, MessageError> {
+        let (day, second, nano) = (self.u32() as i32, self.u32(), self.u32());
+        if !valid {
+            return Ok(None);
+        }
+        Epoch::from_parts(day, second, nano)
+            .map(Some)
+            .map_err(|_| MessageError::Field)
+    }
+}
+
+/// Bit `i` of `flags`.
+fn flag(flags: u8, i: u8) -> bool {
+    flags & (1 << i) != 0
+}
+
+impl Status {
+    /// Bytes on the wire.
+    pub const BYTES: usize = 56;
+
+    /// The message's bytes.
+    pub fn to_bytes(&self) -> [u8; Self::BYTES] {
+        let mut out = [0u8; Self::BYTES];
+        let mut w = Writer {
+            out: &mut out,
+            at: 0,
+        };
+        w.u32(self.step);
+        w.u16(self.boot_count);
+        w.u8(self.mode);
+        w.u8(u8::from(self.attitude.is_some()) | u8::from(self.utc.is_some()) << 1);
+        w.quaternion(&self.attitude.unwrap_or(Guidance::NONE.target));
+        w.vec3(Some(&self.h_wheels_body_nms));
+        w.u16(self.guidance_id);
+        w.u16(self.faults);
+        w.epoch(self.utc.as_ref());
+        out
+    }
+
+    /// The message from its bytes.
+    pub fn from_bytes(bytes: &[u8]) -> Result<Self, MessageError> {
+        if bytes.len() != Self::BYTES {
+            return Err(MessageError::Length);
+        }
+        let mut r = Reader { bytes, at: 0 };
+        let step = r.u32();
+        let boot_count = r.u16();
+        let mode = r.u8();
+        let flags = r.u8();
+        let q = r.quaternion();
+        let h = r.vec3(true).unwrap_or_else(Vec3::zeros);
+        let guidance_id = r.u16();
+        let faults = r.u16();
+        let utc = r.epoch(flag(flags, 1))?;
+        if mode > 3 || flags > 3 {
+            return Err(MessageError::Field);
+        }
+        Ok(Self {
+            step,
+            boot_count,
+            mode,
+            attitude: flag(flags, 0).then_some(q),
+            h_wheels_body_nms: h,
+            guidance_id,
+            faults,
+            utc,
+        })
+    }
+}
+
+/// The wire code of a shadow region.
+fn shadow_code(s: Shadow) -> u8 {
+    match s {
+        Shadow::Sunlit => 0,
+        Shadow::Penumbra => 1,
+        Shadow::Umbra => 2,
+        Shadow::Antumbra => 3,
+    }
+}
+
+impl Reference {
+    /// Bytes on the wire.
+    pub const BYTES: usize = 105;
+
+    /// The message's bytes.
+    pub fn to_bytes(&self) -> [u8; Self::BYTES] {
+        let mut out = [0u8; Self::BYTES];
+        let mut w = Writer {
+            out: &mut out,
+            at: 0,
+        };
+        w.u32(self.step);
+        w.epoch(Some(&self.utc));
+        let flags = [
+            self.clock_valid,
+            self.elements_valid,
+            self.r_teme_km.is_some(),
+            self.sun_teme.is_some(),
+            self.illumination.is_some(),
+            self.b_teme_nt.is_some(),
+        ]
+        .iter()
+        .rev()
+        .fold(0u8, |m, f| (m << 1) | u8::from(*f));
+        w.u8(flags);
+        w.vec3(self.r_teme_km.as_ref());
+        w.vec3(self.sun_teme.as_ref());
+        let (fraction, shadow) = self
+            .illumination
+            .map_or((0.0, 0), |i| (i.fraction, shadow_code(i.shadow)));
+        w.f32(fraction);
+        w.u8(shadow);
+        w.vec3(self.b_teme_nt.as_ref());
+        let g = &self.guidance;
+        w.u16(g.id);
+        w.u8(match g.kind {
+            GuidanceKind::None => 0,
+            GuidanceKind::Track => 1,
+            GuidanceKind::Slew => 2,
+        });
+        w.quaternion(&g.target);
+        w.vec3(Some(&g.rate_body_radps));
+        w.vec3(Some(&g.h_ff_body_nms));
+        w.u16(self.faults);
+        out
+    }
+
+    /// The message from its bytes.
+    pub fn from_bytes(bytes: &[u8]) -> Result<Self, MessageError> {
+        if bytes.len() != Self::BYTES {
+            return Err(MessageError::Length);
+        }
+        let mut r = Reader { bytes, at: 0 };
+        let step = r.u32();
+        let utc = r.epoch(true)?.ok_or(MessageError::Field)?;
+        let flags = r.u8();
+        let r_teme_km = r.vec3(flag(flags, 2));
+        let sun_teme = r.vec3(flag(flags, 3));
+        let fraction = r.f32();
+        let shadow = match r.u8() {
+            0 => Shadow::Sunlit,
+            1 => Shadow::Penumbra,
+            2 => Shadow::Umbra,
+            3 => Shadow::Antumbra,
+            _ => return Err(MessageError::Field),
+        };
+        let b_teme_nt = r.vec3(flag(flags, 5));
+        let id = r.u16();
+        let kind = match r.u8() {
+            0 => GuidanceKind::None,
+            1 => GuidanceKind::Track,
+            2 => GuidanceKind::Slew,
+            _ => return Err(MessageError::Field),
+        };
+        let target = r.quaternion();
+        let rate_body_radps = r.vec3(true).unwrap_or_else(Vec3::zeros);
+        let h_ff_body_nms = r.vec3(true).unwrap_or_else(Vec3::zeros);
+        let faults = r.u16();
+        if flags > 0x3F {
+            return Err(MessageError::Field);
+        }
+        Ok(Self {
+            step,
+            utc,
+            clock_valid: flag(flags, 0),
+            elements_valid: flag(flags, 1),
+            r_teme_km,
+            sun_teme,
+            illumination: flag(flags, 4).then_some(Illumination { fraction, shadow }),
+            b_teme_nt,
+            guidance: Guidance {
+                id,
+                kind,
+                target,
+                rate_body_radps,
+                h_ff_body_nms,
+            },
+            faults,
+        })
+    }
+}
