@@ -1,27 +1,27 @@
-//! The ACS loop as one composition of its two nodes (issue #29): the *reference* node
-//! ([`crate::reference_node`]: clock, SGP4, Sun, shadow, IGRF, guidance) and the *attitude*
-//! node ([`crate::attitude_node`]: tile reads, determination, modes and fault management, laws,
-//! allocation; the only one that commands actuators), joined by their messages
-//! ([`crate::link::messages`]: STATUS and REF, their bytes bit for bit as on the link). One
-//! [`AcsLoop::step`] per control period: the reference node makes the REF for the step at the
-//! step's UTC, the attitude node runs the step with it and answers STATUS. The simulator, the
-//! `acs` tool, the campaigns, the tests and the examples fly this composition; the flight
-//! firmware runs each node on its own MSP430 (a team with one larger processor composes them in
-//! one image exactly as here).
+//! The on-board ACS loop: one [`AcsLoop::step`] per control period reads the tiles, propagates
+//! the orbit, evaluates the Sun and field models, determines attitude and rate, runs the active
+//! mode's law and commands the actuators (issue #8; the thesis's synchronous call sequence of
+//! note 000 §1.5, closed).
 //!
 //! Attitudes follow [`crate::attitude`]: `v_body = A · v_ref` with the reference frame TEME of
 //! date; quaternions scalar-first.
 //!
 //! # One step
 //! 1. Magnetorquers off (the magnetometers must not see them, note 002 §8.5).
-//! 2. The REF (reference node): SGP4 position at the step's UTC epoch; the Sun by the thesis's
-//!    model ([`crate::env::sun::schlyter`], Schlyter: 46.9″ at most against JPL DE421) and the
-//!    cylindrical shadow test ([`crate::env::eclipse::cylindrical_illumination`]; the loop's
-//!    pointing requirement is 0.1° = 360″, its Sun sensors' noise 1 mrad = 206″); the IGRF
-//!    field in TEME through GMST (UT1 ≈ UTC); the guidance.
-//! 3. Read every working tile: Sun angles (lit or not), magnetometer, gyro. A device that fails
-//!    [`FAILURES_TO_MARK_FAILED`] times in a row has its tile marked failed, unless no device
-//!    answered in the step before (the bus failing, not the tiles).
+//! 2. SGP4 position at the step's UTC epoch; the Sun by the thesis's model
+//!    ([`crate::env::sun::schlyter`], Schlyter: 46.9″ at most against JPL DE421) and the
+//!    cylindrical shadow test ([`crate::env::eclipse::cylindrical_illumination`]): the flight
+//!    image carries these rather than the precise Sun (2.2″) and the conical shadow, which
+//!    together take 7.5 KB more of the MSP430's flash (issue #17; the loop's pointing
+//!    requirement is 0.1° = 360″, its Sun sensors' noise 1 mrad = 206″);
+//!    IGRF field in TEME through GMST (UT1 ≈ UTC), its coefficients interpolated to the step's
+//!    date each step (not kept between steps: on the MSP430 that saves `4·F` bytes of RAM,
+//!    320 B at degree 8, for ≈ 40 000 cycles a step).
+//! 3. Read every working tile: Sun angles (lit or not), magnetometer, gyro (after the models,
+//!    so that on the MSP430 the raw readings live only under the determination, and the coils'
+//!    field has the models' time to decay). A device that fails [`FAILURES_TO_MARK_FAILED`]
+//!    times in a row has its tile marked failed, unless no device answered in the step before
+//!    (the bus failing, not the tiles).
 //! 4. Body field and rate by least squares over the tiles (operators cached per set of working
 //!    tiles; a field whose magnitude is more than [`FIELD_MAGNITUDE_TOLERANCE`] from the model's
 //!    is refused, [`Faults::field`]: a coil left on, a magnetometer gone wrong); Sun direction
@@ -36,55 +36,60 @@
 //! |---|---|---|---|
 //! | `Detumble` | B-dot (gyro form if the rate is known, else field derivative) | coils | `|ω| < exit_rate` → `SunSafe` |
 //! | `SunSafe` | Sun pointing + rate damping; damping only in eclipse | wheels (coils if no wheel), coils dump momentum | a ground command → `Slew` or `Tracking` |
-//! | `Slew` | the thesis's plan (principal-axis rotations at constant momentum), planned by the reference node and sent as each step's feed-forward momentum (it needs no attitude) | wheels | plan done → `Tracking` of the commanded attitude |
+//! | `Slew` | the thesis's open-loop plan (principal-axis rotations at constant momentum), executed by time (it needs no attitude) | wheels | plan done → `Tracking` of the commanded attitude |
 //! | `Tracking` | quaternion feedback | wheels, coils dump momentum | a new command |
 //! From any mode: `|ω| > enter_rate` → `Detumble`; a ground command (sun-safe, track, a slew
 //! that could be planned) → its mode. In `Slew` and `Tracking`, an invalid attitude makes the
 //! step hold the wheels (no new momentum command) with the coils off, and after
 //! [`INVALID_STEPS_TO_SAFE`] steps the loop falls back to `SunSafe`. The mode carries its data
-//! (a slew the wheels' momentum before it and its target, tracking its target) and one function
-//! makes every transition (`next_mode`, over these events; leaving `Detumble` forgets the
-//! B-dot derivative's last sample).
-//!
-//! # Who owns which command
-//! | command | node | why |
-//! |---|---|---|
-//! | sun-safe, mark a tile failed, restore a tile | attitude | a dead link never takes them away |
-//! | track, slew | reference | the guidance and the slew planner are there |
-//! | clock, element set | reference | the models are there |
+//! (a slew its plan's progress and target, tracking its target) and one function makes every
+//! transition (`next_mode`, over these events; leaving `Detumble` forgets the B-dot derivative's
+//! last sample).
 //!
 //! # Safe state
 //! Whenever the attitude is not valid and the mode needs it, or any model fails, the coils are
 //! off and the wheels hold their momentum (no torque). [`AcsLoop::safe`] puts all actuators in
 //! the safe state (coils off, wheel momentum held).
 //!
-//! Memory: the nodes borrow their [`AcsConfig`] (the flight firmware keeps it in flash, a
-//! `static`) and hold only their run-time state (`tests/closed_loop.rs::loop_state_size`
-//! prints it on the host). No allocation.
+//! Memory: the loop borrows its [`AcsConfig`] (the flight firmware keeps it in flash, a
+//! `static`) and holds only its run-time state: the SGP4 elements and ≈ 400 B of mode,
+//! estimator, commands, tile health and cached operators (`tests/closed_loop.rs::loop_state_size`
+//! prints them on the host; the flight firmware's `loop_firmware` figures in
+//! `target/msp430/bench.json` are its RAM on the part). No allocation.
 
 use core::fmt;
+use core::marker::PhantomData;
 
 use crate::attitude::{Dcm, Quaternion};
-use crate::attitude_node::AttitudeNode;
-use crate::control::bdot::BdotConfig;
+use crate::control::bdot::{bdot_from_rates, BdotConfig, BdotState};
+use crate::control::magnetorquer::{dipole_for_torque, dumping_dipole};
 use crate::control::principal_axes::PrincipalAxes;
-use crate::control::slew::SlewLimits;
-use crate::control::sun_safe::SunSafeGains;
-use crate::control::tracking::TrackingGains;
-use crate::control::wheels::Wheel;
-use crate::env::igrf::{Degree, Model, FULL_COEFFS};
+use crate::control::slew::{decompose, manoeuvre_matrix, plan, Branch, SlewLimits, SlewPlan};
+use crate::control::sun_safe::{sun_safe_torque, SunSafeGains};
+use crate::control::tracking::{tracking_torque, TrackingGains};
+use crate::control::wheels::{Allocator, Wheel, WheelAllocation, WheelError};
+use crate::determination::complementary::{self, Estimate, FilterConfig};
+use crate::determination::least_squares::{
+    angular_rate_body_cached, magnetic_field_body_cached, TileSolver,
+};
+use crate::determination::sun_sensor::sun_direction_body;
+use crate::determination::{wahba_svd, Observation};
+use crate::env::eclipse::{cylindrical_illumination, Illumination, Shadow};
+use crate::env::igrf::{coefficient_count, Degree, Igrf, IgrfError, Model, FULL_COEFFS};
+use crate::env::sun::{schlyter, Sun};
 use crate::hal::TileBus;
-use crate::linalg::Vec3;
-use crate::link::messages::{Guidance, Reference, Status};
+use crate::linalg::{dot, Vec2, Vec3};
 use crate::orbit::sgp4::Sgp4;
-use crate::reference_node::ReferenceNode;
-use crate::tiles::{Tile, TileState, MAX_TILES};
-use crate::time::{Epoch, Utc};
+use crate::tiles::{RawGyro, RawMagnetometer, RawSunAngles, Tile, TileState, MAX_TILES};
+use crate::time::{gmst_rad, Epoch, Utc};
 
 pub use crate::attitude_node::{
     Faults, Mode, FAILURES_TO_MARK_FAILED, FIELD_MAGNITUDE_TOLERANCE, INVALID_STEPS_TO_SAFE,
 };
-
+const FIELD_SQUARED_LOW: f32 =
+    (1.0 - FIELD_MAGNITUDE_TOLERANCE) * (1.0 - FIELD_MAGNITUDE_TOLERANCE);
+const FIELD_SQUARED_HIGH: f32 =
+    (1.0 + FIELD_MAGNITUDE_TOLERANCE) * (1.0 + FIELD_MAGNITUDE_TOLERANCE);
 /// Maximum number of magnetorquer coils.
 pub const MAX_COILS: usize = 6;
 
@@ -242,6 +247,124 @@ impl StepReport {
     }
 }
 
+/// A slew in progress: what its execution needs of the plan (the rotations' durations, rounded
+/// to whole control periods, and body momenta, in execution order) and the start.
+#[derive(Copy, Clone, Debug, PartialEq)]
+struct SlewProgress {
+    /// `(duration_s, h_body)` of each rotation.
+    steps: [(f32, Vec3); 3],
+    started: Epoch<Utc>,
+    /// Wheel momentum (body) before the slew: the plan's momenta are added to it.
+    h_base: Vec3,
+}
+
+/// The mode with the data it runs on (issue #19 item 3): a slew carries its plan's progress and
+/// its target, tracking its target, so no mode can run without its data. [`Mode`] is its tag
+/// (telemetry); [`next_mode`] holds every transition.
+#[derive(Copy, Clone, Debug, PartialEq)]
+enum ModeState {
+    Detumble,
+    SunSafe,
+    /// The thesis's open-loop slew, then tracking of `target` (reference → body).
+    Slew {
+        progress: SlewProgress,
+        target: Quaternion,
+    },
+    /// Tracking of `target` (reference → body).
+    Tracking {
+        target: Quaternion,
+    },
+}
+
+impl ModeState {
+    /// The mode's tag.
+    fn mode(&self) -> Mode {
+        match self {
+            Self::Detumble => Mode::Detumble,
+            Self::SunSafe => Mode::SunSafe,
+            Self::Slew { .. } => Mode::Slew,
+            Self::Tracking { .. } => Mode::Tracking,
+        }
+    }
+}
+
+/// What changes the mode: the step's findings and the ground's commands (a slew's plan by
+/// reference: on the MSP430 an event the size of a plan would sit in the step's frame).
+#[derive(Copy, Clone, Debug, PartialEq)]
+enum Event<'p> {
+    /// The body rate is above `detumble_enter_radps`.
+    RateAbove,
+    /// The body rate is below `detumble_exit_radps`.
+    RateBelow,
+    /// [`INVALID_STEPS_TO_SAFE`] steps in a row without a valid attitude.
+    AttitudeLost,
+    /// The slew's plan is done.
+    SlewDone,
+    /// Ground: sun-safe.
+    SunSafe,
+    /// Ground: track `target` (reference → body).
+    Track(Quaternion),
+    /// Ground: a slew to the target, planned from the attitude at the command.
+    Slew(&'p SlewProgress, Quaternion),
+}
+
+/// The mode machine's one transition function (the table of the module docs): `state` becomes
+/// the mode after `event`, in place (on the MSP430 a mode returned by value would be a plan-sized
+/// copy). An event that does not apply to the mode leaves it.
+fn next_mode(state: &mut ModeState, event: Event) {
+    use ModeState as S;
+    *state = match (&*state, event) {
+        (_, Event::RateAbove) => S::Detumble,
+        (S::Detumble, Event::RateBelow) => S::SunSafe,
+        (S::Slew { .. } | S::Tracking { .. }, Event::AttitudeLost) => S::SunSafe,
+        (S::Slew { target, .. }, Event::SlewDone) => S::Tracking { target: *target },
+        (_, Event::SunSafe) => S::SunSafe,
+        (_, Event::Track(target)) => S::Tracking { target },
+        (_, Event::Slew(progress, target)) => S::Slew {
+            progress: *progress,
+            target,
+        },
+        (_, Event::RateBelow | Event::AttitudeLost | Event::SlewDone) => return,
+    };
+}
+
+/// The loop's state: mode, estimator memories, commands in force, device health; for at most
+/// `N` ≤ 32 tiles (see [`AcsConfig`]), with room for `F` IGRF coefficients (`F` ≥
+/// [`coefficient_count`] of the configured degree: 80 for degree 8, the default 195 for 13; they
+/// take `4·F` bytes of stack while the field is evaluated, none in the loop's state).
+///
+/// The loop borrows its configuration (`'c`): on the MSP430 the flight configuration is a
+/// `static` in flash and only the run-time state below takes RAM. The tiles' run-time health is
+/// kept here ([`AcsLoop::tile_state`]); the configuration's tile states are the initial ones.
+#[derive(Clone, Debug)]
+pub struct AcsLoop<'c, const N: usize = MAX_TILES, const F: usize = FULL_COEFFS> {
+    config: &'c AcsConfig<N>,
+    /// Bit `i` set: tile `i` is out of service (failed at run time or configured failed).
+    failed: u32,
+    orbit: Option<Sgp4>,
+    mode: ModeState,
+    bdot: BdotState,
+    invalid_steps: u16,
+    /// A device answered in the previous step: failures mark a tile failed only then (a
+    /// bus-wide burst is not the tiles' fault).
+    bus_answered: bool,
+    last_time: Option<Epoch<Utc>>,
+    /// Filtered attitude and the seconds since it last saw a measurement.
+    estimate: Option<Estimate>,
+    /// Commanded momentum of each tile's wheel, kg·m²/s along the tile normal.
+    wheel_h: [f32; N],
+    failures: [u8; N],
+    /// Allocators of the wheels and the coils, rebuilt when their working set changes.
+    wheel_allocator: Option<Allocator>,
+    coil_allocator: Option<Allocator>,
+    /// Least-squares operators of the magnetometers and the gyros, rebuilt when the set of
+    /// tiles giving a reading changes.
+    mag_solver: Option<TileSolver>,
+    gyro_solver: Option<TileSolver>,
+    /// Room for the IGRF coefficients at a date, on the stack of the field evaluation only.
+    field: PhantomData<[f32; F]>,
+}
+
 /// Errors of [`AcsLoop::new`] and [`AcsLoop::command`].
 #[derive(Copy, Clone, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -263,16 +386,105 @@ impl fmt::Display for AcsError {
     }
 }
 
-/// The two nodes composed in one program, joined by their messages as bytes (bit for bit what
-/// the link carries): for at most `N` ≤ 32 tiles (see [`AcsConfig`]), with room for `F` IGRF
-/// coefficients on the reference node (`F` ≥ the configured degree's
-/// [`crate::env::igrf::coefficient_count`]: 80 for degree 8, the default 195 for 13).
-#[derive(Clone, Debug)]
-pub struct AcsLoop<'c, const N: usize = MAX_TILES, const F: usize = FULL_COEFFS> {
-    reference: ReferenceNode<'c, N, F>,
-    attitude: AttitudeNode<'c, N>,
-    /// The attitude node's last STATUS, as the reference node received it.
-    status: Option<Status>,
+/// Seconds from `earlier` to `later` in f32 (a control period: exact enough).
+fn span_s(later: &Epoch<Utc>, earlier: &Epoch<Utc>) -> f32 {
+    let (whole, frac) = later.span_since(earlier).split_seconds();
+    whole + frac
+}
+
+/// Allocates `l_body` with the cached allocator, rebuilding it first if the working set of
+/// `actuators` changed (a failure) or there is none yet.
+fn cached_allocation<const N: usize>(
+    cache: &mut Option<Allocator>,
+    actuators: &[Wheel; N],
+    l_body: &Vec3,
+) -> Result<WheelAllocation<N>, WheelError> {
+    if !cache.is_some_and(|a| a.is_for(actuators)) {
+        *cache = None;
+        *cache = Some(Allocator::new(actuators)?);
+    }
+    match cache {
+        Some(a) => a.allocate(actuators, l_body),
+        None => Err(WheelError::StaleAllocator),
+    }
+}
+
+/// Per-tile readings of one step, raw as the bus delivered them (the HAL's formats), with a bit
+/// per tile for each device that gave one (`sun`: the sensor sees the Sun): 12 B a tile instead
+/// of 32 B of converted options, and the conversions happen in the phase that uses them (on the
+/// MSP430 the readings live under every phase of the step).
+struct Readings<const N: usize> {
+    sun: [[i16; 2]; N],
+    mag: [[i16; 2]; N],
+    gyro: [i16; N],
+    sun_seen: u32,
+    mag_read: u32,
+    gyro_read: u32,
+}
+
+/// True if `|b|²` is within `(1 ± FIELD_MAGNITUDE_TOLERANCE)²` of `|m|²` (false for a NaN).
+#[cfg_attr(target_arch = "msp430", inline(never))]
+fn magnitude_agrees(b: &Vec3, m: &Vec3) -> bool {
+    let (measured, model) = (dot(b, b), dot(m, m));
+    measured >= FIELD_SQUARED_LOW * model && FIELD_SQUARED_HIGH * model >= measured
+}
+
+/// A law's command, or none (zero) with the refusal reported in `faults.law`.
+fn reported(command: Option<Vec3>, faults: &mut Faults) -> Vec3 {
+    faults.law |= command.is_none();
+    command.unwrap_or_else(Vec3::zeros)
+}
+
+/// A raw word at either end of the `i16` range.
+fn pinned(x: i16) -> bool {
+    x == i16::MAX || x == i16::MIN
+}
+
+/// Bit `i` of `mask` (false beyond 31).
+fn bit(mask: u32, i: usize) -> bool {
+    mask & 1u32.checked_shl(i as u32).unwrap_or(0) != 0
+}
+
+impl<const N: usize> Readings<N> {
+    /// The Sun angles of the tiles that see the Sun, rad.
+    fn sun_rad(&self) -> [Option<crate::tiles::SunAngles>; N] {
+        let mut out = [None; N];
+        for (i, (o, [a, b])) in out.iter_mut().zip(self.sun.iter()).enumerate() {
+            if bit(self.sun_seen, i) {
+                *o = Some(RawSunAngles { a: *a, b: *b }.to_rad());
+            }
+        }
+        out
+    }
+
+    /// The magnetometer readings, nT.
+    fn mag_nt(&self) -> [Option<Vec2>; N] {
+        let mut out = [None; N];
+        for (i, (o, [x, y])) in out.iter_mut().zip(self.mag.iter()).enumerate() {
+            if bit(self.mag_read, i) {
+                *o = Some(RawMagnetometer { x: *x, y: *y }.to_nt());
+            }
+        }
+        out
+    }
+
+    /// The gyro readings, rad/s.
+    fn gyro_radps(&self) -> [Option<f32>; N] {
+        let mut out = [None; N];
+        for (i, (o, w)) in out.iter_mut().zip(self.gyro.iter()).enumerate() {
+            if bit(self.gyro_read, i) {
+                *o = Some(RawGyro(*w).to_radps());
+            }
+        }
+        out
+    }
+}
+
+/// The models' outputs of one step (phase 2).
+struct Models {
+    sun: Option<Sun>,
+    illumination: Option<Illumination>,
+    b_teme_nt: Option<Vec3>,
 }
 
 impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
@@ -280,56 +492,115 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
     /// loop without an element set, as after a corrupt one at start-up, still detumbles and
     /// keeps the Sun on its panel, the laws that need no reference, with [`Faults::orbit`] set
     /// each step until [`Self::set_orbit`] gives it one).
+    #[cfg_attr(target_arch = "msp430", optimize(size))]
     pub fn new(config: &'c AcsConfig<N>, orbit: impl Into<Option<Sgp4>>) -> Result<Self, AcsError> {
+        let gain_ok = config.filter_gain > 0.0 && !(config.filter_gain > 1.0);
+        let finite = gain_ok
+            && config.max_propagation_s.is_finite()
+            && config.detumble_enter_radps.is_finite()
+            && config.detumble_exit_radps.is_finite()
+            && config.wheel_limit_nms.is_finite()
+            && config.dumping_gain_per_s.is_finite()
+            && config.slew_pause_s.is_finite()
+            && config.control_period_s > 0.0
+            && config.control_period_s.is_finite()
+            && config.slew_pause_s >= 0.0;
+        if !finite
+            || config.detumble_exit_radps >= config.detumble_enter_radps
+            || N > 32
+            || coefficient_count(config.igrf_degree.get()) > F
+        {
+            return Err(AcsError::InvalidConfig);
+        }
+        let failed = config
+            .tiles
+            .iter()
+            .enumerate()
+            .filter(|(_, t)| !t.is_working())
+            .fold(0u32, |m, (i, _)| {
+                m | 1u32.checked_shl(i as u32).unwrap_or(0)
+            });
         Ok(Self {
-            reference: ReferenceNode::new(config, orbit)?,
-            attitude: AttitudeNode::new(config)?,
-            status: None,
+            config,
+            failed,
+            orbit: orbit.into(),
+            mode: ModeState::Detumble,
+            bdot: BdotState::default(),
+            invalid_steps: 0,
+            bus_answered: true,
+            last_time: None,
+            estimate: None,
+            wheel_h: [0.0; N],
+            failures: [0; N],
+            wheel_allocator: None,
+            coil_allocator: None,
+            mag_solver: None,
+            gyro_solver: None,
+            field: PhantomData,
         })
     }
 
-    /// Replaces the element set the reference node propagates (an uplink: check the words with
-    /// [`Sgp4::from_words`] first, so that a refused set leaves the one in use).
+    /// Replaces the element set the loop propagates (an uplink: check the words with
+    /// [`Sgp4::from_words`] first, so that a refused set leaves the one in use); the rest of the
+    /// state is kept.
     pub fn set_orbit(&mut self, orbit: Sgp4) {
-        self.reference.set_orbit(orbit);
+        self.orbit = Some(orbit);
     }
 
     /// The current mode.
     pub fn mode(&self) -> Mode {
-        self.attitude.mode()
-    }
-
-    /// The reference node's guidance in force (a track or slew command takes effect at the
-    /// next step, when the attitude node receives it in the REF).
-    pub fn guidance(&self) -> &Guidance {
-        self.reference.guidance()
+        self.mode.mode()
     }
 
     /// The configured tiles (their run-time state: [`AcsLoop::tile_state`]).
     pub fn tiles(&self) -> &[Tile] {
-        self.attitude.tiles()
+        self.config.tiles.as_slice()
     }
 
     /// The run-time state of tile `tile`, `None` if there is no such tile.
     pub fn tile_state(&self, tile: usize) -> Option<TileState> {
-        self.attitude.tile_state(tile)
+        (self.config.tiles.len() > tile).then(|| {
+            if self.is_working(tile) {
+                TileState::Working
+            } else {
+                TileState::Failed
+            }
+        })
+    }
+
+    /// True if tile `tile` is in service at run time.
+    fn is_working(&self, tile: usize) -> bool {
+        self.failed & 1u32.checked_shl(tile as u32).unwrap_or(0) == 0
+    }
+
+    /// True if tile `tile` carries a wheel and is in service.
+    fn has_working_wheel(&self, tile: usize, t: &Tile) -> bool {
+        t.equipment.reaction_wheel && self.is_working(tile)
     }
 
     /// Marks a tile failed (ground command or fault detection); its devices are no longer used
     /// and its wheel is stopped at the next step.
+    #[cfg_attr(target_arch = "msp430", optimize(size))]
     pub fn mark_failed(&mut self, tile: usize) {
-        self.attitude.mark_failed(tile);
+        if self.config.tiles.len() > tile {
+            self.failed |= 1u32.checked_shl(tile as u32).unwrap_or(0);
+        }
     }
 
     /// Returns a tile to service (ground command, e.g. after a power cycle of a tile marked
-    /// failed).
+    /// failed): its devices are used again from the next step, its bus-failure count restarts,
+    /// and the cached allocators and least-squares operators are rebuilt for the new set.
+    #[cfg_attr(target_arch = "msp430", optimize(size))]
     pub fn restore(&mut self, tile: usize) {
-        self.attitude.restore(tile);
+        self.failed &= !1u32.checked_shl(tile as u32).unwrap_or(0);
+        if let Some(count) = self.failures.get_mut(tile) {
+            *count = 0;
+        }
     }
 
-    /// Accepts a ground command, at the node that owns it (module docs); it takes effect at the
-    /// next step. A slew is planned from the last determined attitude (`attitude`, reference →
-    /// body), so it needs one.
+    /// Accepts a ground command. A slew is planned from the last determined attitude
+    /// (`attitude`, reference → body), so it needs one.
+    #[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
     pub fn command(
         &mut self,
         command: Command,
@@ -337,19 +608,177 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         now: Epoch<Utc>,
     ) -> Result<(), AcsError> {
         match command {
-            Command::SunSafe => self.attitude.sun_safe(),
-            Command::Track { target } => self.reference.track(target),
+            Command::SunSafe => self.transition(Event::SunSafe),
+            Command::Track { target } => self.transition(Event::Track(target)),
             Command::Slew { target, within_s } => {
                 let attitude = attitude.ok_or(AcsError::CannotSlew)?;
-                self.reference.slew(attitude, &target, within_s, now)?;
+                self.start_slew(attitude, &target, within_s, now)?;
             }
         }
+        // a command starts the count of steps without attitude afresh (a fall-back left it at
+        // INVALID_STEPS_TO_SAFE: a `TRACK` would have gone straight back to `SunSafe`)
+        self.invalid_steps = 0;
         Ok(())
+    }
+
+    /// Applies [`next_mode`]; leaving `Detumble` forgets the B-dot derivative's last sample
+    /// (a later detumble must not difference against it). Out of line: the modes' copies stay
+    /// off the step's frame.
+    #[cfg_attr(target_arch = "msp430", inline(never))]
+    fn transition(&mut self, event: Event) {
+        let was_detumbling = matches!(self.mode, ModeState::Detumble);
+        next_mode(&mut self.mode, event);
+        if was_detumbling && !matches!(self.mode, ModeState::Detumble) {
+            self.bdot.reset();
+        }
+    }
+
+    /// The thesis's open-loop plan from `attitude` to `target` within `within_s`, each rotation
+    /// rounded up to whole control periods with its momentum scaled to keep the angle, started
+    /// `now` (the mode left as it was if the planner refuses; out of line: the planner's
+    /// temporaries stay off the step's stack).
+    #[inline(never)]
+    #[cfg_attr(target_arch = "msp430", optimize(size))]
+    fn start_slew(
+        &mut self,
+        attitude: &Quaternion,
+        target: &Dcm,
+        within_s: f32,
+        now: Epoch<Utc>,
+    ) -> Result<(), AcsError> {
+        let m = manoeuvre_matrix(&attitude.to_dcm(), target, &self.config.axes);
+        let angles = decompose(&m, Branch::Shortest).map_err(|_| AcsError::CannotSlew)?;
+        let plan: SlewPlan = plan(
+            &self.config.axes,
+            &angles,
+            &self.config.slew_limits,
+            within_s,
+        )
+        .map_err(|_| AcsError::CannotSlew)?;
+        // whole control periods, same angle: L·t constant
+        let period = self.config.control_period_s;
+        let mut slew = SlewProgress {
+            steps: [(0.0f32, Vec3::zeros()); 3],
+            started: now,
+            h_base: self.wheels_body(),
+        };
+        for ((duration, h), s) in slew.steps.iter_mut().zip(plan.steps.iter()) {
+            if s.duration_s > 0.0 {
+                let ticks = crate::fmath::max(s.duration_s / period - 1e-4, 0.0) as u32 + 1;
+                let rounded = ticks as f32 * period;
+                *h = s.h_body * (s.duration_s / rounded);
+                *duration = rounded;
+            }
+        }
+        self.transition(Event::Slew(&slew, target.to_quaternion()));
+        Ok(())
+    }
+
+    /// Total commanded wheel momentum in body axes, kg·m²/s.
+    #[cfg_attr(target_arch = "msp430", optimize(size))]
+    fn wheels_body(&self) -> Vec3 {
+        self.config
+            .tiles
+            .iter()
+            .zip(self.wheel_h.iter())
+            .enumerate()
+            .filter(|(i, (t, _))| self.has_working_wheel(*i, t))
+            .fold(Vec3::zeros(), |acc, (_, (t, h))| acc + t.normal_body() * *h)
     }
 
     /// Puts every actuator in the safe state: coils off, wheels hold their momentum.
     pub fn safe<B: TileBus>(&mut self, bus: &mut B) -> Faults {
-        self.attitude.safe(bus)
+        let mut faults = Faults::default();
+        for i in 0..self.config.coils.len() {
+            faults.actuator |= bus.set_dipole(i, 0.0).is_err();
+        }
+        faults
+    }
+
+    /// Step phase 3: reads every working tile (see the module docs), counting read failures. A
+    /// tile is marked failed at [`FAILURES_TO_MARK_FAILED`] failures in a row only if some
+    /// device answered in the previous step: when none does, the bus is failing, not the tiles
+    /// (a bus-wide burst once took every tile out of service for good), and a sole tile left in
+    /// service with sensors is never marked.
+    #[inline(never)]
+    fn read_tiles<B: TileBus>(&mut self, bus: &mut B, faults: &mut Faults) -> Readings<N> {
+        let mut r = Readings {
+            sun: [[0; 2]; N],
+            mag: [[0; 2]; N],
+            gyro: [0; N],
+            sun_seen: 0,
+            mag_read: 0,
+            gyro_read: 0,
+        };
+        let config = self.config;
+        // a device answered this step
+        let mut any_read = false;
+        for (i, (tile, (sun, (mag, gyro)))) in config
+            .tiles
+            .iter()
+            .zip(
+                r.sun
+                    .iter_mut()
+                    .zip(r.mag.iter_mut().zip(r.gyro.iter_mut())),
+            )
+            .enumerate()
+        {
+            if !self.is_working(i) {
+                continue;
+            }
+            let here = 1u32.checked_shl(i as u32).unwrap_or(0);
+            let mut failed = false;
+            // a word pinned at either end of the i16 range is no reading (a saturated device
+            // or a stuck line: no physical Sun angle, field or rate reaches it): a failed read
+            if tile.equipment.sun_sensor {
+                match bus.read_sun(i) {
+                    Ok(Some([a, b])) if !pinned(a) && !pinned(b) => {
+                        *sun = [a, b];
+                        r.sun_seen |= here;
+                        any_read = true;
+                    }
+                    Ok(None) => any_read = true,
+                    _ => failed = true,
+                }
+            }
+            if tile.equipment.magnetometer {
+                match bus.read_magnetometer(i) {
+                    Ok([x, y]) if !pinned(x) && !pinned(y) => {
+                        *mag = [x, y];
+                        r.mag_read |= here;
+                        any_read = true;
+                    }
+                    _ => failed = true,
+                }
+            }
+            if tile.equipment.gyro {
+                match bus.read_gyro(i) {
+                    Ok(w) if !pinned(w) => {
+                        *gyro = w;
+                        r.gyro_read |= here;
+                        any_read = true;
+                    }
+                    _ => failed = true,
+                }
+            }
+            if let Some(count) = self.failures.get_mut(i) {
+                if failed {
+                    faults.device_read = true;
+                    *count = count.saturating_add(1);
+                    if *count >= FAILURES_TO_MARK_FAILED && self.bus_answered {
+                        // out of service from this step on: its readings of this step too
+                        self.failed |= here;
+                        r.sun_seen &= !here;
+                        r.mag_read &= !here;
+                        r.gyro_read &= !here;
+                    }
+                } else {
+                    *count = 0;
+                }
+            }
+        }
+        self.bus_answered = any_read;
+        r
     }
 
     /// One control step at UTC epoch `now`, `dt_s` seconds after the previous one.
@@ -359,9 +788,13 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         report
     }
 
-    /// [`AcsLoop::step`] writing its report into `report` (every field is set): the reference
-    /// node makes the REF for the step at `now`, which crosses to the attitude node as its
-    /// bytes; the attitude node's STATUS crosses back the same way.
+    /// [`AcsLoop::step`] writing its report into `report` (every field is set): on the MSP430 a
+    /// report returned by value is built, then copied (118 B more stack under the step).
+    ///
+    /// The phases are separate functions kept out of line, so that their temporaries do not
+    /// share one stack frame (on the MSP430 the step's peak stack is the deepest phase, not the
+    /// sum of them).
+    #[cfg_attr(target_arch = "msp430", inline(never))]
     pub fn step_into<B: TileBus>(
         &mut self,
         bus: &mut B,
@@ -369,13 +802,610 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         dt_s: f32,
         report: &mut StepReport,
     ) {
-        self.reference.set_clock(now);
-        let step = self.attitude.step_number();
-        let reference = self.reference.reference(step, self.status.as_ref());
-        let reference = Reference::from_bytes(&reference.to_bytes()).ok();
-        let status = self
-            .attitude
-            .step_into(bus, reference.as_ref(), dt_s, report);
-        self.status = Status::from_bytes(&status.to_bytes()).ok();
+        let mut faults = self.safe(bus);
+        // The models first: the tiles are read after them, so the readings live only under
+        // the determination (and the magnetometers see the coils' field decay meanwhile).
+        let models = self.models(&now, &mut faults);
+        // The determination writes its results straight into the report.
+        report.reset(self.mode());
+        report.sun_fraction = models.illumination.map(|i| i.fraction);
+        let dt = self.sense(bus, &models, &now, dt_s, &mut faults, report);
+        self.change_mode(report);
+        let (dipole, h_target) = self.laws(report, dt, &now, &mut faults);
+        let (dipole, h_wheels) = self.actuate(bus, report, dipole, h_target, &mut faults);
+        report.mode = self.mode();
+        report.dipole_body_am2 = dipole;
+        report.h_wheels_body = h_wheels;
+        report.faults = faults;
+    }
+
+    /// Step phases 3 and 4: reads the tiles and determines from their readings (which live in
+    /// this frame only); returns the seconds since the previous step.
+    #[cfg_attr(target_arch = "msp430", inline(never))]
+    fn sense<B: TileBus>(
+        &mut self,
+        bus: &mut B,
+        models: &Models,
+        now: &Epoch<Utc>,
+        dt_s: f32,
+        faults: &mut Faults,
+        report: &mut StepReport,
+    ) -> f32 {
+        let readings = self.read_tiles(bus, faults);
+        self.determine(&readings, models, now, dt_s, faults, report)
+    }
+
+    /// Step phase 2: orbit, Sun, eclipse and field models at `now`.
+    #[inline(never)]
+    fn models(&self, now: &Epoch<Utc>, faults: &mut Faults) -> Models {
+        let orbit = self
+            .orbit
+            .as_ref()
+            .and_then(|o| o.propagate(now.span_since(&o.epoch())).ok());
+        faults.orbit = orbit.is_none();
+        let sun = schlyter::sun(now).ok();
+        let gmst = now.to_ut1(None).ok().map(|ut1| gmst_rad(&ut1));
+        let illumination = match (&orbit, &sun) {
+            (Some(o), Some(s)) => cylindrical_illumination(&o.r_teme_km, &s.direction).ok(),
+            _ => None,
+        };
+        // the field model fails on its own (a date outside its tables) or at the point
+        let field = self.field_teme(now, orbit.as_ref().map(|o| &o.r_teme_km), gmst, faults);
+        let field_model_failed = matches!(
+            field,
+            Err(IgrfError::DateOutOfRange { .. }
+                | IgrfError::DegreeAboveModel { .. }
+                | IgrfError::CapacityTooSmall { .. })
+        );
+        faults.model = sun.is_none() || field_model_failed || gmst.is_none();
+        let b_teme_nt = field.ok().flatten();
+        Models {
+            sun,
+            illumination,
+            b_teme_nt,
+        }
+    }
+
+    /// Step phase 4: body field, rate and Sun direction from the tiles, attitude by Wahba's SVD,
+    /// filtered.
+    #[inline(never)]
+    fn determine(
+        &mut self,
+        readings: &Readings<N>,
+        models: &Models,
+        now: &Epoch<Utc>,
+        dt_s: f32,
+        faults: &mut Faults,
+        report: &mut StepReport,
+    ) -> f32 {
+        let mut b_body_nt = self.field_body(readings);
+        if let (Some(b), Some(m)) = (&b_body_nt, &models.b_teme_nt) {
+            if !magnitude_agrees(b, m) {
+                b_body_nt = None;
+            }
+        }
+        let omega = self.rate_body(readings);
+        faults.field = b_body_nt.is_none();
+        faults.rate = omega.is_none();
+        let in_umbra = models
+            .illumination
+            .is_some_and(|i| i.shadow == Shadow::Umbra);
+        let sun_body = if in_umbra {
+            None
+        } else {
+            self.sun_body(readings)
+        };
+        let measured = match (sun_body, b_body_nt, &models.sun, models.b_teme_nt) {
+            (Some(s_b), Some(b_b), Some(s_r), Some(b_r)) => {
+                self.measure(&s_b, &s_r.direction, &b_b, &b_r)
+            }
+            _ => None,
+        };
+        let elapsed = self.last_time.map(|t| span_s(now, &t));
+        self.last_time = Some(*now);
+        // A step is one control period: a gap of any other size or sign (a clock correction, a
+        // reset) must not be integrated into the wheels (a +60 s correction once kicked a
+        // tracking satellite to 1.8 °/s). It restarts the filter and the B-dot derivative,
+        // reported, and the laws integrate one nominal period.
+        let period = self.config.control_period_s;
+        let dt = match elapsed {
+            None => dt_s,
+            Some(e) if e > 0.0 && period + period >= e => e,
+            Some(_) => {
+                faults.clock = true;
+                self.estimate = None;
+                self.bdot.reset();
+                period
+            }
+        };
+        let filter = FilterConfig {
+            gain: self.config.filter_gain,
+            max_propagation_s: self.config.max_propagation_s,
+        };
+        self.estimate = complementary::update(&filter, self.estimate, measured, omega, dt);
+        let attitude = self.estimate.map(|e| e.attitude);
+        faults.attitude = attitude.is_none();
+        report.b_body_nt = b_body_nt;
+        report.omega_body_radps = omega;
+        report.sun_body = sun_body;
+        report.measured_attitude = measured;
+        report.attitude = attitude;
+        dt
+    }
+
+    /// The attitude measured by Wahba's SVD from the Sun and field pairs (body, reference TEME),
+    /// weighted as configured; out of line (its temporaries off the determination's frame).
+    #[cfg_attr(target_arch = "msp430", inline(never))]
+    fn measure(
+        &self,
+        sun_body: &Vec3,
+        sun_teme: &Vec3,
+        b_body_nt: &Vec3,
+        b_teme_nt: &Vec3,
+    ) -> Option<Quaternion> {
+        let (w_sun, w_mag) = self.config.weights;
+        let sun = Observation {
+            body: *sun_body,
+            reference: *sun_teme,
+            weight: w_sun,
+        };
+        let field = Observation {
+            body: *b_body_nt,
+            reference: *b_teme_nt,
+            weight: w_mag,
+        };
+        wahba_svd::solve_pair(&sun, &field)
+            .ok()
+            .map(|s| s.quaternion)
+    }
+
+    /// The body field from the magnetometers (least squares, cached operator), nT. Out of line,
+    /// as [`Self::rate_body`] and [`Self::sun_body`]: each converts its readings in its own frame.
+    #[cfg_attr(target_arch = "msp430", inline(never))]
+    fn field_body(&mut self, readings: &Readings<N>) -> Option<Vec3> {
+        let tiles = self.config.tiles.as_slice();
+        let mag = readings.mag_nt();
+        let mag = mag.get(..tiles.len())?;
+        magnetic_field_body_cached(&mut self.mag_solver, tiles, mag).ok()
+    }
+
+    /// The body rate from the gyros (least squares, cached operator), rad/s.
+    #[cfg_attr(target_arch = "msp430", inline(never))]
+    fn rate_body(&mut self, readings: &Readings<N>) -> Option<Vec3> {
+        let tiles = self.config.tiles.as_slice();
+        let gyro = readings.gyro_radps();
+        let gyro = gyro.get(..tiles.len())?;
+        angular_rate_body_cached(&mut self.gyro_solver, tiles, gyro).ok()
+    }
+
+    /// The Sun direction in body axes from the lit tiles' sensors (unit).
+    #[cfg_attr(target_arch = "msp430", inline(never))]
+    fn sun_body(&self, readings: &Readings<N>) -> Option<Vec3> {
+        let tiles = self.config.tiles.as_slice();
+        let sun = readings.sun_rad();
+        sun_direction_body(tiles, sun.get(..tiles.len())?).ok()
+    }
+
+    /// Step phase 5a: the events of the rate and of the validity of the attitude.
+    fn change_mode(&mut self, det: &StepReport) {
+        let rate = det.omega_body_radps.map(|w| crate::linalg::norm(&w));
+        if let Some(r) = rate {
+            if r > self.config.detumble_enter_radps {
+                self.transition(Event::RateAbove);
+            } else if self.config.detumble_exit_radps > r {
+                self.transition(Event::RateBelow);
+            }
+        }
+        if matches!(self.mode(), Mode::Slew | Mode::Tracking) {
+            if det.attitude.is_some() {
+                self.invalid_steps = 0;
+            } else {
+                self.invalid_steps = self.invalid_steps.saturating_add(1);
+                if self.invalid_steps >= INVALID_STEPS_TO_SAFE {
+                    self.transition(Event::AttitudeLost);
+                }
+            }
+        }
+    }
+
+    /// Step phase 5b: the mode's law. Returns the coil dipole (body, A·m²) and the wheel
+    /// momentum to hold (body, kg·m²/s; `None`: hold the momentum in force). A law that
+    /// refuses its input sets `faults.law` and commands nothing (coils off, wheels held).
+    #[inline(never)]
+    #[cfg_attr(target_arch = "msp430", optimize(size))]
+    fn laws(
+        &mut self,
+        det: &StepReport,
+        dt: f32,
+        now: &Epoch<Utc>,
+        faults: &mut Faults,
+    ) -> (Vec3, Option<Vec3>) {
+        // by reference: on the MSP430 each copy of an option is a `memcpy` call
+        let (omega, b_body_nt) = (det.omega_body_radps.as_ref(), det.b_body_nt.as_ref());
+        let mut dipole = Vec3::zeros();
+        let mut torque: Option<Vec3> = None;
+        let mut h_target: Option<Vec3> = None;
+        match &self.mode {
+            ModeState::Detumble => {
+                dipole = match (omega, b_body_nt) {
+                    (Some(w), Some(b)) => {
+                        // the derivative form must not difference against a sample taken
+                        // before a gyro outage: forget it while the gyro form runs
+                        self.bdot.reset();
+                        reported(bdot_from_rates(&self.config.bdot, w, b).ok(), faults)
+                    }
+                    // `Ok(None)`: the first sample of the derivative form, nothing to command
+                    (None, Some(b)) => match self.bdot.update(&self.config.bdot, b, dt) {
+                        Ok(m) => m.unwrap_or_else(Vec3::zeros),
+                        Err(_) => reported(None, faults),
+                    },
+                    _ => Vec3::zeros(),
+                };
+            }
+            ModeState::SunSafe => {
+                if let Some(w) = omega {
+                    torque = sun_safe_torque(
+                        &self.config.sun_safe,
+                        det.sun_body.as_ref(),
+                        &self.config.sun_axis_body,
+                        w,
+                    )
+                    .ok();
+                    faults.law |= torque.is_none();
+                }
+            }
+            ModeState::Slew { progress, .. } => match self.slew_momentum(progress, now) {
+                Some(h) => h_target = Some(h),
+                // done: track the slew's target
+                None => self.transition(Event::SlewDone),
+            },
+            ModeState::Tracking { .. } => {}
+        }
+        // the wheels' momentum in force, summed once for the tracking law and the integration
+        let mut h_now: Option<Vec3> = None;
+        if let ModeState::Tracking { target } = &self.mode {
+            if let (Some(q), Some(w)) = (det.attitude.as_ref(), omega) {
+                let h_w = self.wheels_body();
+                h_now = Some(h_w);
+                torque = tracking_torque(
+                    &self.config.tracking,
+                    &self.config.axes.inertia_body,
+                    q,
+                    w,
+                    target,
+                    &Vec3::zeros(),
+                    &h_w,
+                )
+                .ok();
+                faults.law |= torque.is_none();
+            }
+        }
+        // wheels: a torque law integrates into momentum (ḣ = −τ); a slew sets momentum
+        if let Some(tau) = torque {
+            if self.have_wheels() {
+                // no more than the wheels deliver: a momentum they cannot follow is never
+                // commanded (the loop has no read-back). The coils' per-axis scaling keeping
+                // the direction; it refuses a limit that is not positive and finite: none
+                let tau = crate::control::magnetorquer::saturate_dipole(
+                    &tau,
+                    &self.config.wheel_torque_nm,
+                )
+                .map_or(tau, |(t, _)| t);
+                let h_w = h_now.unwrap_or_else(|| self.wheels_body());
+                h_target = Some(crate::linalg::sub_scaled(&h_w, &tau, dt));
+            } else if let Some(b) = b_body_nt {
+                dipole = reported(dipole_for_torque(&tau, b).ok(), faults);
+            }
+        }
+        (dipole, h_target)
+    }
+
+    /// The body momentum the wheels hold at `now` in the slew `p` (the step's momentum while
+    /// rotating, the momentum before the slew while stopping between axes), `None` when the
+    /// plan is done.
+    fn slew_momentum(&self, p: &SlewProgress, now: &Epoch<Utc>) -> Option<Vec3> {
+        // half a period of margin: boundaries fall on ticks
+        let t = span_s(now, &p.started) + 0.5 * self.config.control_period_s;
+        let mut t0 = 0.0f32;
+        for (duration_s, h_body) in p.steps.iter() {
+            if t0 + duration_s > t {
+                // rotating: the body holds the step's momentum
+                return Some(p.h_base - h_body);
+            }
+            if t0 + duration_s + self.config.slew_pause_s > t {
+                // stopping before the next axis
+                return Some(p.h_base);
+            }
+            t0 += duration_s + self.config.slew_pause_s;
+        }
+        None
+    }
+
+    /// Step phase 5c: wheel momentum (the target, or the momentum in force re-sent: it stops
+    /// failed tiles' wheels), momentum dumping through the coils outside detumble, coil dipole.
+    /// Returns the dipole commanded and the wheels' total momentum now commanded (body).
+    #[inline(never)]
+    fn actuate<B: TileBus>(
+        &mut self,
+        bus: &mut B,
+        det: &StepReport,
+        dipole: Vec3,
+        h_target: Option<Vec3>,
+        faults: &mut Faults,
+    ) -> (Vec3, Vec3) {
+        let h = h_target.unwrap_or_else(|| self.wheels_body());
+        faults.saturated |= self.command_wheels(bus, &h, faults);
+        // what the wheels now hold: dumped through the coils and reported
+        let h_wheels = self.wheels_body();
+        let mut dipole = dipole;
+        if !matches!(self.mode, ModeState::Detumble)
+            && self.config.dumping_gain_per_s > 0.0
+            && self.have_wheels()
+        {
+            if let Some(b) = det.b_body_nt {
+                let dump = dumping_dipole(
+                    &h_wheels,
+                    &Vec3::zeros(),
+                    self.config.dumping_gain_per_s,
+                    &b,
+                )
+                .ok();
+                dipole += reported(dump, faults);
+            }
+        }
+        (self.command_coils(bus, &dipole, faults), h_wheels)
+    }
+
+    /// True if any tile has a working wheel.
+    fn have_wheels(&self) -> bool {
+        self.config
+            .tiles
+            .iter()
+            .enumerate()
+            .any(|(i, t)| self.has_working_wheel(i, t))
+    }
+
+    /// The field in TEME at `r_teme_km` (`None` without a position or GMST) from the
+    /// coefficients of the on-board model at `now`, built on this function's stack (out of
+    /// line: the `4·F` bytes exist only while the field is evaluated).
+    #[cfg_attr(target_arch = "msp430", inline(never))]
+    #[cfg_attr(target_arch = "msp430", optimize(size))]
+    fn field_teme(
+        &self,
+        now: &Epoch<Utc>,
+        r_teme_km: Option<&Vec3>,
+        gmst: Option<f32>,
+        faults: &mut Faults,
+    ) -> Result<Option<Vec3>, IgrfError> {
+        let mut slot: Option<Igrf<F>> = None;
+        let field = Igrf::emplace_epoch(
+            &mut slot,
+            self.config.igrf_model,
+            now,
+            self.config.igrf_degree,
+        )?;
+        faults.extrapolated = field.is_extrapolated();
+        match (r_teme_km, gmst) {
+            (Some(r), Some(g)) => field.teme(r, g).map(Some),
+            _ => Ok(None),
+        }
+    }
+
+    /// Allocates a total body momentum to the wheels (the wheels hold `h`, the body the
+    /// opposite) and commands them, each wheel limited on its own. Returns true if one was
+    /// limited. A limit that is not positive commands nothing (reported in `faults.law`).
+    fn command_wheels<B: TileBus>(&mut self, bus: &mut B, h: &Vec3, faults: &mut Faults) -> bool {
+        let mut wheels = [Wheel {
+            axis_body: Vec3::z(),
+            limit: 1.0,
+            working: false,
+        }; N];
+        // allocated without a limit, then each wheel limited on its own: a wheel at its limit
+        // stays there and the others keep the momentum they were asked to hold (scaling the
+        // whole allocation would take momentum from wheels the law never asked to change)
+        let limit = self.config.wheel_limit_nms;
+        if !(limit > 0.0) {
+            // no wheel can hold anything: none is commanded (they hold), reported
+            faults.law = true;
+            return false;
+        }
+        for (i, (w, t)) in wheels.iter_mut().zip(self.config.tiles.iter()).enumerate() {
+            *w = Wheel {
+                axis_body: t.normal_body(),
+                limit: f32::MAX,
+                working: self.has_working_wheel(i, t),
+            };
+        }
+        // the allocator gives the wheels −W⁺L: ask for the body momentum −h so they hold +h;
+        // with no working wheel every wheel is commanded to stop; on any other refusal (a NaN
+        // target...) no wheel is commanded: they hold the momentum in force, reported
+        let alloc = match cached_allocation(&mut self.wheel_allocator, &wheels, &(-h)) {
+            Ok(a) => Some(a),
+            Err(WheelError::NoWorkingWheel) => None,
+            Err(_) => {
+                faults.law = true;
+                return false;
+            }
+        };
+        let mut saturated = false;
+        for (i, (cmd, (tile, wheel))) in self
+            .wheel_h
+            .iter_mut()
+            .zip(self.config.tiles.iter().zip(wheels.iter()))
+            .enumerate()
+        {
+            if !tile.equipment.reaction_wheel {
+                continue;
+            }
+            let value = match &alloc {
+                Some(a) if wheel.working => {
+                    let h = a.wheel.get(i).copied().unwrap_or(0.0);
+                    if crate::fmath::abs(h) > limit {
+                        saturated = true;
+                        libm::copysignf(limit, h)
+                    } else {
+                        h
+                    }
+                }
+                _ => 0.0,
+            };
+            *cmd = value;
+            faults.actuator |= bus.set_wheel_momentum(i, value).is_err();
+        }
+        saturated
+    }
+
+    /// Allocates a body dipole to the coils (least squares over their axes, saturated keeping
+    /// direction) and commands them; returns the dipole commanded.
+    fn command_coils<B: TileBus>(&mut self, bus: &mut B, m: &Vec3, faults: &mut Faults) -> Vec3 {
+        let mut coils = [Wheel {
+            axis_body: Vec3::z(),
+            limit: 1.0,
+            working: false,
+        }; MAX_COILS];
+        for (c, cfg) in coils.iter_mut().zip(self.config.coils.iter()) {
+            *c = *cfg;
+        }
+        let alloc = match cached_allocation(&mut self.coil_allocator, &coils, &(-m)) {
+            Ok(a) => a,
+            Err(e) => {
+                // the coils stay off (`safe`); a refused dipole is reported
+                faults.law |= !matches!(e, WheelError::NoWorkingWheel);
+                return Vec3::zeros();
+            }
+        };
+        faults.saturated |= !(alloc.scale >= 1.0);
+        let mut produced = Vec3::zeros();
+        for (i, (value, coil)) in alloc.wheel.iter().zip(self.config.coils.iter()).enumerate() {
+            if coil.working {
+                faults.actuator |= bus.set_dipole(i, *value).is_err();
+                produced += coil.axis_body * *value;
+            }
+        }
+        produced
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every (mode, event) pair through `next_mode` against the table of the module docs; the
+    /// scripted-bus walk of every transition through the public API is `tests/modes.rs`.
+    #[test]
+    fn next_mode_table() {
+        let q = |x: f32| Quaternion {
+            q0: 1.0,
+            q1: x,
+            q2: 0.0,
+            q3: 0.0,
+        };
+        let progress = SlewProgress {
+            steps: [(1.0, Vec3::x()); 3],
+            started: Epoch::<Utc>::from_parts(0, 0, 0).unwrap(),
+            h_base: Vec3::zeros(),
+        };
+        let detumble = ModeState::Detumble;
+        let sun_safe = ModeState::SunSafe;
+        let slew = ModeState::Slew {
+            progress,
+            target: q(0.1),
+        };
+        let tracking = ModeState::Tracking { target: q(0.2) };
+        let new_slew = ModeState::Slew {
+            progress,
+            target: q(0.3),
+        };
+        let events = [
+            Event::RateAbove,
+            Event::RateBelow,
+            Event::AttitudeLost,
+            Event::SlewDone,
+            Event::SunSafe,
+            Event::Track(q(0.4)),
+            Event::Slew(&progress, q(0.3)),
+        ];
+        let track_new = ModeState::Tracking { target: q(0.4) };
+        // rows: the state before; the state after each event, in `events`' order
+        #[rustfmt::skip]
+        let table = [
+            (detumble, [detumble, sun_safe, detumble, detumble, sun_safe, track_new, new_slew]),
+            (sun_safe, [detumble, sun_safe, sun_safe, sun_safe, sun_safe, track_new, new_slew]),
+            (slew, [detumble, slew, sun_safe, ModeState::Tracking { target: q(0.1) }, sun_safe, track_new, new_slew]),
+            (tracking, [detumble, tracking, sun_safe, tracking, sun_safe, track_new, new_slew]),
+        ];
+        for (before, afters) in table.iter() {
+            for (event, after) in events.iter().zip(afters.iter()) {
+                let mut state = *before;
+                next_mode(&mut state, *event);
+                assert_eq!(state, *after, "{before:?} + {event:?}");
+            }
+        }
+    }
+
+    /// Issue 19 item 5, wheel saturation: a momentum one wheel cannot hold is limited on that
+    /// wheel alone, and the wheels the request did not change keep their momentum (before, the
+    /// whole allocation was scaled down, so they gave theirs up to the body).
+    #[test]
+    fn saturation_limits_the_wheel_not_the_store() {
+        use crate::hal::ErrorKind;
+        struct Wheels([Option<f32>; 6]);
+        impl TileBus for Wheels {
+            fn read_sun(&mut self, _: usize) -> Result<Option<[i16; 2]>, ErrorKind> {
+                Err(ErrorKind::Other)
+            }
+            fn read_magnetometer(&mut self, _: usize) -> Result<[i16; 2], ErrorKind> {
+                Err(ErrorKind::Other)
+            }
+            fn read_gyro(&mut self, _: usize) -> Result<i16, ErrorKind> {
+                Err(ErrorKind::Other)
+            }
+            fn set_wheel_momentum(&mut self, tile: usize, h_nms: f32) -> Result<(), ErrorKind> {
+                let slot = self.0.get_mut(tile).ok_or(ErrorKind::Other)?;
+                *slot = Some(h_nms);
+                Ok(())
+            }
+            fn set_dipole(&mut self, _: usize, _: f32) -> Result<(), ErrorKind> {
+                Ok(())
+            }
+        }
+        let config = &crate::flight::CONFIG;
+        let limit = config.wheel_limit_nms;
+        let mut acs = crate::flight::FlightLoop::new(config, None).unwrap();
+        let mut bus = Wheels([None; 6]);
+        let mut faults = Faults::default();
+        // the two z wheels hold 0.8 of their limit each
+        let h0 = Vec3::new(0.0, 0.0, 1.6 * limit);
+        assert!(!acs.command_wheels(&mut bus, &h0, &mut faults));
+        let before = bus.0;
+        // three limits more about x, which has one wheel
+        let h1 = h0 + Vec3::new(3.0 * limit, 0.0, 0.0);
+        assert!(acs.command_wheels(&mut bus, &h1, &mut faults));
+        assert!(!faults.law);
+        for (i, tile) in config.tiles.iter().enumerate() {
+            let n = tile.normal_body();
+            if !tile.equipment.reaction_wheel {
+                assert_eq!(bus.0[i], None);
+            } else if n.z.abs() > 0.99 {
+                assert_eq!(bus.0[i], before[i], "tile {i}: z wheel changed");
+                assert!(bus.0[i].is_some_and(|h| (h.abs() - 0.8 * limit).abs() < 1e-9));
+            } else if n.x.abs() > 0.99 {
+                assert_eq!(bus.0[i].map(f32::abs), Some(limit), "tile {i}: x wheel");
+            }
+        }
+        assert_eq!(acs.wheels_body().z, h0.z);
+        // a negative limit (a NaN one is refused by `AcsLoop::new`): nothing commanded, reported
+        let bad = AcsConfig {
+            wheel_limit_nms: -1.0,
+            ..config.clone()
+        };
+        let mut acs =
+            AcsLoop::<{ crate::flight::TILES }, { crate::flight::FIELD_COEFFS }>::new(&bad, None)
+                .unwrap();
+        let mut bus = Wheels([None; 6]);
+        let mut faults = Faults::default();
+        assert!(!acs.command_wheels(&mut bus, &h0, &mut faults));
+        assert!(faults.law);
+        assert_eq!(bus.0, [None; 6]);
     }
 }

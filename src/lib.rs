@@ -56,6 +56,7 @@ pub mod reference_node;
 pub mod tiles;
 pub mod time;
 pub mod tle;
+pub mod two_node;
 pub mod uplink;
 
 #[cfg(feature = "host")]

@@ -56,6 +56,7 @@ FLIGHT = [
     "src/attitude_node/sensing.rs",
     "src/link/mod.rs",
     "src/link/messages.rs",
+    "src/two_node.rs",
     "src/reference_node/mod.rs",
     "src/reference_node/guidance.rs",
     "src/reference_node/models.rs",
