@@ -48,6 +48,7 @@ pub mod fmath;
 pub mod frames;
 pub mod hal;
 pub mod linalg;
+pub mod link;
 pub mod orbit;
 pub mod planning;
 pub mod tiles;
