@@ -11,6 +11,7 @@
 //! | drivers | the devices on `embedded-hal` 1.0 (I²C sensors, PWM + direction-pin actuators), each with its part's address, registers and scale in its own configuration | [`drivers`] |
 //! | adapter | [`bus::DeviceBus`]: the satellite's [`TileBus`] built from per-tile device drivers (any type implementing the device traits, each tile's devices optional) and the coils | [`bus`] |
 //! | bus | [`TileBus`]: what the loop calls | this module |
+//! | node link | [`link::NodeLink`]: one packet out, one packet in, between the two nodes; [`link::FramedLink`] over any [`link::ByteStream`] (a UART driver) | [`link`] |
 //!
 //! # Who implements [`TileBus`] how
 //! - **A board** builds its drivers (from [`drivers`] or its own types implementing the device
@@ -56,6 +57,7 @@
 
 pub mod bus;
 pub mod drivers;
+pub mod link;
 
 use core::fmt;
 

@@ -7,6 +7,7 @@
 
 pub mod cli;
 pub mod eclipse_search;
+pub mod link;
 pub mod planner;
 pub mod sim;
 pub mod stk;
