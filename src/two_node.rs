@@ -27,7 +27,10 @@ use crate::attitude::Quaternion;
 use crate::attitude_node::AttitudeNode;
 use crate::env::igrf::FULL_COEFFS;
 use crate::hal::TileBus;
-use crate::link::messages::{Guidance, Reference, Status};
+use crate::link::messages::{
+    Guidance, Reference, Status, REFERENCE_PACKET_BYTES, STATUS_PACKET_BYTES,
+};
+use crate::link::sequence::SequenceCounter;
 use crate::orbit::sgp4::Sgp4;
 use crate::reference_node::ReferenceNode;
 use crate::tiles::{Tile, TileState, MAX_TILES};
@@ -43,6 +46,12 @@ pub struct TwoNodeLoop<'c, const N: usize = MAX_TILES, const F: usize = FULL_COE
     attitude: AttitudeNode<'c, N>,
     /// The attitude node's last STATUS, as the reference node received it.
     status: Option<Status>,
+    /// The sequence counts of the REF and STATUS packets.
+    reference_count: SequenceCounter,
+    status_count: SequenceCounter,
+    /// The last step's packets, as on the link.
+    reference_packet: [u8; REFERENCE_PACKET_BYTES],
+    status_packet: [u8; STATUS_PACKET_BYTES],
 }
 
 impl<'c, const N: usize, const F: usize> TwoNodeLoop<'c, N, F> {
@@ -55,6 +64,10 @@ impl<'c, const N: usize, const F: usize> TwoNodeLoop<'c, N, F> {
             reference: ReferenceNode::new(config, orbit)?,
             attitude: AttitudeNode::new(config)?,
             status: None,
+            reference_count: SequenceCounter::new(),
+            status_count: SequenceCounter::new(),
+            reference_packet: [0; REFERENCE_PACKET_BYTES],
+            status_packet: [0; STATUS_PACKET_BYTES],
         })
     }
 
@@ -129,9 +142,9 @@ impl<'c, const N: usize, const F: usize> TwoNodeLoop<'c, N, F> {
         report
     }
 
-    /// [`TwoNodeLoop::step`] writing its report into `report` (every field is set): the reference
-    /// node makes the REF for the step at `now`, which crosses to the attitude node as its
-    /// bytes; the attitude node's STATUS crosses back the same way.
+    /// [`TwoNodeLoop::step`] writing its report into `report` (every field is set): the
+    /// reference node makes the REF for the step at `now`, which crosses to the attitude node
+    /// as its packet; the attitude node's STATUS crosses back the same way.
     pub fn step_into<B: TileBus>(
         &mut self,
         bus: &mut B,
@@ -142,10 +155,19 @@ impl<'c, const N: usize, const F: usize> TwoNodeLoop<'c, N, F> {
         self.reference.set_clock(now);
         let step = self.attitude.step_number();
         let reference = self.reference.reference(step, self.status.as_ref());
-        let reference = Reference::from_bytes(&reference.to_bytes()).ok();
+        self.reference_packet = reference.to_packet(self.reference_count.next_count());
+        let reference = Reference::from_packet(&self.reference_packet).ok();
         let status = self
             .attitude
-            .step_into(bus, reference.as_ref(), dt_s, report);
-        self.status = Status::from_bytes(&status.to_bytes()).ok();
+            .step_into(bus, reference.as_ref().map(|(r, _)| r), dt_s, report);
+        self.status_packet = status.to_packet(self.status_count.next_count());
+        self.status = Status::from_packet(&self.status_packet)
+            .ok()
+            .map(|(s, _)| s);
+    }
+
+    /// The last step's REF and STATUS packets, as the link carries them.
+    pub fn packets(&self) -> (&[u8], &[u8]) {
+        (&self.reference_packet, &self.status_packet)
     }
 }

@@ -21,7 +21,9 @@ use core::fmt;
 
 use crate::acs_loop::{AcsError, AcsLoop, Command};
 use crate::attitude::Quaternion;
+use crate::attitude_node::AttitudeNode;
 use crate::orbit::sgp4::{Sgp4, Sgp4Error, ELEMENT_WORDS};
+use crate::reference_node::ReferenceNode;
 use crate::time::{Epoch, Utc};
 
 /// Number of argument words (the longest command, an element set).
@@ -59,17 +61,22 @@ pub enum UplinkError {
     Refused(AcsError),
     /// The element set is refused at this word ([`Sgp4::from_words`]).
     BadElementWord(u8),
+    /// The command belongs to the other node ([`crate::two_node`]: sun-safe and the tiles to
+    /// the attitude node; track, slew, elements and clock to the reference node).
+    NotThisNode(u16),
 }
 
 impl UplinkError {
     /// The telemetry status word: 1 unknown command, 2 invalid argument, 3 refused by the
-    /// loop, `0x100 + i` element set refused at word `i` (0: accepted, [`status`]).
+    /// loop, 4 the other node's command, `0x100 + i` element set refused at word `i` (0:
+    /// accepted, [`status`]).
     pub fn status(&self) -> u16 {
         match self {
             Self::UnknownCommand(_) => 1,
             Self::InvalidArgument => 2,
             Self::Refused(_) => 3,
             Self::BadElementWord(i) => 0x100 + u16::from(*i),
+            Self::NotThisNode(_) => 4,
         }
     }
 }
@@ -81,6 +88,7 @@ impl fmt::Display for UplinkError {
             Self::InvalidArgument => write!(f, "invalid uplink argument"),
             Self::Refused(e) => write!(f, "command refused: {e}"),
             Self::BadElementWord(i) => write!(f, "element set refused at word {i}"),
+            Self::NotThisNode(k) => write!(f, "uplink command {k} belongs to the other node"),
         }
     }
 }
@@ -112,11 +120,89 @@ fn set_elements<const N: usize, const F: usize>(
     args: &[u32; ARG_WORDS],
     acs: &mut AcsLoop<'_, N, F>,
 ) -> Result<(), UplinkError> {
-    let orbit = Sgp4::from_words(args).map_err(|e| match e {
+    acs.set_orbit(elements(args)?);
+    Ok(())
+}
+
+/// The element set of the argument words, checked whole ([`Sgp4::from_words`]).
+fn elements(args: &[u32; ARG_WORDS]) -> Result<Sgp4, UplinkError> {
+    Sgp4::from_words(args).map_err(|e| match e {
         Sgp4Error::Words { index } => UplinkError::BadElementWord(index),
         _ => UplinkError::BadElementWord(0),
-    })?;
-    acs.set_orbit(orbit);
+    })
+}
+
+/// The slew of the argument words: the target (words 0–3) and the time allowed (word 4).
+fn slew(args: &[u32; ARG_WORDS]) -> Result<(Quaternion, f32), UplinkError> {
+    let [_, _, _, _, a4, ..] = *args;
+    let within_s = f32::from_bits(a4);
+    match quaternion(args) {
+        Some(q) if within_s.is_finite() && within_s > 0.0 => Ok((q, within_s)),
+        _ => Err(UplinkError::InvalidArgument),
+    }
+}
+
+/// The tile index of argument word 0, if the satellite has that tile.
+fn tile(args: &[u32; ARG_WORDS], tiles: usize) -> Result<usize, UplinkError> {
+    let [a0, ..] = *args;
+    usize::try_from(a0)
+        .ok()
+        .filter(|t| tiles > *t)
+        .ok_or(UplinkError::InvalidArgument)
+}
+
+/// Applies a command the reference node owns (track, slew, element set, clock; the others are
+/// refused as [`UplinkError::NotThisNode`]) to `node`; `attitude` is the attitude the attitude
+/// node last reported (reference TEME → body, [`crate::attitude`]), which a slew is planned
+/// from, at the node's clock.
+#[cfg_attr(target_arch = "msp430", optimize(size))]
+pub fn apply_reference<const N: usize, const F: usize>(
+    code: u16,
+    args: &[u32; ARG_WORDS],
+    node: &mut ReferenceNode<'_, N, F>,
+    attitude: Option<&Quaternion>,
+) -> Result<(), UplinkError> {
+    match code {
+        kind::TRACK => node.track(quaternion(args).ok_or(UplinkError::InvalidArgument)?),
+        kind::SLEW => {
+            let (q, within_s) = slew(args)?;
+            let refused = UplinkError::Refused(AcsError::CannotSlew);
+            let (attitude, now) = attitude.zip(node.clock()).ok_or(refused)?;
+            node.slew(attitude, &q.to_dcm(), within_s, now)
+                .map_err(UplinkError::Refused)?;
+        }
+        kind::ELEMENTS => node.set_orbit(elements(args)?),
+        kind::CLOCK => {
+            let [a0, a1, a2, ..] = *args;
+            let utc =
+                Epoch::from_parts(a0 as i32, a1, a2).map_err(|_| UplinkError::InvalidArgument)?;
+            node.set_clock(utc);
+        }
+        kind::SUN_SAFE | kind::MARK_FAILED | kind::RESTORE => {
+            return Err(UplinkError::NotThisNode(code))
+        }
+        _ => return Err(UplinkError::UnknownCommand(code)),
+    }
+    Ok(())
+}
+
+/// Applies a command the attitude node owns (sun-safe, mark a tile failed or restore it; the
+/// others are refused as [`UplinkError::NotThisNode`]) to `node`.
+#[cfg_attr(target_arch = "msp430", optimize(size))]
+pub fn apply_attitude<const N: usize>(
+    code: u16,
+    args: &[u32; ARG_WORDS],
+    node: &mut AttitudeNode<'_, N>,
+) -> Result<(), UplinkError> {
+    match code {
+        kind::SUN_SAFE => node.sun_safe(),
+        kind::MARK_FAILED => node.mark_failed(tile(args, node.tiles().len())?),
+        kind::RESTORE => node.restore(tile(args, node.tiles().len())?),
+        kind::TRACK | kind::SLEW | kind::ELEMENTS | kind::CLOCK => {
+            return Err(UplinkError::NotThisNode(code))
+        }
+        _ => return Err(UplinkError::UnknownCommand(code)),
+    }
     Ok(())
 }
 

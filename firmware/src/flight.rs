@@ -111,6 +111,37 @@ pub fn take_uplink(acs: &mut FlightLoop, clock: &mut Epoch<Utc>, attitude: Optio
     }
 }
 
+/// Takes a pending uplink command, if any, and hands its code and argument words to `apply`
+/// (a node image's: [`acs::uplink::apply_reference`] or [`acs::uplink::apply_attitude`]),
+/// which returns the status to report; the mailbox as in [`take_uplink`].
+#[inline(never)]
+#[cfg_attr(target_arch = "msp430", optimize(size))]
+pub fn take_node_uplink(apply: impl FnOnce(u16, &[u32; ARG_WORDS]) -> u16) {
+    // SAFETY: as in `take_uplink`.
+    let kind = unsafe { core::ptr::read_volatile(&raw const UPLINK_KIND) };
+    if kind == 0 {
+        return;
+    }
+    let mailbox = core::hint::black_box(&raw const UPLINK_ARGS);
+    // SAFETY: as in `take_uplink`.
+    let args = unsafe { &*mailbox };
+    let outcome = apply(kind, args);
+    // SAFETY: as in `take_uplink`.
+    unsafe {
+        core::ptr::write_volatile(&raw mut UPLINK_STATUS, outcome);
+        core::ptr::write_volatile(&raw mut UPLINK_KIND, 0);
+    }
+}
+
+/// Publishes a step's mode and faults (`STEP_MODE`, `STEP_FAULTS`) from their codes.
+pub fn publish_codes(mode: u16, faults: u16) {
+    // SAFETY: single-threaded; volatile: read from outside the program.
+    unsafe {
+        core::ptr::write_volatile(&raw mut STEP_MODE, mode);
+        core::ptr::write_volatile(&raw mut STEP_FAULTS, faults);
+    }
+}
+
 /// Writes an uplink command as the ground would (the benchmark's commands): the arguments
 /// `args` (the rest of the buffer unchanged), then the command code `kind`.
 pub fn set_uplink(kind: u16, args: &[u32]) {

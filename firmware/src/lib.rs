@@ -17,6 +17,7 @@
 pub mod elements;
 pub mod flight;
 pub mod flight_elements;
+pub mod node_link;
 pub mod rt;
 pub mod tiles;
 

@@ -25,13 +25,68 @@
 //! Every field big-endian, `f32` as its IEEE 754 bits: a message crosses the link bit for bit.
 //! An absent optional value is sent as zeros with its validity bit clear and read back as
 //! `None`. [`Status::BYTES`] = 56, [`Reference::BYTES`] = 105.
+//!
+//! # Packets
+//! Each message is the user data of one CCSDS space packet with its CRC
+//! ([`crate::link::space_packet`]): STATUS telemetry on APID [`STATUS_APID`] (64 B), REF on
+//! [`REFERENCE_APID`] (113 B). The ground's telecommands reach each node on its own APID
+//! ([`ATTITUDE_TC_APID`], [`REFERENCE_TC_APID`]), from the on-board computer directly: a dead
+//! link between the nodes never takes away the attitude node's commands (sun-safe, the tiles).
 
 use core::fmt;
 
 use crate::attitude::Quaternion;
 use crate::env::eclipse::{Illumination, Shadow};
 use crate::linalg::Vec3;
+use crate::link::space_packet::{self, packet_len, Apid, PacketError, PacketHeader, PacketType};
 use crate::time::{Epoch, Utc};
+
+/// APID of STATUS, attitude node → reference node.
+pub const STATUS_APID: Apid = Apid::masked(0x040);
+/// APID of REF, reference node → attitude node.
+pub const REFERENCE_APID: Apid = Apid::masked(0x041);
+/// APID of the ground's telecommands to the attitude node.
+pub const ATTITUDE_TC_APID: Apid = Apid::masked(0x050);
+/// APID of the ground's telecommands to the reference node.
+pub const REFERENCE_TC_APID: Apid = Apid::masked(0x051);
+
+/// Bytes of a STATUS packet.
+pub const STATUS_PACKET_BYTES: usize = packet_len(Status::BYTES);
+/// Bytes of a REF packet.
+pub const REFERENCE_PACKET_BYTES: usize = packet_len(Reference::BYTES);
+
+/// Why a received packet gave no message.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum LinkError {
+    /// The packet was refused ([`space_packet::decode`]).
+    Packet(PacketError),
+    /// Its message was refused.
+    Message(MessageError),
+}
+
+impl fmt::Display for LinkError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Packet(e) => write!(f, "packet refused: {e}"),
+            Self::Message(e) => write!(f, "message refused: {e}"),
+        }
+    }
+}
+
+/// The packet of `message` on `apid` with `sequence_count` (14 bits: wrapped), into `out`.
+fn to_packet<const P: usize>(apid: Apid, sequence_count: u16, message: &[u8]) -> [u8; P] {
+    let mut out = [0u8; P];
+    let header = PacketHeader {
+        packet_type: PacketType::Telemetry,
+        secondary_header: false,
+        apid,
+        sequence_count: sequence_count & space_packet::MAX_SEQUENCE_COUNT,
+    };
+    // the sizes are constants: P is the packet of the message, and the count fits 14 bits
+    let _ = space_packet::encode(&header, message, &mut out);
+    out
+}
 
 /// Why a message's bytes were refused.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -257,6 +312,18 @@ impl Status {
     /// Bytes on the wire.
     pub const BYTES: usize = 56;
 
+    /// Its packet (APID [`STATUS_APID`]) with sequence count `sequence_count`.
+    pub fn to_packet(&self, sequence_count: u16) -> [u8; STATUS_PACKET_BYTES] {
+        to_packet(STATUS_APID, sequence_count, &self.to_bytes())
+    }
+
+    /// The message of a STATUS packet and the packet's sequence count.
+    pub fn from_packet(bytes: &[u8]) -> Result<(Self, u16), LinkError> {
+        let (header, data) = space_packet::decode(bytes, STATUS_APID).map_err(LinkError::Packet)?;
+        let message = Self::from_bytes(data).map_err(LinkError::Message)?;
+        Ok((message, header.sequence_count))
+    }
+
     /// The message's bytes.
     pub fn to_bytes(&self) -> [u8; Self::BYTES] {
         let mut out = [0u8; Self::BYTES];
@@ -320,6 +387,19 @@ fn shadow_code(s: Shadow) -> u8 {
 impl Reference {
     /// Bytes on the wire.
     pub const BYTES: usize = 105;
+
+    /// Its packet (APID [`REFERENCE_APID`]) with sequence count `sequence_count`.
+    pub fn to_packet(&self, sequence_count: u16) -> [u8; REFERENCE_PACKET_BYTES] {
+        to_packet(REFERENCE_APID, sequence_count, &self.to_bytes())
+    }
+
+    /// The message of a REF packet and the packet's sequence count.
+    pub fn from_packet(bytes: &[u8]) -> Result<(Self, u16), LinkError> {
+        let (header, data) =
+            space_packet::decode(bytes, REFERENCE_APID).map_err(LinkError::Packet)?;
+        let message = Self::from_bytes(data).map_err(LinkError::Message)?;
+        Ok((message, header.sequence_count))
+    }
 
     /// The message's bytes.
     pub fn to_bytes(&self) -> [u8; Self::BYTES] {

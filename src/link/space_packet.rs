@@ -89,6 +89,11 @@ impl Apid {
         }
     }
 
+    /// The APID of the low 11 bits of `value` (for constants whose value is known to fit).
+    pub const fn masked(value: u16) -> Apid {
+        Apid(value & Self::MAX)
+    }
+
     /// Its value, 0–2047.
     pub const fn get(self) -> u16 {
         self.0

@@ -1,0 +1,66 @@
+//! The attitude node's flight image (issue #29): tile reads, determination, modes and fault
+//! management, laws, allocation; the only node that commands actuators. Each control period:
+//! take the ground's command (sun-safe, the tiles: [`acs::uplink::apply_attitude`]), take the
+//! REF packet the reference node sent for this step (none, or one for another step or without a
+//! valid clock: the step runs without reference, reported), step, send STATUS, publish.
+#![no_std]
+#![no_main]
+
+use acs::acs_loop::StepReport;
+use acs::attitude_node::AttitudeNode;
+use acs::flight::{CONFIG, CONTROL_PERIOD_S, TILES};
+use acs::link::messages::Reference;
+use acs::link::sequence::SequenceCounter;
+use acs_firmware::node_link::{self, LINK_BYTES};
+use acs_firmware::{flight, tiles};
+
+/// Entry point, called by the reset handler (`acs_firmware::rt`): coils off, then the node.
+#[no_mangle]
+pub extern "C" fn main() -> ! {
+    tiles::coils_off();
+    run()
+}
+
+/// The node over the flight configuration and the tile mailboxes; coils off and a halt, which
+/// the watchdog turns into a reset, if the configuration is invalid.
+#[inline(never)]
+fn run() -> ! {
+    let Ok(mut node) = AttitudeNode::<TILES>::new(&CONFIG) else {
+        acs_firmware::safe_state();
+        acs_firmware::fw_halt()
+    };
+    let mut bus = tiles::MailboxBus;
+    let mut report = StepReport::empty(node.mode());
+    let mut count = SequenceCounter::new();
+    let mut packet = [0u8; LINK_BYTES];
+    loop {
+        acs_firmware::fw_period_start();
+        acs_firmware::kick_watchdog();
+        flight::take_node_uplink(|kind, args| {
+            acs::uplink::status(&acs::uplink::apply_attitude(kind, args, &mut node))
+        });
+        let reference = node_link::receive(&mut packet)
+            .and_then(|n| packet.get(..n))
+            .and_then(|p| Reference::from_packet(p).ok());
+        let status = node.step_into(
+            &mut bus,
+            reference.as_ref().map(|(r, _)| r),
+            CONTROL_PERIOD_S,
+            &mut report,
+        );
+        node_link::send(&status.to_packet(count.next_count()));
+        flight::publish_codes(report.mode.code(), report.faults.bits());
+        acs_firmware::kick_watchdog();
+    }
+}
+
+/// No panic path in the flight image, proven at link time (as `src/main.rs`).
+#[panic_handler]
+fn panic(_info: &core::panic::PanicInfo) -> ! {
+    extern "C" {
+        /// Deliberately undefined (see `src/main.rs`).
+        fn acs_flight_image_has_a_reachable_panic() -> !;
+    }
+    // SAFETY: never linked, so never called: a reachable call fails the build.
+    unsafe { acs_flight_image_has_a_reachable_panic() }
+}
