@@ -15,13 +15,13 @@
 //! | node link | send one packet, receive one packet (non-blocking); over any byte stream with [`FramedLink`] | — | [`crate::hal::link`] |
 //! | host link | two in-memory ends with deterministic faults (drop, corrupt, delay, reorder) for tests and the simulator | — | `crate::host::link` (feature `host`) |
 //!
-//! A node sends: `sequence::SequenceCounter::next_count`, [`space_packet::encode`] into a
+//! A node sends: [`sequence::SequenceCounter::next_count`], [`space_packet::encode`] into a
 //! buffer of [`space_packet::packet_len`]`(message)` bytes, [`NodeLink::send`]. It receives:
 //! [`NodeLink::receive`] into a buffer as long as its longest packet until it returns
 //! `Ok(None)`, [`space_packet::decode`] with the APID it expects, then
-//! `sequence::SequenceTracker::accept`. Every refusal on the way is a typed error, reported,
+//! [`sequence::SequenceTracker::accept`]. Every refusal on the way is a typed error, reported,
 //! never a silent default; a lost or damaged packet shows as an error at the receiver or as a
-//! gap in the sequence counts.
+//! gap in the sequence counts. (An example of both ends: `crate::host::link`'s docs.)
 //!
 //! On the wire a packet with `n` bytes of message takes `n` + 8 bytes (header 6, CRC 2) + 2
 //! (COBS code byte and delimiter, for `n` + 8 ≤ 253) + 1 (the leading delimiter
