@@ -19,8 +19,9 @@
 //! table-free form of this polynomial, which follows from `x¹⁶ = x¹² + x⁵ + 1`; the unit test
 //! checks it against the bit-by-bit definition for every register value and byte): no loop over
 //! the bits and no table in flash. The four ways measured on the MSP430 (nightly-2026-05-20,
-//! opt-level "s", LTO, the firmware's link flags and memory map; a probe image calling each on
-//! 128 bytes; bytes from the symbol sizes, MCLK cycles in mspdebug's simulator):
+//! opt-level "s", LTO, the firmware's link flags and memory map; `firmware/tools/link-probe`,
+//! an image calling each on 128 bytes; bytes from the symbol sizes, MCLK cycles in mspdebug's
+//! simulator):
 //!
 //! | variant | code, B | table, B | cycles for 128 bytes | per byte |
 //! |---|---:|---:|---:|---:|

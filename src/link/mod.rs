@@ -29,11 +29,11 @@
 //!
 //! # Flash and cycles
 //! Measured on the MSP430 (nightly-2026-05-20, opt-level "s", LTO, the firmware's link flags
-//! and memory map): a probe image, linked with the firmware's runtime and its undefined panic
-//! handler (so it also proves that no panic is reachable in any of this code), calls each
-//! function once through an `#[inline(never)]` wrapper; bytes are the wrappers' and the shared
-//! functions' symbol sizes, cycles MCLK cycles in mspdebug's simulator, for a 120-byte message
-//! (a 128-byte packet, a 131-byte frame).
+//! and memory map) with `firmware/tools/link-probe/measure`: a probe image, linked with the
+//! firmware's runtime and its undefined panic handler (so it also proves that no panic is
+//! reachable in any of this code), calls each function once through an `#[inline(never)]`
+//! wrapper; bytes are the wrappers' and the shared functions' symbol sizes, cycles MCLK cycles
+//! in mspdebug's simulator, for a 120-byte message (a 128-byte packet, a 131-byte frame).
 //!
 //! | function | code, B | cycles |
 //! |---|---:|---:|
