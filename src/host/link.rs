@@ -21,6 +21,50 @@
 //! packet overtakes a delayed one. Each queue holds [`MemoryLink::capacity`] packets; a packet
 //! sent to a full queue is lost (`lost_full`), as bytes are when a UART driver's buffer
 //! overflows: the sender is not told, the receiver sees a gap in the sequence counts.
+//!
+//! Both ends of a message's way, with a packet lost on the line:
+//!
+//! ```
+//! use acs::hal::link::NodeLink;
+//! use acs::host::link::{End, MemoryLink};
+//! use acs::link::sequence::{Continuity, SequenceCounter, SequenceTracker};
+//! use acs::link::space_packet::{decode, encode, packet_len, Apid, PacketHeader, PacketType};
+//!
+//! const REF_APID: Apid = match Apid::new(0x10) {
+//!     Some(a) => a,
+//!     None => panic!(),
+//! };
+//! let mut link = MemoryLink::new();
+//! let (mut counter, mut tracker) = (SequenceCounter::new(), SequenceTracker::new());
+//! let mut packet = [0u8; packet_len(4)];
+//! let mut received = [0u8; packet_len(4)];
+//! for step in 0..3u8 {
+//!     if step == 1 {
+//!         link.faults(End::A).drop = 1;
+//!     }
+//!     // the sending node (end A)
+//!     let header = PacketHeader {
+//!         packet_type: PacketType::Telemetry,
+//!         secondary_header: false,
+//!         apid: REF_APID,
+//!         sequence_count: counter.next_count(),
+//!     };
+//!     let n = encode(&header, &[step; 4], &mut packet).unwrap();
+//!     link.end(End::A).send(&packet[..n]).unwrap();
+//!     // the receiving node (end B)
+//!     while let Some(n) = link.end(End::B).receive(&mut received).unwrap() {
+//!         let (header, message) = decode(&received[..n], REF_APID).unwrap();
+//!         let continuity = tracker.accept(header.sequence_count);
+//!         match step {
+//!             0 => assert_eq!(continuity, Continuity::First),
+//!             _ => assert_eq!(continuity, Continuity::Gap { missed: 1 }),
+//!         }
+//!         assert_eq!(message, &[step; 4]);
+//!     }
+//!     link.advance_step();
+//! }
+//! assert_eq!((tracker.gaps(), tracker.missed()), (1, 1));
+//! ```
 
 use std::collections::VecDeque;
 

@@ -139,8 +139,7 @@ pub fn encode(data: &[u8], out: &mut [u8]) -> Result<usize, FrameError> {
     Ok(len + 1)
 }
 
-/// The deframer's state, apart from its buffer (not generic: one copy of the code whatever the
-/// buffer sizes).
+/// The deframer's state, apart from its buffer.
 #[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
 struct DeframeState {
     /// Bytes decoded into the buffer.
@@ -158,6 +157,8 @@ struct DeframeState {
 impl DeframeState {
     /// Feeds one received byte: at a delimiter, the frame's length in `buf` or why it was
     /// dropped (nothing for idle line); at the first byte that does not fit, the overlong error.
+    /// (Left to the inliner: a node has one link, one `N`, and inlined it is 212 B against
+    /// 170 + 114 B out of line; measured as in the [`crate::link`] docs.)
     fn push(&mut self, buf: &mut [u8], byte: u8) -> Option<Result<usize, FrameError>> {
         if byte == DELIMITER {
             let frame = core::mem::take(self);

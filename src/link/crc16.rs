@@ -16,20 +16,23 @@
 //!
 //! # Implementation: byte-wise shifts, no table
 //! One byte is folded into the register with five shift/exclusive-or steps (the well-known
-//! table-free form of this polynomial, which follows from `x¹⁶ = x¹² + x⁵ + 1`): no loop over the
-//! bits and no table in flash. Measured on the MSP430 (nightly-2026-05-20, opt-level "s", LTO,
-//! the firmware's link flags, a probe image calling each variant on a 128-byte buffer):
+//! table-free form of this polynomial, which follows from `x¹⁶ = x¹² + x⁵ + 1`; the unit test
+//! checks it against the bit-by-bit definition for every register value and byte): no loop over
+//! the bits and no table in flash. The four ways measured on the MSP430 (nightly-2026-05-20,
+//! opt-level "s", LTO, the firmware's link flags and memory map; `firmware/tools/link-probe`,
+//! an image calling each on 128 bytes; bytes from the symbol sizes, MCLK cycles in mspdebug's
+//! simulator):
 //!
-//! | variant | code + tables, B | cycles per byte (mspdebug simulator) |
-//! |---|---:|---:|
-//! | bit by bit (8 shift-and-test steps per byte) | 46 | 126 |
-//! | nibble table (16 × u16) | 58 + 32 = 90 | 76 |
-//! | byte table (256 × u16) | 38 + 512 = 550 | 24 |
-//! | **byte-wise shifts (this module)** | **54** | **44** |
+//! | variant | code, B | table, B | cycles for 128 bytes | per byte |
+//! |---|---:|---:|---:|---:|
+//! | bit by bit (8 shift-and-test steps per byte) | 92 | 0 | 34 860 | 272 |
+//! | nibble table (16 × u16) | 100 | 32 | 7 340 | 57 |
+//! | byte table (256 × u16) | 30 | 512 | 2 220 | 17 |
+//! | **byte-wise shifts (this module)** | **84** | **0** | **5 420** | **42** |
 //!
-//! The chosen form is 8 B larger than the bit-by-bit loop and three times faster; the tables
-//! cost flash that the MSP430 cannot spare. A 128-byte packet takes about 5 600 cycles
-//! (0.7 ms at 8 MHz).
+//! The chosen form is the smallest (the bit loop's shifts and tests cost more code than five
+//! straight-line steps) and second fastest; the byte table would cost 458 B more flash for
+//! 25 cycles a byte. A 128-byte packet's CRC takes 0.7 ms at 8 MHz.
 
 /// The register's preset value (all ones).
 pub const CRC16_INITIAL: u16 = 0xFFFF;

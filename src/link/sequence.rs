@@ -128,7 +128,7 @@ impl SequenceTracker {
         let late_from = MAX_SEQUENCE_COUNT - LATE_WINDOW;
         let continuity = if d == 1 {
             Continuity::Next
-        } else if d != 0 && d < HALF_RANGE {
+        } else if d != 0 && HALF_RANGE > d {
             let missed = d - 1;
             self.gaps = self.gaps.saturating_add(1);
             self.missed = self.missed.saturating_add(u32::from(missed));
