@@ -155,7 +155,7 @@ fn tile(args: &[u32; ARG_WORDS], tiles: usize) -> Result<usize, UplinkError> {
 /// refused as [`UplinkError::NotThisNode`]) to `node`; `attitude` is the attitude the attitude
 /// node last reported (reference TEME → body, [`crate::attitude`]), which a slew is planned
 /// from, at the node's clock.
-#[cfg_attr(target_arch = "msp430", optimize(size))]
+#[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
 pub fn apply_reference<const N: usize, const F: usize>(
     code: u16,
     args: &[u32; ARG_WORDS],
@@ -171,7 +171,7 @@ pub fn apply_reference<const N: usize, const F: usize>(
             node.slew(attitude, &q.to_dcm(), within_s, now)
                 .map_err(UplinkError::Refused)?;
         }
-        kind::ELEMENTS => node.set_orbit(elements(args)?),
+        kind::ELEMENTS => set_node_elements(args, node)?,
         kind::CLOCK => {
             let [a0, a1, a2, ..] = *args;
             let utc =
@@ -183,6 +183,17 @@ pub fn apply_reference<const N: usize, const F: usize>(
         }
         _ => return Err(UplinkError::UnknownCommand(code)),
     }
+    Ok(())
+}
+
+/// The element set of the argument words, checked whole, for the reference node (out of line:
+/// the new set's temporaries stay off the slew's stack).
+#[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
+fn set_node_elements<const N: usize, const F: usize>(
+    args: &[u32; ARG_WORDS],
+    node: &mut ReferenceNode<'_, N, F>,
+) -> Result<(), UplinkError> {
+    node.set_orbit(elements(args)?);
     Ok(())
 }
 

@@ -28,15 +28,15 @@ fn run() -> ! {
     else {
         acs_firmware::fw_halt()
     };
-    let mut count = SequenceCounter::new();
-    let mut packet = [0u8; LINK_BYTES];
-    let mut status: Option<Status> = None;
-    // the step the next REF is for: the last STATUS's next, counted on without one
-    let mut step: u32 = 0;
+    let mut link = Link {
+        count: SequenceCounter::new(),
+        status: None,
+        step: 0,
+    };
     loop {
         acs_firmware::fw_period_start();
         acs_firmware::kick_watchdog();
-        let attitude = status.and_then(|s| s.attitude);
+        let attitude = link.status.and_then(|s| s.attitude);
         flight::take_node_uplink(|kind, args| {
             acs::uplink::status(&acs::uplink::apply_reference(
                 kind,
@@ -45,18 +45,38 @@ fn run() -> ! {
                 attitude.as_ref(),
             ))
         });
-        status = node_link::receive(&mut packet)
+        link.exchange(&mut node);
+        acs_firmware::kick_watchdog();
+    }
+}
+
+/// The node's side of the link between periods.
+struct Link {
+    count: SequenceCounter,
+    /// The last STATUS received.
+    status: Option<Status>,
+    /// The step the next REF is for: the last STATUS's next, counted on without one.
+    step: u32,
+}
+
+impl Link {
+    /// Takes the STATUS packet, answers with the REF for the attitude node's next step, and
+    /// publishes its faults. Out of line: the packets and messages live in this frame only,
+    /// not under the uplink's.
+    #[inline(never)]
+    fn exchange(&mut self, node: &mut ReferenceNode<'static, TILES, FIELD_COEFFS>) {
+        let mut packet = [0u8; LINK_BYTES];
+        self.status = node_link::receive(&mut packet)
             .and_then(|n| packet.get(..n))
             .and_then(|p| Status::from_packet(p).ok())
             .map(|(s, _)| s);
-        if let Some(s) = &status {
-            step = s.step.wrapping_add(1);
+        if let Some(s) = &self.status {
+            self.step = s.step.wrapping_add(1);
         }
-        let reference = node.reference(step, status.as_ref());
-        node_link::send(&reference.to_packet(count.next_count()));
+        let reference = node.reference(self.step, self.status.as_ref());
+        node_link::send(&reference.to_packet(self.count.next_count()));
         flight::publish_codes(0, reference.faults);
-        step = step.wrapping_add(1);
-        acs_firmware::kick_watchdog();
+        self.step = self.step.wrapping_add(1);
     }
 }
 
