@@ -16,7 +16,7 @@
 //!    requirement is 0.1° = 360″, its Sun sensors' noise 1 mrad = 206″);
 //!    IGRF field in TEME through GMST (UT1 ≈ UTC), its coefficients interpolated to the step's
 //!    date each step (not kept between steps: on the MSP430 that saves `4·F` bytes of RAM,
-//!    320 B at degree 8, for ≈ 40 000 cycles a step).
+//!    780 B at the flight degree 13, for ≈ 63 500 cycles a step).
 //! 3. Read every working tile: Sun angles (lit or not), magnetometer, gyro (after the models,
 //!    so that on the MSP430 the raw readings live only under the determination, and the coils'
 //!    field has the models' time to decay). A device that fails [`FAILURES_TO_MARK_FAILED`]
@@ -92,8 +92,8 @@ pub const INVALID_STEPS_TO_SAFE: u16 = 30;
 /// and the model's that the loop accepts (a field further off is no measurement, reported as
 /// [`Faults::field`]: a coil left on, a magnetometer's offset or scale gone wrong). The campaigns'
 /// dispersed spacecraft stay within 5.3 % (60 runs, 596 000 steps: magnetometer offsets and
-/// scale, the spacecraft's fields, the degree-8 model); a coil left on at 0.2 A·m² reaches
-/// 168 %.
+/// scale, the spacecraft's fields, the degree-8 model flown then); a coil left on at 0.2 A·m²
+/// reaches 168 %.
 pub const FIELD_MAGNITUDE_TOLERANCE: f32 = 0.1;
 const FIELD_SQUARED_LOW: f32 =
     (1.0 - FIELD_MAGNITUDE_TOLERANCE) * (1.0 - FIELD_MAGNITUDE_TOLERANCE);
@@ -424,8 +424,9 @@ fn next_mode(state: &mut ModeState, event: Event) {
 
 /// The loop's state: mode, estimator memories, commands in force, device health; for at most
 /// `N` ≤ 32 tiles (see [`AcsConfig`]), with room for `F` IGRF coefficients (`F` ≥
-/// [`coefficient_count`] of the configured degree: 80 for degree 8, the default 195 for 13; they
-/// take `4·F` bytes of stack while the field is evaluated, none in the loop's state).
+/// [`coefficient_count`] of the configured degree: the default 195 for 13, the flight degree;
+/// 80 for degree 8; they take `4·F` bytes of stack while the field is evaluated, none in the
+/// loop's state).
 ///
 /// The loop borrows its configuration (`'c`): on the MSP430 the flight configuration is a
 /// `static` in flash and only the run-time state below takes RAM. The tiles' run-time health is
