@@ -16,7 +16,7 @@
 //!    requirement is 0.1° = 360″, its Sun sensors' noise 1 mrad = 206″);
 //!    IGRF field in TEME through GMST (UT1 ≈ UTC), its coefficients interpolated to the step's
 //!    date each step (not kept between steps: on the MSP430 that saves `4·F` bytes of RAM,
-//!    320 B at degree 8, for ≈ 40 000 cycles a step).
+//!    780 B at the flight degree 13, for ≈ 63 500 cycles a step).
 //! 3. Read every working tile: Sun angles (lit or not), magnetometer, gyro (after the models,
 //!    so that on the MSP430 the raw readings live only under the determination, and the coils'
 //!    field has the models' time to decay). A device that fails [`FAILURES_TO_MARK_FAILED`]
@@ -330,8 +330,9 @@ fn next_mode(state: &mut ModeState, event: Event) {
 
 /// The loop's state: mode, estimator memories, commands in force, device health; for at most
 /// `N` ≤ 32 tiles (see [`AcsConfig`]), with room for `F` IGRF coefficients (`F` ≥
-/// [`coefficient_count`] of the configured degree: 80 for degree 8, the default 195 for 13; they
-/// take `4·F` bytes of stack while the field is evaluated, none in the loop's state).
+/// [`coefficient_count`] of the configured degree: the default 195 for 13, the flight degree;
+/// 80 for degree 8; they take `4·F` bytes of stack while the field is evaluated, none in the
+/// loop's state).
 ///
 /// The loop borrows its configuration (`'c`): on the MSP430 the flight configuration is a
 /// `static` in flash and only the run-time state below takes RAM. The tiles' run-time health is

@@ -14,7 +14,7 @@
 //! | wheels | one per power tile, ±1 mN·m·s | seed 000 §9 (tile wheel) |
 //! | wheel torque | 0.23 mN·m about each body axis: one wheel's ([`WHEEL_TORQUE_NM`]) | class (CubeWheel Small) |
 //! | coils | three, along body x, y, z, ±0.2 A·m² | seed 002 §8 (coil sizing) |
-//! | field model | IGRF-14 degree 8, 2025–2030, extrapolated to 2035 (flagged) ([`crate::env::igrf::FLIGHT`]: only the tables it evaluates) | issue #17 product decision |
+//! | field model | IGRF-14 degree 13 (the full model), 2025–2030, extrapolated to 2035 (flagged) ([`crate::env::igrf::FLIGHT`]: only the interval it evaluates, 1 560 B of tables) | issue #17 product decision (degree 8 until issue #29 item 6) |
 //! | Sun and shadow models | the thesis's Sun (Schlyter, 46.9″) and the cylindrical shadow, in the loop ([`crate::acs_loop`]) | issue #17: flash |
 //! | control period | 1 s | seed 000 §1.5 |
 //! | tracking | `ω_n` = [`TRACKING_BANDWIDTH_RADPS`] = 0.5 rad/s, `ζ` = 0.9 | below |
@@ -25,21 +25,25 @@
 //! Against seed 004's worst-case drag torque on a 500 km orbit (1.2e-6 N·m) and the smallest
 //! moment, 0.010 kg·m², 0.25 rad/s leaves 0.11° and 0.5 rad/s 0.028° (the error issue #8's
 //! 3U, 0.042 kg·m², had at 0.25 rad/s). 0.5 rad/s is still 12.6 control periods per natural
-//! period. Measured in the `tracking` scenario (`cargo test --release --test closed_loop`; the
-//! worst pointing error from 600 s after settling, seed 5 and the mean over seeds 1–24), both
-//! with the weights below: 0.212° → 0.170°, mean 0.217° → 0.184°; the control part (filtered
-//! attitude against the target) 0.141° → 0.104°.
+//! period. Measured in the `tracking` scenario (ideal truth, the loop of
+//! `tests/closed_loop.rs` with the bandwidth changed; the worst pointing error from 600 s after
+//! settling, seed 5 and the mean over seeds 1–24), both with the weights below, 0.25 → 0.5
+//! rad/s: 0.110° → 0.087°, mean 0.139° → 0.121°; the control part (filtered attitude against
+//! the target) 0.144° → 0.103° (with the degree-8 field model flown when it was decided, before
+//! issue #29: 0.209° → 0.176°, mean 0.218° → 0.184°, control part 0.141° → 0.100°).
 //!
 //! **Wahba weights.** `σ⁻²` of each observation's direction: the Sun from the tiles' sensors,
 //! σ 1 mrad per angle (the simulated tiles; seed 004 §2.7 measured ±0.5 mrad on its pinhole
 //! sensor); the field, σ 30′ = 8.7 mrad, the accuracy of IGRF itself in declination and
 //! inclination (seed 000 §3.1), which dominates the magnetometers (100 nT in 22 000–47 000 nT,
-//! 2–5 mrad) and the degree-8 truncation (≤ 105 nT, 0.13° on the `tracking` orbit). The
+//! 2–5 mrad) and the degree-8 truncation the loop flew before issue #29 (≤ 105 nT, 0.13° on the
+//! `tracking` orbit). The
 //! rotation about the Sun line is fixed by the field whatever the weights; what they decide is
 //! how far a field error tilts the Sun axis, about half of it with equal weights and 1/77 of
 //! it here. The simulator's truth field is IGRF itself, so it shows little of this (`tracking`
-//! at 0.5 rad/s, equal weights → these: 0.177° → 0.170°, mean over seeds 1–24 0.190° →
-//! 0.184°); in flight it keeps a 30′ field-model error out of the Sun-pointing axes. A side
+//! at 0.5 rad/s, equal weights → these: 0.090° → 0.087°, mean over seeds 1–24 0.123° →
+//! 0.121°; with the degree-8 model before issue #29 0.177° → 0.176°, 0.190° → 0.184°); in
+//! flight it keeps a 30′ field-model error out of the Sun-pointing axes. A side
 //! effect: the solver refuses Sun and field directions closer than ≈ 5° instead of ≈ 1.1°
 //! ([`crate::determination::wahba_svd::MIN_SINGULAR_RATIO`] on the weighted profile), where a
 //! 30′ field error would turn the attitude about the Sun line by more than 5°; the filter
@@ -60,10 +64,12 @@ use crate::linalg::{Mat3, Vec3};
 /// The number of tiles of the flight configuration (the thesis's cube): the loop is sized to it.
 pub const TILES: usize = 6;
 
-/// The flight degree of the IGRF model: all the flight tables hold (8).
+/// The flight degree of the IGRF model: all the flight tables hold (13, the full model; 8 before
+/// issue #29).
 pub const IGRF_DEGREE: Degree = FLIGHT.degree();
 
-/// Room for the IGRF coefficients of the flight degree: 80 (320 B of loop state).
+/// Room for the IGRF coefficients of the flight degree: 195 (780 B of stack while the field is
+/// evaluated; the loop keeps none between steps).
 pub const FIELD_COEFFS: usize = coefficient_count(IGRF_DEGREE.get());
 
 /// The loop the firmware runs: six tiles, the flight degree's coefficients.

@@ -25,8 +25,10 @@ fn flight_loop_builds() {
     let orbit = common::flight_orbit();
     let acs = FlightLoop::new(&CONFIG, orbit).unwrap();
     assert_eq!(acs.tiles().len(), acs::flight::TILES);
-    // the flight degree is the flight tables' (decision 3 of #17), and the loop holds its
-    // coefficients
-    assert_eq!(acs::flight::IGRF_DEGREE.get(), 8);
-    assert_eq!(acs::flight::FIELD_COEFFS, 80);
+    // the flight degree is the flight tables' (decision 3 of #17): the full model since issue
+    // #29 (degree 8, 80 coefficients, before), and the loop has room for its coefficients
+    assert_eq!(acs::flight::IGRF_DEGREE.get(), 13);
+    assert_eq!(acs::flight::FIELD_COEFFS, 195);
+    assert_eq!(CONFIG.igrf_degree, acs::flight::IGRF_DEGREE);
+    assert!(core::ptr::eq(CONFIG.igrf_model, &acs::env::igrf::FLIGHT));
 }

@@ -155,10 +155,11 @@ def closed_loop(f, bench, pil):
         f"{f(c + 'thesis-slew-noisy' + i + 'run_end_deg', '.3f')}° after tracking | 0.42° |",
         f"| `tracking`: wheels, noisy tiles (σ 1 mrad Sun, 100 nT, 1e-4 rad/s, 0.1 % dropouts), dawn-dusk orbit, 20° initial error "
         f"| < 0.1° within one orbit and after | {met(f, c + 'tracking' + i + 'verdict')}: < 0.1° {settled}, then "
-        f"{f(c + 'tracking' + i + 'tail_deg', '.3f')}° at worst from 600 s on. Cause: the on-board IGRF degree 8 (decision of #17) "
-        f"differs from the degree-13 truth by up to {f(c + 'tracking' + i + 'truncation_nt', '.1f')} nT on this orbit, which turns "
-        f"the field about the Sun line by up to {f(c + 'tracking' + i + 'truncation_deg', '.3f')}°, an axis only the field observes; "
-        f"with degree 13 on board the same run gives {f(c + 'tracking' + i + 'tail_degree_13_deg', '.3f')}° | — |",
+        f"{f(c + 'tracking' + i + 'tail_deg', '.3f')}° at worst from 600 s on, with IGRF degree 13 on board (#29; the truth's "
+        f"model, to {f(c + 'tracking' + i + 'field_model_nt', '.3f')} nT of f32 rounding). With the degree-8 model flown before "
+        f"(decision of #17), which differs from the degree-13 truth by up to {f(c + 'tracking' + i + 'truncation_degree_8_nt', '.1f')} nT "
+        f"on this orbit and turns the field about the Sun line by up to {f(c + 'tracking' + i + 'truncation_degree_8_deg', '.3f')}°, "
+        f"an axis only the field observes, the same run gives {f(c + 'tracking' + i + 'tail_degree_8_deg', '.3f')}° (not met) | — |",
         f"| `failed-tile`: tile 2 (+W: sun, magnetometer, gyro, wheel) fails at 600 s | still converges | "
         f"{met(f, c + 'failed-tile' + i + 'verdict')}: {f(c + 'failed-tile' + i + 'end_deg', '.3f')}° at the end of the orbit | — |",
         f"| `sun-safe`: noon-midnight orbit, {f(c + 'sun-safe' + i + 'umbra_s', 'n')} s of umbra | no NaN, actuators safe or "
@@ -207,8 +208,9 @@ def simulator_closed_loop(f, bench, pil):
 
     rows.append(
         f"| `tracking` | < 0.1° within one orbit and after | "
-        + cell("tracking", "ideal", f"{since(ki)}, {f(ki + 'tail_deg', '.3f')}° at worst from 600 s later (degree-8 model: "
-               f"{f(ki + 'truncation_deg', '.3f')}° about the Sun line)")
+        + cell("tracking", "ideal", f"{since(ki)}, {f(ki + 'tail_deg', '.3f')}° at worst from 600 s later (with the degree-8 "
+               f"model of before #29: {f(ki + 'tail_degree_8_deg', '.3f')}°; its truncation {f(ki + 'truncation_degree_8_deg', '.3f')}° "
+               f"about the Sun line)")
         + " | "
         + cell("tracking", "realistic", f"{since(kr)}; {f(kr + 'tail_deg', '.1f')}° at worst from 600 s on; from 1 200 s on "
                f"{f(kr + 'from_1200_worst_deg', '.2f')}° worst, {f(kr + 'from_1200_rms_deg', '.2f')}° RMS")

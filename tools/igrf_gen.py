@@ -42,9 +42,12 @@ keeps only the ones a firmware refers to:
   handful of scalars, walking the tables with iterators: no index arithmetic, no scratch arrays.)
 - `FULL`: every interval of the file; `RECENT`: the last two (from the last definitive model
   through the current model to its secular-variation prediction); `FLIGHT`: the last interval
-  (the current model to its prediction) in tables truncated at degree FLIGHT_DEGREE (8, the
-  on-board model: the same f32 values in the same column order for n <= 8, so the flight image
-  carries 640 B instead of 2 340 B).
+  (the current model to its prediction) at degree FLIGHT_DEGREE (13, the on-board model since
+  issue #29: the reference node of the two-node split has room for it; the flight image carries
+  2 tables of 195 f32, 1 560 B, instead of RECENT's 2 340 B). At the file's own degree the
+  flight model names the same two tables as the last interval of `FULL` and `RECENT` (no copy);
+  below it (degree 8 until #29: 640 B) it gets its own tables `EPOCH_yyyy_N<d>` and
+  `DELTA_yyyy_zzzz_N<d>`, the same f32 values in the same column order for n <= d.
 """
 
 import argparse
@@ -57,8 +60,9 @@ from fractions import Fraction
 
 decimal.getcontext().prec = 50
 
-# Degree of the flight tables (`FLIGHT`): the on-board field model (`acs::flight::IGRF_DEGREE`).
-FLIGHT_DEGREE = 8
+# Degree of the flight tables (`FLIGHT`): the on-board field model (`acs::flight::IGRF_DEGREE`);
+# 8 until issue #29 (item 6), the full 13 since.
+FLIGHT_DEGREE = 13
 # years the flight tables are extrapolated past their last epoch (issue #19)
 FLIGHT_EXTRAPOLATE_YEARS = 5
 
@@ -235,7 +239,11 @@ def generate(shc_path):
 
     tables_of(list(range(len(epochs))), n_max)
     current = list(range(len(epochs) - 2, len(epochs)))
-    tables_of(current, FLIGHT_DEGREE)
+    if FLIGHT_DEGREE > n_max:
+        raise SystemExit(f"FLIGHT_DEGREE {FLIGHT_DEGREE} is above the file's degree {n_max}")
+    if FLIGHT_DEGREE < n_max:
+        # truncated copies; at the file's degree the flight model shares the full tables
+        tables_of(current, FLIGHT_DEGREE)
 
     def model(name, idx, doc, degree=n_max, extrapolate=0):
         first, last = epochs[idx[0]], epochs[idx[-1]]
@@ -272,8 +280,9 @@ def generate(shc_path):
     model("FLIGHT", current,
           f"The flight tables: the current model and its secular-variation prediction (the last "
           f"interval of [`RECENT`]: a mission flown after its epoch needs no earlier one) "
-          f"truncated at degree {FLIGHT_DEGREE} "
-          "(the flight image carries only what it evaluates; issue #17). Past its last epoch "
+          + (f"at full degree ({n_max}; the same tables, issue #29) " if FLIGHT_DEGREE == n_max
+             else f"truncated at degree {FLIGHT_DEGREE} ")
+          + "(the flight image carries only what it evaluates; issue #17). Past its last epoch "
           f"the secular variation is extrapolated for {FLIGHT_EXTRAPOLATE_YEARS} more years, "
           "flagged ([`super::Igrf::is_extrapolated`]; issue #19): a mission must not lose its field "
           "reference on the day the tables end.",

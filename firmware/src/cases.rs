@@ -326,11 +326,11 @@ fn run_step_laws<S: Sink>(s: &mut S) {
 /// tile's axes. `firmware/bench-host` computes them and checks these at every benchmark run.
 pub const STEP_MAG: [[i16; 2]; 6] = [
     [0, 0],
-    [-716, -1431],
-    [1431, -2862],
-    [-716, 2862],
-    [-716, 1431],
-    [-1431, -2862],
+    [-716, -1432],
+    [1432, -2863],
+    [-716, 2863],
+    [-716, 1432],
+    [-1432, -2863],
 ];
 
 /// The ACS step as one call (`crate::flight`: the flight loop over the tile mailboxes), in every

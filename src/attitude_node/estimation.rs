@@ -21,8 +21,8 @@ use crate::time::{Epoch, Utc};
 /// and the model's that the loop accepts (a field further off is no measurement, reported as
 /// [`Faults::field`]: a coil left on, a magnetometer's offset or scale gone wrong). The campaigns'
 /// dispersed spacecraft stay within 5.3 % (60 runs, 596 000 steps: magnetometer offsets and
-/// scale, the spacecraft's fields, the degree-8 model); a coil left on at 0.2 A·m² reaches
-/// 168 %.
+/// scale, the spacecraft's fields, the degree-8 model flown then); a coil left on at 0.2 A·m²
+/// reaches 168 %.
 pub const FIELD_MAGNITUDE_TOLERANCE: f32 = 0.1;
 const FIELD_SQUARED_LOW: f32 =
     (1.0 - FIELD_MAGNITUDE_TOLERANCE) * (1.0 - FIELD_MAGNITUDE_TOLERANCE);

@@ -88,15 +88,16 @@
 //! - [`RECENT`]: 2020.0–2030.0 (DGRF-2020, IGRF-2025 and its SV; anchor 2025.0 and the changes
 //!   to 2020.0 and 2030.0): 3 tables, 2 340 bytes;
 //! - [`FLIGHT`]: the last interval of [`RECENT`] (2025.0–2030.0, the current model and its
-//!   prediction: a mission flown after 2025.0 needs no earlier date) truncated at degree 8, the
-//!   on-board model (the same f32 values for n ≤ 8, so bit-identical results; a degree above 8
-//!   is refused, [`IgrfError::DegreeAboveModel`], and so is a date before 2025.0): 2 tables,
-//!   640 bytes;
+//!   prediction: a mission flown after 2025.0 needs no earlier date) at the full degree 13, the
+//!   on-board model since issue #29 (degree 8 before, 640 bytes): the same two tables as that
+//!   interval of [`RECENT`] and [`FULL`], so bit-identical results; a date before 2025.0 is
+//!   refused (a model whose tables stop below the requested degree refuses it,
+//!   [`IgrfError::DegreeAboveModel`]): 2 tables, 1 560 bytes;
 //! - [`FULL`]: 1900.0–2030.0, 26 intervals: 13 anchors and 26 changes, 30 420 bytes;
 //! - both use 48 bytes of constants (Bonnet's recursion).
 //!
 //! An [`Igrf`] holds the coefficients at its date in RAM: `4 × COEFFS` bytes (320 at degree 8,
-//! 480 at 10, 780 at 13), [`coefficient_count`].
+//! 480 at 10, 780 at 13, the flight degree), [`coefficient_count`].
 //!
 //! # Inputs and outputs
 //! | function | input | output |
@@ -230,7 +231,8 @@ impl Model {
         self.first_year() + f32::from(self.step_years) * self.intervals.len() as f32
     }
 
-    /// The highest degree its tables hold (13, or 8 for [`FLIGHT`]).
+    /// The highest degree its tables hold (13 for [`FULL`], [`RECENT`] and, since issue #29,
+    /// [`FLIGHT`]).
     pub const fn degree(&self) -> Degree {
         Degree(self.degree)
     }
@@ -492,7 +494,8 @@ pub const FULL_COEFFS: usize = N_COEFFS;
 ///
 /// `COEFFS` is the capacity, `4 × COEFFS` bytes of RAM: [`coefficient_count`] of the largest
 /// degree it will hold. The default is the full model (195, 780 bytes), which [`Igrf::new`] and
-/// [`Igrf::at_epoch`] build; a flight build at degree 8 uses `Igrf<80>` (320 bytes) through
+/// [`Igrf::at_epoch`] build, and the flight degree's (13 since issue #29); a build at a lower
+/// degree uses a smaller capacity, e.g. `Igrf<80>` (320 bytes) at degree 8, through
 /// [`Igrf::from_year`] / [`Igrf::from_epoch`], or, without a second copy on the stack while it
 /// is built, in its own storage with [`Igrf::emplace_epoch`].
 ///
@@ -1084,5 +1087,43 @@ fn finite(input: &'static str, value: f32) -> Result<(), IgrfError> {
         Ok(())
     } else {
         Err(IgrfError::NotFinite { input, value })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A model whose tables stop below the requested degree refuses it, and evaluates the
+    /// degrees it holds ([`FLIGHT`] stopped at degree 8 until issue #29; every public model now
+    /// holds degree 13, so the refusal is checked on tables built here).
+    #[test]
+    fn degree_above_the_tables_is_refused() {
+        static ZEROS: [f32; 80] = [0.0; 80];
+        static EIGHT: Model = Model {
+            name: "degree 8",
+            first_year: 2025,
+            step_years: 5,
+            degree: 8,
+            extrapolate_years: 0.0,
+            intervals: &[Interval {
+                anchor: &ZEROS,
+                delta: &ZEROS,
+                from_end: false,
+            }],
+        };
+        for degree in 9..=13 {
+            assert_eq!(
+                Igrf::new(&EIGHT, 2026.0, Degree::new(degree).unwrap()).err(),
+                Some(IgrfError::DegreeAboveModel {
+                    degree,
+                    model_degree: 8
+                })
+            );
+        }
+        for degree in 1..=8 {
+            assert!(Igrf::<80>::from_year(&EIGHT, 2026.0, Degree::new(degree).unwrap()).is_ok());
+        }
+        assert_eq!(EIGHT.table_bytes(), 2 * 320);
     }
 }

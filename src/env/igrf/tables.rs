@@ -4240,102 +4240,6 @@ static DELTA_2025_2030: [f32; N_COEFFS] = [
     0.0, 0.0, // g13,13 h13,13
 ];
 
-/// Schmidt-scaled Gauss coefficients N g, N h (nT) at 2025.0, column order, n <= 8.
-static EPOCH_2025_N8: [f32; 80] = [
-    -29350.0, // g1,0
-    -2556.2, // g2,0
-    1360.9, // g3,0
-    894.7, // g4,0
-    -232.9, // g5,0
-    64.3, // g6,0
-    79.6, // g7,0
-    23.1, // g8,0
-    -1410.3, 4545.5, // g1,1 h1,1
-    1703.7029, -1809.1848, // g2,1 h2,1
-    -981.51056, -23.229328, // g3,1 h3,1
-    252.85573, 88.10106, // g4,1 h4,1
-    95.27539, 11.69641, // g5,1 h5,1
-    13.922301, -4.015209, // g6,1 h6,1
-    -14.532734, -9.241231, // g7,1 h7,1
-    1.8166667, 1.2, // g8,1 h8,1
-    475.9387, -235.03929, // g2,2 h2,2
-    160.57388, 30.674028, // g3,2 h3,2
-    4.159086, -9.98777, // g4,2 h4,2
-    9.134424, 10.7349, // g5,2 h5,2
-    2.6464014, 0.57965505, // g6,2 h6,2
-    -0.22631158, -0.37032804, // g7,2 h7,2
-    -0.34860834, -0.25099802, // g8,2 h8,2
-    23.896278, -28.966463, // g3,3 h3,3
-    -5.599646, 4.223141, // g4,3 h4,3
-    -1.3814851, -1.2241133, // g5,3 h5,3
-    -0.6653382, 0.28120172, // g6,3 h6,3
-    0.21567202, -0.0036369648, // g7,3 h7,3
-    0.0049040825, 0.028198473, // g8,3 h8,3
-    0.08451542, -2.6439242, // g4,4 h4,4
-    -0.33313164, 0.100714214, // g5,4 h5,4
-    -0.042940963, -0.0627841, // g6,4 h6,4
-    0.00866303, 0.012884887, // g7,4 h7,4
-    -0.006900946, -0.0030706045, // g8,4 h8,4
-    0.015516, 0.078842066, // g5,5 h5,5
-    0.0033352117, 0.0024398528, // g6,5 h6,5
-    0.00022845545, -0.00067622814, // g7,5 h7,5
-    0.000741886, 0.0005575119, // g8,5 h8,5
-    -0.003928711, 0.0047041145, // g6,6 h6,6
-    -0.00020072103, -0.00044983014, // g7,6 h7,6
-    0.0001009281, 4.7415883e-06, // g8,6 h8,6
-    6.849311e-05, -1.0537401e-05, // g7,7 h7,7
-    -2.07766e-05, -6.4308524e-06, // g8,7 h8,7
-    3.091756e-07, 1.2057848e-06, // g8,8 h8,8
-];
-
-/// Schmidt-scaled change N Δg, N Δh (nT) from 2025.0 to 2030.0, column order, n <= 8.
-static DELTA_2025_2030_N8: [f32; 80] = [
-    63.0, // g1,0
-    -56.0, // g2,0
-    -7.5, // g3,0
-    -8.5, // g4,0
-    3.0, // g5,0
-    -1.0, // g6,0
-    -0.5, // g7,0
-    -0.5, // g8,0
-    50.0, -107.5, // g1,1 h1,1
-    -15.299782, -78.80831, // g2,1 h2,1
-    -8.9814625, 7.7567177, // g3,1 h3,1
-    -3.6366193, -2.0554805, // g4,1 h4,1
-    1.6782928, -0.6454972, // g5,1 h5,1
-    -0.32732683, 0.32732683, // g6,1 h6,1
-    -0.09449112, 0.5669467, // g7,1 h7,1
-    0.16666667, -0.25, // g8,1 h8,1
-    -11.980018, -16.02147, // g2,2 h2,2
-    0.2581989, -0.12909944, // g3,2 h3,2
-    -2.1615324, 1.5279797, // g4,2 h4,2
-    0.0, 0.5123475, // g5,2 h5,2
-    0.13801311, -0.27602622, // g6,2 h6,2
-    -0.012858612, 0.064293064, // g7,2 h7,2
-    0.0, 0.039840955, // g8,2 h8,2
-    -4.110961, -1.0277402, // g3,3 h3,3
-    0.5378529, 0.15936382, // g4,3 h4,3
-    0.034860834, 0.024900597, // g5,3 h5,3
-    0.034503277, -0.011501092, // g6,3 h6,3
-    0.009092412, -0.012729377, // g7,3 h7,3
-    0.0049040825, -0.0036780618, // g8,3 h8,3
-    -0.23946038, -0.14438052, // g4,4 h4,4
-    0.026997983, 0.019955032, // g5,4 h5,4
-    -0.0041996054, 0.0041996054, // g6,4 h6,4
-    -0.00027414653, 0.0, // g7,4 h7,4
-    -0.00015827858, 0.0006331143, // g8,4 h8,4
-    0.0037119617, 0.007052727, // g5,5 h5,5
-    0.00044767943, 0.00078343897, // g6,5 h6,5
-    -0.00036552871, -0.0004112198, // g7,5 h7,5
-    6.584787e-05, -0.00010974645, // g8,5 h8,5
-    0.0002907763, 0.0002907763, // g6,6 h6,6
-    -7.168608e-05, 4.48038e-05, // g7,6 h7,6
-    3.386849e-06, -2.0321093e-05, // g8,6 h8,6
-    2.1553775e-05, -7.1845916e-06, // g7,7 h7,7
-    0.0, 1.8550536e-06, // g8,7 h8,7
-    4.637634e-07, 3.091756e-07, // g8,8 h8,8
-];
-
 /// The whole model: every epoch of the file (for the host, the tests and mission analysis).
 ///
 /// IGRF 14: epochs 1900.0 to 2030.0 every 5 years, degree 13 (39 tables of 195 f32, 30420 bytes of flash, plus 48 bytes of constants shared by all models).
@@ -4390,17 +4294,17 @@ pub static RECENT: Model = Model {
     ],
 };
 
-/// The flight tables: the current model and its secular-variation prediction (the last interval of [`RECENT`]: a mission flown after its epoch needs no earlier one) truncated at degree 8 (the flight image carries only what it evaluates; issue #17). Past its last epoch the secular variation is extrapolated for 5 more years, flagged ([`super::Igrf::is_extrapolated`]; issue #19): a mission must not lose its field reference on the day the tables end.
+/// The flight tables: the current model and its secular-variation prediction (the last interval of [`RECENT`]: a mission flown after its epoch needs no earlier one) at full degree (13; the same tables, issue #29) (the flight image carries only what it evaluates; issue #17). Past its last epoch the secular variation is extrapolated for 5 more years, flagged ([`super::Igrf::is_extrapolated`]; issue #19): a mission must not lose its field reference on the day the tables end.
 ///
-/// IGRF 14: epochs 2025.0 to 2030.0 every 5 years, degree 8 (2 tables of 80 f32, 640 bytes of flash, plus 48 bytes of constants shared by all models).
+/// IGRF 14: epochs 2025.0 to 2030.0 every 5 years, degree 13 (2 tables of 195 f32, 1560 bytes of flash, plus 48 bytes of constants shared by all models).
 pub static FLIGHT: Model = Model {
     name: "IGRF-14",
     first_year: 2025,
     step_years: 5,
-    degree: 8,
+    degree: 13,
     extrapolate_years: 5.0,
     intervals: &[
-        Interval { anchor: &EPOCH_2025_N8, delta: &DELTA_2025_2030_N8, from_end: false },
+        Interval { anchor: &EPOCH_2025, delta: &DELTA_2025_2030, from_end: false },
     ],
 };
 

@@ -35,7 +35,8 @@
 //! of Vallado's f64 SGP4), which reproduces Vallado's reference ephemerides (`tests/data/sgp4`) to
 //! 2e-6 m (`docs/accuracy.md`, "SGP4"). What the
 //! realistic truth makes independent of the flight models is what they leave out: the field
-//! beyond degree 8 and beyond IGRF, albedo, the spacecraft's own fields, the devices' errors.
+//! beyond IGRF (and, before issue #29, beyond the flight model's degree 8), albedo, the
+//! spacecraft's own fields, the devices' errors.
 //!
 //! # Simulated tiles
 //! Each tile's sensors see the truth through its orientation: Sun angles, magnetometer, gyro,

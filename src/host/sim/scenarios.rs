@@ -513,8 +513,9 @@ pub fn detumble() -> Result<Scenario, SimError> {
 /// Tracking with wheels and noisy tiles on a dawn-dusk orbit (no eclipse), flying
 /// [`crate::flight::CONFIG`]: hold an inertial attitude from an initial 20° error.
 /// `failed_tile`: that tile fails at 600 s. The requirement "< 0.1° within one orbit and after"
-/// (`docs/closed-loop.md`) is not met with the flight configuration: its degree-8 field model alone
-/// turns the attitude about the Sun line by up to 0.11° on this orbit (`tests/closed_loop.rs` prints the figures).
+/// (`docs/closed-loop.md`) is met in the ideal truth since the flight field model is degree 13
+/// (issue #29); with the degree-8 model before, whose truncation alone turns the attitude about
+/// the Sun line by up to 0.11° on this orbit, it was not (`tests/closed_loop.rs` prints both).
 pub fn tracking(failed_tile: Option<usize>) -> Result<Scenario, SimError> {
     // dawn-dusk: the orbit normal near the Sun at the March equinox (RAAN 90°)
     let tle = make_tle(

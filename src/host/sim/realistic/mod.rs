@@ -374,6 +374,13 @@ impl CoilModel {
 /// | tiles read | 55 ms | the MSP430 cycle table (`docs/msp430.md`) at 8 MHz: SGP4 121 845 + Sun 47 377 + eclipse 45 675 + GMST 8 650 + IGRF degree 8 with its coefficients 217 440 ≈ 441 000 cycles before the reads |
 /// | actuators commanded | 83 ms | the full step, ≈ 667 000 cycles |
 ///
+/// These are the single-node image's with the degree-8 field model it flew until issue #29.
+/// At degree 13 on one node the field and its coefficients cost 457 504 cycles (393 987 +
+/// 63 517, `docs/msp430.md`), 233 652 (29 ms) more than degree 8's, before the reads, and the
+/// whole step 935 638 cycles at worst (was 696 624); the two-node split (degree 13 on its
+/// reference node) changes the step's timing, so the instants are left as they are until that
+/// split's step is measured.
+///
 /// Before the commands the coils are off and the wheels hold the previous set-points. A
 /// scenario whose period is shorter than these is refused by the simulator.
 #[derive(Clone, Debug, PartialEq)]
