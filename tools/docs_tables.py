@@ -165,10 +165,12 @@ def closed_loop(f, bench, pil):
         f"| `sun-safe`: noon-midnight orbit, {f(c + 'sun-safe' + i + 'umbra_s', 'n')} s of umbra | no NaN, actuators safe or "
         f"gyro/magnetometer laws | {met(f, c + 'sun-safe' + i + 'verdict')}: no NaN; rate damping in the umbra, "
         f"{sig(f.num(c + 'sun-safe' + i + 'end_degps'), 2)}°/s at the end | — |",
-        f"| `slew` (`--pil`): the flight image in mspdebug's simulator against the host loop, {n(pil['steps'])} steps through a 90° "
-        f"slew and tracking | commands bit-identical at every step | {'met' if pil['mismatches'] == 0 else '**not met**'}: "
-        f"{n(pil['mismatches'])} mismatches over {n(pil['steps'])} steps; MCLK cycles a period {n(pil['cycles_mean'])} mean, "
-        f"{n(pil['cycles_max'])} max (with the hardware multiplier; `firmware/pil`, `target/msp430/pil.json`) | — |",
+        f"| `slew` (`--pil`): the two node images in two mspdebug simulators against the host composition, {n(pil['steps'])} "
+        f"steps through a 90° slew and tracking, then {n(pil.get('link_fault_steps', 0))} of link faults and a reset of the "
+        f"reference node | commands and packets bit-identical at every step | {'met' if pil['mismatches'] == 0 else '**not met**'}: "
+        f"{n(pil['mismatches'])} mismatches; MCLK cycles a period at most {n(node_rows_cycles(pil, 'reference'))} (reference), "
+        f"{n(node_rows_cycles(pil, 'attitude'))} (attitude) (with the hardware multiplier; `firmware/pil`, "
+        f"`target/msp430/pil.json`) | — |",
     ]
 
 
@@ -267,28 +269,56 @@ def simulator_causes(f, bench, pil):
     return rows
 
 
+def node_rows_cycles(pil, node):
+    """The node's worst period in the processor-in-the-loop run, MCLK cycles (0 if absent)."""
+    return pil.get("node_cycles", {}).get(node, {}).get("max", 0)
+
+
+def node_rows(bench, pil):
+    """Per node: (name, flash B, RAM B, RAM static B, stack B, step cycles with the multiplier)."""
+    rows = []
+    for node in ("reference", "attitude"):
+        nd = bench["nodes"][node]
+        cycles = pil.get("node_cycles", {}).get(node, {}).get("max", nd.get("step_cycles"))
+        rows.append((node, nd, cycles))
+    return rows
+
+
+def pct(x, whole):
+    return f"{100.0 * x / whole:.1f} %"
+
+
 def firmware_figures(f, bench, pil):
-    fw = bench["loop_firmware"]
+    rows = node_rows(bench, pil)
+    one = bench["loop_firmware"]
     step = bench["functions"]["ACS step"]
-    hw = bench["functions"]["ACS step (hwmult)"]
     ob = bench.get("loop_firmware_onboard_init", {})
-    ram = fw["ram_bytes"] + fw["stack_bytes"]
-    static = "the same" if fw["stack_static_bytes"] == fw["stack_bytes"] else f"{n(fw['ram_bytes'] + fw['stack_static_bytes'])} B"
-    pil_modes = pil.get("cycles_by_mode", {})
-    worst_mode = max(pil_modes, key=lambda m: pil_modes[m]["cycles_max"]) if pil_modes else None
-    why = " (the slew command's period)" if worst_mode == "Slew" else ""
+    flash_part, ram_part = rows[0][1]["flash_part_bytes"], rows[0][1]["ram_part_bytes"]
+
+    def cells(fn):
+        return " | ".join(fn(nd, c) for _, nd, c in rows)
+
     return [
-        "| | measured | budget |",
-        "|---|---:|---:|",
-        f"| flash of the flight image (code + constants + vectors) | **{n(fw['flash_bytes'])} B** | {n(fw['flash_budget_bytes'])} B |",
-        f"| RAM: {n(fw['ram_bytes'])} B static + stack (painted high-water after a run through every mode; the static bound of "
-        f"`tools/stack_depth.py` is {static}) | **{n(ram)} B** | {n(fw['ram_budget_bytes'])} B |",
-        f"| ACS step as one call, worst steady mode ({step['mode']}) | **{n(step['cycles'])}** cycles ({step['cycles'] / 8000:.0f} ms) | 1 000 000 |",
-        f"| the same with the hardware multiplier | **{n(hw['cycles'])}** cycles ({hw['cycles'] / 8000:.0f} ms) | goal 600 000: "
-        f"{'met' if hw['cycles'] <= 600_000 else 'not met'} |",
-        f"| processor in the loop (`firmware/pil`: `{pil['scenario']}`, {n(pil['steps'])} steps) | **{n(pil['mismatches'])} mismatches**; "
-        f"{n(pil['cycles_mean'])} cycles a period mean, {n(pil['cycles_max'])} max{why} | commands bit-identical |",
-        f"| SGP4 initialised on board (feature `onboard-init`, for a larger part; not the flight image) | {n(ob['flash_bytes'])} B | — |",
+        "| | reference node | attitude node | margin (80 %) / goal (70 %) |",
+        "|---|---:|---:|---:|",
+        "| flash (code + constants + vectors), MSP430FG4619 map | "
+        + cells(lambda nd, c: f"**{n(nd['flash_bytes'])} B** ({pct(nd['flash_bytes'], flash_part)})")
+        + f" | {n(int(0.8 * flash_part))} / {n(int(0.7 * flash_part))} B |",
+        "| RAM: static + worst-case stack (the larger of the static bound and the painted high-water) | "
+        + cells(lambda nd, c: f"**{n(nd['ram_bytes'] + nd['stack_bytes'])} B** ({n(nd['ram_bytes'])} + {n(nd['stack_bytes'])}; "
+                f"{pct(nd['ram_bytes'] + nd['stack_bytes'], ram_part)})")
+        + f" | {n(int(0.8 * ram_part))} / {n(int(0.7 * ram_part))} B |",
+        "| step, worst period of the processor-in-the-loop run, with the hardware multiplier | "
+        + cells(lambda nd, c: f"**{n(c)}** cycles" if c is not None else "—")
+        + " | goal 600 000 |",
+        f"| the same without the multiplier: bounded by the one-image step (both nodes' work, worst steady mode, "
+        f"{step['mode']}, benchmark group `step`) | ≤ {n(step['cycles'])} | ≤ {n(step['cycles'])} | 1 000 000 |",
+        f"| processor in the loop (`firmware/pil`: `{pil['scenario']}`, {n(pil['steps'])} steps; then "
+        f"{n(pil.get('link_fault_steps', 0))} steps of link faults and a reset of the reference node) | "
+        f"**{n(pil['mismatches'])} mismatches** | (both nodes) | commands and packets bit-identical |",
+        f"| the one-image composition (`acs-firmware`, measurement map; fits no part) | {n(one['flash_bytes'])} B flash, "
+        f"{n(one['stack_static_bytes'])} B stack bound | | — |",
+        f"| SGP4 initialised on board (feature `onboard-init`, one image, measurement map) | {n(ob['flash_bytes'])} B | | — |",
     ]
 
 
@@ -538,8 +568,8 @@ def control(f, bench, pil):
 
 def readme_key_figures(f, bench, pil):
     """README.md's key figures (used when README.md holds this table's markers)."""
-    fw = bench["loop_firmware"]
-    step, hw = bench["functions"]["ACS step"], bench["functions"]["ACS step (hwmult)"]
+    rows = node_rows(bench, pil)
+    step = bench["functions"]["ACS step"]
     c = "closed_loop."
     igrf_max = max(f.num(f"igrf.ppigrf.{x}.max_nt") for x in ["br", "btheta", "bphi", "north", "east", "down"])
     verdict = "met" if f(c + "tracking.ideal.verdict") == "MET" else "not met"
@@ -553,12 +583,14 @@ def readme_key_figures(f, bench, pil):
         f"| IGRF-14 degree 13, f32, 1 500 points | **{igrf_max:.3f} nT** max | ppigrf (f64) | `cargo test --test igrf -- --nocapture` |",
         f"| Wahba by SVD, 200 problems | **{f('determination.wahba.svd.max_deg', '.2e')}°** max | f64 optimum | "
         f"`cargo test --test determination -- --nocapture` |",
-        f"| flight image flash / RAM | **{n(fw['flash_bytes'])} B / {n(fw['ram_bytes'] + fw['stack_bytes'])} B** | budgets "
-        f"{n(fw['flash_budget_bytes'])} / {n(fw['ram_budget_bytes'])} B | `firmware/msp430-bench` ([figures](docs/msp430.md)) |",
-        f"| ACS step, worst mode | **{n(step['cycles'])}** cycles ({n(hw['cycles'])} with the multiplier) | budget 1 000 000 (goal "
-        f"600 000) | `firmware/msp430-bench` |",
-        f"| processor in the loop, {n(pil['steps'])} steps | **{n(pil['mismatches'])} mismatches** | the host loop, bit for bit | "
-        f"`firmware/pil` |",
+        f"| node images flash / RAM (MSP430FG4619) | reference **{n(rows[0][1]['flash_bytes'])} B / "
+        f"{n(rows[0][1]['ram_bytes'] + rows[0][1]['stack_bytes'])} B**, attitude **{n(rows[1][1]['flash_bytes'])} B / "
+        f"{n(rows[1][1]['ram_bytes'] + rows[1][1]['stack_bytes'])} B** | 80 % of the part: 45 619 / 3 276 B "
+        f"(goal 70 %) | `firmware/msp430-bench` ([figures](docs/firmware.md)) |",
+        f"| step, worst period (with the multiplier) | reference **{n(rows[0][2] or 0)}**, attitude **{n(rows[1][2] or 0)}** "
+        f"cycles; without: ≤ {n(step['cycles'])} (the one-image step) | budget 1 000 000 (goal 600 000) | `firmware/pil` |",
+        f"| processor in the loop, two nodes, {n(pil['steps'])} steps + {n(pil.get('link_fault_steps', 0))} of link faults | "
+        f"**{n(pil['mismatches'])} mismatches** | the host composition, bit for bit | `firmware/pil` |",
         f"| detumble, 10°/s per axis | < 0.5°/s after **{f(c + 'detumble.ideal.below_s', 'n')} s** (requirement: 3 orbits) | ideal "
         f"truth | `cargo test --release --test closed_loop -- --nocapture` |",
         f"| thesis slew, end of plan | **{f(c + 'thesis-slew.ideal.plan_end_deg', '.3f')}°** (≤ 0.15°; the thesis 0.148°) | ideal "

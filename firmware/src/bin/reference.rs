@@ -8,7 +8,7 @@
 #![no_main]
 
 use acs::flight::{CONFIG, FIELD_COEFFS, TILES};
-use acs::link::messages::Status;
+use acs::link::messages::{Reference, Status};
 use acs::link::sequence::SequenceCounter;
 use acs::reference_node::ReferenceNode;
 use acs_firmware::node_link::{self, LINK_BYTES};
@@ -61,23 +61,35 @@ struct Link {
 
 impl Link {
     /// Takes the STATUS packet, answers with the REF for the attitude node's next step, and
-    /// publishes its faults. Out of line: the packets and messages live in this frame only,
-    /// not under the uplink's.
+    /// publishes its faults. Out of line, and so are the packets' own steps: the packets live
+    /// in their frames only, neither under the uplink's frame nor under the models'.
     #[inline(never)]
     fn exchange(&mut self, node: &mut ReferenceNode<'static, TILES, FIELD_COEFFS>) {
-        let mut packet = [0u8; LINK_BYTES];
-        self.status = node_link::receive(&mut packet)
-            .and_then(|n| packet.get(..n))
-            .and_then(|p| Status::from_packet(p).ok())
-            .map(|(s, _)| s);
+        self.status = receive_status();
         if let Some(s) = &self.status {
             self.step = s.step.wrapping_add(1);
         }
         let reference = node.reference(self.step, self.status.as_ref());
-        node_link::send(&reference.to_packet(self.count.next_count()));
+        send_reference(&reference, self.count.next_count());
         flight::publish_codes(0, reference.faults);
         self.step = self.step.wrapping_add(1);
     }
+}
+
+/// The STATUS in `LINK_RX`, if a valid one came.
+#[inline(never)]
+fn receive_status() -> Option<Status> {
+    let mut packet = [0u8; LINK_BYTES];
+    node_link::receive(&mut packet)
+        .and_then(|n| packet.get(..n))
+        .and_then(|p| Status::from_packet(p).ok())
+        .map(|(s, _)| s)
+}
+
+/// Sends `reference` as its packet with sequence count `count`.
+#[inline(never)]
+fn send_reference(reference: &Reference, count: u16) {
+    node_link::send(&reference.to_packet(count));
 }
 
 /// No panic path in the flight image, proven at link time (as `src/main.rs`).
