@@ -9,6 +9,7 @@
 //! |---|---|---|
 //! | device traits | one device: [`SunSensor`], [`Magnetometer`], [`Gyro`], [`ReactionWheel`], [`Magnetorquer`] (each with its own error type, with `&mut T` forwarding impls) | this module |
 //! | drivers | the devices on `embedded-hal` 1.0 (I²C sensors, PWM + direction-pin actuators), each with its part's address, registers and scale in its own configuration | [`drivers`] |
+//! | MSP430 peripherals | USCI I²C master and UART, Timer_A period, Timer_B PWM, port pins, flash controller and the element store of the MSP430FG4619, over a register-access trait (tested on the host against register models) | [`msp430`] |
 //! | adapter | [`bus::DeviceBus`]: the satellite's [`TileBus`] built from per-tile device drivers (any type implementing the device traits, each tile's devices optional) and the coils | [`bus`] |
 //! | bus | [`TileBus`]: what the loop calls | this module |
 //!
@@ -56,6 +57,7 @@
 
 pub mod bus;
 pub mod drivers;
+pub mod msp430;
 
 use core::fmt;
 
