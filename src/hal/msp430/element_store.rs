@@ -124,7 +124,7 @@ impl<R: Registers> ElementStore<R> {
     /// The store in `segments` (their start addresses), written through `flash`.
     pub fn new(flash: FlashController<R>, segments: [u16; 2]) -> Result<Self, StoreError> {
         let [a, b] = segments;
-        let ok = |s: u16| s.is_multiple_of(SEGMENT_BYTES) && s >= 0x1200 && s < 0xFE00;
+        let ok = |s: u16| s.is_multiple_of(SEGMENT_BYTES) && s >= 0x1200 && 0xFE00 > s;
         if !(ok(a) && ok(b) && a != b) {
             return Err(StoreError::BadSegments);
         }
@@ -143,7 +143,7 @@ impl<R: Registers> ElementStore<R> {
         }
         let mut crc = 0xFFFF;
         let mut offset = 0;
-        while offset < CRC_OFFSET {
+        while CRC_OFFSET > offset {
             crc = crc16_word(crc, self.flash.read_word(base + offset));
             offset += 2;
         }

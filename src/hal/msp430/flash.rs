@@ -88,7 +88,7 @@ impl FlashConfig {
             return None;
         }
         let f = mclk_hz / divider;
-        if f < 257_000 || f > 476_000 {
+        if !(f >= 257_000 && 476_000 >= f) {
             return None;
         }
         Some(Self {

@@ -54,24 +54,38 @@
 //! hang the loop, and the watchdog (1 s) stays the last resort, not the first.
 //!
 //! # Measured figures
-//! Flash bytes on the MSP430 (release, opt-level "s", LTO, the firmware's inline threshold),
-//! measured with `firmware/tools/code_by_module.py` on `firmware/src/bin/drivers.rs`, an image
-//! that instantiates every driver with the firmware's `Mmio` and calls each entry point once
-//! (so the driver's code is counted once, its callers' glue not). Bus times are computed from the
-//! bit counts at the stated rates (the CPU polls through them: they are CPU time too).
+//! **Flash bytes** on the MSP430 (release, opt-level "s", LTO, the firmware's inline threshold):
+//! `firmware/src/bin/drivers.rs` links every driver over the firmware's `Mmio`, each from a
+//! `measure_*` function of its own; a driver's bytes are that function (the driver inlined into
+//! it, with its configuration and a few bytes of call glue) plus the driver's functions LLVM
+//! kept out of line (`llvm-nm --size-sort -S -C` on the image, built with `cd firmware && cargo
+//! build --release --bin drivers --features fg4619-map`). The image links with no panic path
+//! (its panic handler calls an undefined symbol).
 //!
-//! | driver | code bytes | hot path | bus time | of a 1 s period |
-//! |---|---|---|---|---|
-//! | [`usci_i2c`] (`I2c::transaction`, init, recovery) | 1 240 | 4-byte register read (`write_read`, 1 + 4 bytes) | 665 µs (66.5 SCL periods at 99 942 Hz) | 0.067 % |
-//! | [`usci_uart`] (init, `write_bytes`, `read_bytes`) | 294 | 100-byte frame out | 8 677 µs (1 000 bits at 115 249 Bd) | 0.87 % |
-//! | [`timer_a`] (start, `period_elapsed`, `wait_period`) | 128 | — | — | — |
-//! | [`pwm`] + [`gpio`] (3 channels, 3 direction pins) | 206 | one coil command: two register writes | — | — |
-//! | [`flash`] + [`element_store`] (load, store, CRC) | 796 | store: erase + 119 words | 25.2 ms (14.5 erase + 10.7 write) | boot/uplink only |
+//! **Cycles**: the same image in `mspdebug -n sim` (tracer MCLK counts between the image's
+//! marks). The simulator has none of these peripherals, so the image gives the drivers a
+//! register access that answers at once (every flag set) or never (no flag ever set): the first
+//! measures a driver's own cycles, the second the cost of its bounded waits. The bus time (the
+//! bits at the stated rate) comes on top, and the CPU polls through it.
 //!
-//! With the flight image's I²C traffic (6 tiles × 3 sensors, a register read of 4–6 bytes
-//! each) the bus takes about 18 × 0.7 ms ≈ 13 ms of each 1 s period, and the ACS step
-//! (592 476 cycles with the multiplier, 74 ms at [`SMCLK_HZ`]) the rest of the active time: the
-//! CPU is in LPM3 for about 91 % of each period ([`timer_a`], "Duty cycle").
+//! | driver | flash bytes | hot path | driver's own cycles | bus time | of a 1 s period |
+//! |---|---|---|---|---|---|
+//! | [`usci_i2c`] | 1 012 | 4-byte register read (`write_read`: address, register, repeated START, 4 bytes) | 540 (68 µs) | 660 µs: 63 bits and START, repeated START, STOP at 99 942 Hz | 0.066 % |
+//! | [`usci_uart`] | 256 | 100-byte frame out (`write_bytes`) | 2 129 (266 µs) | 8 677 µs: 1 000 bits at 115 249 Bd | 0.87 % |
+//! | [`usci_uart`] | (same) | 16 bytes in (`read_bytes`) | 530 | — | — |
+//! | [`timer_a`] | 152 | `period_elapsed` poll | 44 a poll | — | — |
+//! | [`pwm`] + [`gpio`] | 324 (3 channels, 3 pins) | Timer_B started, three channels and their pins set up and commanded once | 1 518 | — | — |
+//! | [`flash`] + [`element_store`] | 1 048 | `load` of a valid record (at reset) | 68 002 (8.5 ms) | — | — |
+//! | (same) | (same) | `store` (an uplinked element set) | 149 476 (18.7 ms) | + 23.1 ms of flash operations (CPU held): 13.3 ms erase, 119 × 82.5 µs writes | once per uplink |
+//!
+//! The bounded waits: an I²C wait is 11 cycles a poll, its 1 000 polls 1.4 ms (15 byte times
+//! at 100 kHz); a UART byte's wait 8 cycles a poll, its 200 polls 203 µs (2.3 byte times at
+//! 115 200 Bd); the period timer's 44 cycles a poll (a 1 s wait is about 182 000 polls).
+//!
+//! With the flight image's I²C traffic (6 tiles × 3 sensors, a register read of 2–6 bytes
+//! each) the bus takes about 18 × 0.6 ms ≈ 11 ms of each 1 s period, and the ACS step
+//! (592 476 cycles with the multiplier, 74.1 ms at [`SMCLK_HZ`]) most of the rest of the active
+//! time: the CPU is in LPM3 for about 91 % of each period ([`timer_a`], "Duty cycle").
 
 pub mod element_store;
 pub mod flash;

@@ -69,7 +69,7 @@ impl PwmConfig {
 
     /// A period of `period_counts` timer counts (2 … 65 535).
     pub const fn new(period_counts: u16) -> Option<Self> {
-        if period_counts < 2 {
+        if 2 > period_counts {
             None
         } else {
             Some(Self { period_counts })

@@ -70,6 +70,11 @@ pub mod bits {
 
 use bits::*;
 
+/// The poll limit of [`PeriodTimer::wait_period`] for the flight period: about 2 s of polling
+/// (44 MCLK cycles a poll at 7 995 392 Hz, measured in the simulator), twice the period, so a
+/// stopped crystal is reported within two periods.
+pub const FLIGHT_POLL_LIMIT: u32 = 363_000;
+
 /// A control period: TACCR0 and the input divider.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -89,9 +94,9 @@ impl Period {
     /// divides it and brings it to at most 65 536 counts; `None` if none does or `ticks` is 0.
     pub const fn from_aclk_ticks(ticks: u32) -> Option<Self> {
         let mut log2 = 0;
-        while log2 < 4 {
+        while 4 > log2 {
             let counts = ticks >> log2;
-            if counts > 0 && counts <= 0x1_0000 && counts << log2 == ticks {
+            if counts > 0 && 0x1_0000 >= counts && counts << log2 == ticks {
                 return Some(Self {
                     ccr0: (counts - 1) as u16,
                     divider_log2: log2 as u8,
@@ -135,7 +140,9 @@ pub struct PeriodTimer<R> {
 
 impl<R: Registers> PeriodTimer<R> {
     /// Starts Timer_A in up mode from ACLK with `period` (TAR cleared, CCIFG cleared, no
-    /// interrupt); [`PeriodTimer::wait_period`] polls at most `poll_limit` times.
+    /// interrupt); [`PeriodTimer::wait_period`] polls at most `poll_limit` times (a poll is 44
+    /// MCLK cycles at 7 995 392 Hz: a 1 s period is about 182 000 polls; [`FLIGHT_POLL_LIMIT`]
+    /// allows two).
     pub fn start(mut regs: R, period: Period, poll_limit: u32) -> Self {
         // stopped and cleared while TACCR0 is written
         regs.write16(TACTL, TACLR);
