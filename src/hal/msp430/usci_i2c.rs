@@ -118,8 +118,7 @@ pub struct I2cConfig {
 
 impl I2cConfig {
     /// The flight configuration: 100 kHz (99 942 Hz) from [`super::SMCLK_HZ`], 1 000 polls per
-    /// wait
-    /// (`I2cConfig::new(SMCLK_HZ, 100_000, 1_000)`, checked by a test.)
+    /// wait (`I2cConfig::new(SMCLK_HZ, 100_000, 1_000)`, checked by a test).
     pub const FLIGHT: Self = Self {
         prescaler: 80,
         poll_limit: 1_000,
