@@ -5,6 +5,8 @@
 //! - [`tiles`]: the tile bus in the HAL's raw formats over RAM mailboxes that the simulator, the
 //!   processor-in-the-loop host or a debugger read and write.
 //! - [`flight`]: the flight loop's set-up, the ground uplink and the published step results.
+//! - [`mmio`]: volatile register access for the MSP430 peripheral drivers of
+//!   [`acs::hal::msp430`], and the LPM3 sleep of the control period.
 //! - [`safe_state`]: the hook that puts every actuator in its safe state; unexpected interrupts
 //!   call it and then halt, and the watchdog resets the part ([`kick_watchdog`]).
 //!
@@ -18,6 +20,7 @@ pub mod elements;
 pub mod flight;
 pub mod flight_elements;
 pub mod node_link;
+pub mod mmio;
 pub mod rt;
 pub mod tiles;
 

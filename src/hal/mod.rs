@@ -9,6 +9,7 @@
 //! |---|---|---|
 //! | device traits | one device: [`SunSensor`], [`Magnetometer`], [`Gyro`], [`ReactionWheel`], [`Magnetorquer`] (each with its own error type, with `&mut T` forwarding impls) | this module |
 //! | drivers | the devices on `embedded-hal` 1.0 (I²C sensors, PWM + direction-pin actuators), each with its part's address, registers and scale in its own configuration | [`drivers`] |
+//! | MSP430 peripherals | USCI I²C master and UART, Timer_A period, Timer_B PWM, port pins, flash controller and the element store of the MSP430FG4619, over a register-access trait (tested on the host against register models) | [`msp430`] |
 //! | adapter | [`bus::DeviceBus`]: the satellite's [`TileBus`] built from per-tile device drivers (any type implementing the device traits, each tile's devices optional) and the coils | [`bus`] |
 //! | bus | [`TileBus`]: what the loop calls | this module |
 //! | node link | [`link::NodeLink`]: one packet out, one packet in, between the two nodes; [`link::FramedLink`] over any [`link::ByteStream`] (a UART driver) | [`link`] |
@@ -23,8 +24,11 @@
 //!   injected at the bus (a failed tile, a stuck reading), so it does not go through
 //!   per-device drivers.
 //! - **The MSP430 firmware** (`firmware/src/tiles.rs`, `MailboxBus`) implements [`TileBus`]
-//!   directly over RAM mailboxes that the processor-in-the-loop host writes: it has no device
-//!   drivers (and its flash is full).
+//!   directly over RAM mailboxes that the processor-in-the-loop host writes: its image links no
+//!   device driver (and its flash is full). The drivers of the MSP430FG4619's peripherals are
+//!   in [`msp430`] (a node's image builds its [`bus::DeviceBus`] from them: `drivers` over
+//!   [`msp430::usci_i2c::UsciI2c`], [`msp430::pwm::PwmChannel`] and [`msp430::gpio::OutputPin`]),
+//!   tested on the host against register models and measured on the part's instruction set.
 //!
 //! All three feed the same loop through the same trait and the same raw formats below, so a
 //! board that works over [`bus::DeviceBus`] runs the loop the simulator and the processor in the
@@ -58,6 +62,7 @@
 pub mod bus;
 pub mod drivers;
 pub mod link;
+pub mod msp430;
 
 use core::fmt;
 
