@@ -152,6 +152,16 @@ fn measure_timer() {
     keep(timer.wait_period().is_ok());
 }
 
+/// The LPM3 entry of the control period (`acs_firmware::mmio::sleep_lpm3`): assembled and
+/// linked, never run here (the simulator has no Timer_A to wake the CPU).
+#[no_mangle]
+#[inline(never)]
+fn measure_lpm3() {
+    if keep(false) {
+        acs_firmware::mmio::sleep_lpm3();
+    }
+}
+
 /// Timer_B and the ports: three coil channels with their direction pins, one command each.
 #[no_mangle]
 #[inline(never)]
@@ -193,6 +203,7 @@ pub extern "C" fn main() -> ! {
     measure_uart();
     drivers_mark(3);
     measure_timer();
+    measure_lpm3();
     drivers_mark(4);
     measure_pwm();
     drivers_mark(5);
