@@ -1372,7 +1372,7 @@ mod tests {
         }
         let config = &crate::flight::CONFIG;
         let limit = config.wheel_limit_nms;
-        let mut acs = crate::flight::FlightLoop::new(config, None).unwrap();
+        let mut acs = crate::flight::OneImageLoop::new(config, None).unwrap();
         let mut bus = Wheels([None; 6]);
         let mut faults = Faults::default();
         // the two z wheels hold 0.8 of their limit each

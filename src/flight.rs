@@ -52,6 +52,7 @@
 //! Attitudes follow [`crate::attitude`]: `v_body = A · v_ref`, reference TEME of date.
 
 use crate::acs_loop::{AcsConfig, AcsLoop};
+use crate::two_node::TwoNodeLoop;
 use crate::control::bdot::BdotConfig;
 use crate::control::principal_axes::PrincipalAxes;
 use crate::control::slew::SlewLimits;
@@ -72,8 +73,15 @@ pub const IGRF_DEGREE: Degree = FLIGHT.degree();
 /// evaluated; the loop keeps none between steps).
 pub const FIELD_COEFFS: usize = coefficient_count(IGRF_DEGREE.get());
 
-/// The loop the firmware runs: six tiles, the flight degree's coefficients.
-pub type FlightLoop = AcsLoop<'static, TILES, FIELD_COEFFS>;
+/// The flight software as the host flies it: the reference and attitude nodes of the two flight
+/// images, composed ([`crate::two_node`]): six tiles, the flight degree's coefficients. The
+/// simulator, the `acs` tool, the campaigns and the tests fly it.
+pub type FlightLoop = TwoNodeLoop<'static, TILES, FIELD_COEFFS>;
+
+/// The one-image loop over the same configuration ([`AcsLoop`]: bit for bit the two nodes,
+/// `tests/two_node.rs`): the benchmark's one-call step and the one-image composition that fits
+/// no part.
+pub type OneImageLoop = AcsLoop<'static, TILES, FIELD_COEFFS>;
 
 /// The principal moments of inertia, kg·m²: the body axes are principal axes.
 pub const INERTIA_DIAGONAL_KGM2: [f32; 3] = [0.010, 0.012, 0.014];

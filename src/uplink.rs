@@ -20,6 +20,8 @@
 use core::fmt;
 
 use crate::acs_loop::{AcsError, AcsLoop, Command};
+use crate::tiles::TileState;
+use crate::two_node::TwoNodeLoop;
 use crate::attitude::Quaternion;
 use crate::attitude_node::AttitudeNode;
 use crate::orbit::sgp4::{Sgp4, Sgp4Error, ELEMENT_WORDS};
@@ -112,14 +114,61 @@ fn quaternion(args: &[u32; ARG_WORDS]) -> Option<Quaternion> {
     )
 }
 
+/// What [`apply`] commands: the one-image loop ([`AcsLoop`]) or the two nodes composed
+/// ([`TwoNodeLoop`]), which own the commands as [`crate::two_node`] says.
+pub trait UplinkTarget {
+    /// Replaces the element set (checked before).
+    fn set_orbit(&mut self, orbit: Sgp4);
+    /// The run-time state of tile `tile`, `None` if there is no such tile.
+    fn tile_state(&self, tile: usize) -> Option<TileState>;
+    /// Marks a tile failed.
+    fn mark_failed(&mut self, tile: usize);
+    /// Returns a tile to service.
+    fn restore(&mut self, tile: usize);
+    /// A ground command (`attitude`: the last filtered attitude, reference TEME → body, which
+    /// a slew is planned from; `now`: the next step's UTC).
+    fn command(
+        &mut self,
+        command: Command,
+        attitude: Option<&Quaternion>,
+        now: Epoch<Utc>,
+    ) -> Result<(), AcsError>;
+}
+
+macro_rules! uplink_target {
+    ($loop:ident) => {
+        impl<const N: usize, const F: usize> UplinkTarget for $loop<'_, N, F> {
+            fn set_orbit(&mut self, orbit: Sgp4) {
+                $loop::set_orbit(self, orbit);
+            }
+            fn tile_state(&self, tile: usize) -> Option<TileState> {
+                $loop::tile_state(self, tile)
+            }
+            fn mark_failed(&mut self, tile: usize) {
+                $loop::mark_failed(self, tile);
+            }
+            fn restore(&mut self, tile: usize) {
+                $loop::restore(self, tile);
+            }
+            fn command(
+                &mut self,
+                command: Command,
+                attitude: Option<&Quaternion>,
+                now: Epoch<Utc>,
+            ) -> Result<(), AcsError> {
+                $loop::command(self, command, attitude, now)
+            }
+        }
+    };
+}
+uplink_target!(AcsLoop);
+uplink_target!(TwoNodeLoop);
+
 /// The element set of the argument words, checked whole ([`Sgp4::from_words`]) before it
 /// replaces the loop's (out of line: the new set's temporaries stay off the other commands'
 /// stack).
 #[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
-fn set_elements<const N: usize, const F: usize>(
-    args: &[u32; ARG_WORDS],
-    acs: &mut AcsLoop<'_, N, F>,
-) -> Result<(), UplinkError> {
+fn set_elements<A: UplinkTarget>(args: &[u32; ARG_WORDS], acs: &mut A) -> Result<(), UplinkError> {
     acs.set_orbit(elements(args)?);
     Ok(())
 }
@@ -221,10 +270,10 @@ pub fn apply_attitude<const N: usize>(
 /// [module docs](self)); `attitude` is the last filtered attitude (reference TEME → body,
 /// [`crate::attitude`]), which a slew is planned from.
 #[cfg_attr(target_arch = "msp430", optimize(size))]
-pub fn apply<const N: usize, const F: usize>(
+pub fn apply<A: UplinkTarget>(
     code: u16,
     args: &[u32; ARG_WORDS],
-    acs: &mut AcsLoop<'_, N, F>,
+    acs: &mut A,
     clock: &mut Epoch<Utc>,
     attitude: Option<&Quaternion>,
 ) -> Result<(), UplinkError> {

@@ -341,7 +341,8 @@ fn field_model_error(scenario: &Scenario, model: &Model, degree: Degree) -> (f64
 /// prints the figures (and `realistic_figures_by_cause` their causes).
 #[test]
 fn tracking_with_wheels_and_noisy_tiles() {
-    use acs::acs_loop::{AcsConfig, AcsLoop};
+    use acs::acs_loop::AcsConfig;
+    use acs::two_node::TwoNodeLoop;
     use acs::env::igrf::coefficient_count;
     use acs::flight::TILES;
     const REQUIREMENT_DEG: f64 = 0.1;
@@ -395,7 +396,7 @@ fn tracking_with_wheels_and_noisy_tiles() {
                 igrf_degree: eight,
                 ..CONFIG.clone()
             };
-            let mut acs = AcsLoop::<TILES, { coefficient_count(8) }>::new(
+            let mut acs = TwoNodeLoop::<TILES, { coefficient_count(8) }>::new(
                 &degree_8,
                 scenario.orbit().unwrap(),
             )
@@ -730,33 +731,36 @@ fn realistic_figures_by_cause() {
 
 #[test]
 fn loop_state_size() {
-    use acs::acs_loop::{AcsConfig, AcsLoop};
-    use acs::env::igrf::coefficient_count;
+    use acs::acs_loop::AcsConfig;
+    use acs::attitude_node::AttitudeNode;
+    use acs::flight::{FlightLoop, OneImageLoop, FIELD_COEFFS};
+    use acs::reference_node::ReferenceNode;
     use std::mem::size_of;
     let orbit = size_of::<acs::orbit::sgp4::Sgp4>();
-    // the loop borrows its configuration (in flash on the MSP430): only a reference is inside;
+    // each node borrows the configuration (in flash on the MSP430): only a reference is inside;
     // the IGRF coefficients are not kept between steps (the field evaluation's stack)
-    let total = size_of::<AcsLoop>();
-    let config = size_of::<AcsConfig>();
     let reference = size_of::<&AcsConfig>();
+    // sized as the flight images are: six tiles, the flight degree's coefficients
+    let attitude = size_of::<AttitudeNode<6>>();
+    let reference_node = size_of::<ReferenceNode<6, FIELD_COEFFS>>();
     println!(
-        "AcsLoop {total} B = SGP4 elements {orbit} B + state {} B + a reference to the configuration ({config} B) (host, 64-bit)",
-        total - orbit - reference
+        "AttitudeNode<6> {attitude} B = state {} B + a reference to the configuration (host, 64-bit)",
+        attitude - reference
     );
-    assert!(total - orbit - reference <= 512);
-    // sized as the flight firmware is: six tiles, IGRF degree 13 (degree 8 before issue #29)
-    const F: usize = acs::flight::FIELD_COEFFS;
-    assert_eq!(F, coefficient_count(13));
-    let six = size_of::<AcsLoop<6, F>>();
-    let six_config = size_of::<AcsConfig<6>>();
     println!(
-        "AcsLoop<6, {F}> {six} B = SGP4 elements {orbit} B + state {} B + a reference to the configuration ({six_config} B) (host, 64-bit)",
-        six - orbit - reference
+        "ReferenceNode<6, {FIELD_COEFFS}> {reference_node} B = SGP4 elements {orbit} B + state {} B + a reference to the configuration (host, 64-bit)",
+        reference_node - orbit - reference
     );
-    assert!(six - orbit - reference <= 512);
-    // the per-tile state shrinks with the capacity (the flight loop's RAM on the part is
-    // measured by firmware/msp430-bench), and the configuration is not part of the loop
-    assert!(six < total);
+    assert!(attitude - reference <= 512);
+    assert!(reference_node - orbit - reference <= 160);
+    // the composition: both nodes, the last STATUS and the last two packets; the one image
+    println!(
+        "FlightLoop (the two nodes composed) {} B, OneImageLoop {} B (host, 64-bit)",
+        size_of::<FlightLoop>(),
+        size_of::<OneImageLoop>()
+    );
+    // the per-tile state shrinks with the capacity, and the configuration is not part of a node
+    assert!(attitude < size_of::<AttitudeNode>());
 }
 
 /// The `tracking` scenario, its TLE and the flight SGP4 of it.
@@ -822,9 +826,10 @@ fn no_working_wheel_stops_every_wheel() {
 /// (degree 13), and takes it at degree 8; a loop of the flight loop's size takes both.
 #[test]
 fn igrf_capacity_is_checked() {
-    use acs::acs_loop::{AcsConfig, AcsError, AcsLoop};
+    use acs::acs_loop::{AcsConfig, AcsError};
     use acs::env::igrf::coefficient_count;
     use acs::flight::{FIELD_COEFFS, TILES};
+    use acs::two_node::TwoNodeLoop as AcsLoop;
     let (_, _, orbit) = tracking_setup();
     let degree_8 = AcsConfig {
         igrf_degree: Degree::new(8).unwrap(),
@@ -1031,7 +1036,7 @@ fn refused_allocation_holds_the_wheels() {
         ..CONFIG.clone()
     };
     let mut acs =
-        acs::acs_loop::AcsLoop::<6, { acs::flight::FIELD_COEFFS }>::new(&config, orbit).unwrap();
+        acs::two_node::TwoNodeLoop::<6, { acs::flight::FIELD_COEFFS }>::new(&config, orbit).unwrap();
     acs.command(acs::acs_loop::Command::SunSafe, None, tle.epoch)
         .unwrap();
     let mut bus = ConstantBus::new(100);

@@ -181,7 +181,7 @@ fn the_composition_commands_what_the_one_image_loop_commands() {
         let orbit = scenario.orbit().unwrap();
         let steps = match &scenario.flight {
             Satellite::Flight => {
-                let mut one = acs::flight::FlightLoop::new(&CONFIG, orbit.clone()).unwrap();
+                let mut one = acs::flight::OneImageLoop::new(&CONFIG, orbit.clone()).unwrap();
                 let mut two =
                     TwoNodeLoop::<{ acs::flight::TILES }, { acs::flight::FIELD_COEFFS }>::new(
                         &CONFIG, orbit,

@@ -1,4 +1,4 @@
-//! The flight loop on the target: [`acs::flight::FlightLoop`] over the tile mailboxes
+//! The flight loop on the target: [`acs::flight::OneImageLoop`] over the tile mailboxes
 //! ([`crate::tiles`]), the ground uplink, and the on-board clock.
 //!
 //! Shared by the flight firmware (`src/main.rs`) and the benchmark's "ACS step" cases
@@ -21,7 +21,7 @@
 
 use acs::acs_loop::StepReport;
 use acs::attitude::Quaternion;
-use acs::flight::{FlightLoop, CONFIG, CONTROL_PERIOD_S};
+use acs::flight::{OneImageLoop, CONFIG, CONTROL_PERIOD_S};
 use acs::orbit::sgp4::Sgp4;
 use acs::time::{Epoch, TimeSpan, Utc};
 use acs::uplink::ARG_WORDS;
@@ -63,8 +63,8 @@ pub const PERIOD: TimeSpan = TimeSpan::from_whole_seconds(CONTROL_PERIOD_S as i3
 /// is built (not under the steps).
 #[inline(never)]
 #[cfg_attr(target_arch = "msp430", optimize(size))]
-pub fn init_loop(slot: &mut Option<FlightLoop>) {
-    *slot = FlightLoop::new(&CONFIG, flight_orbit()).ok();
+pub fn init_loop(slot: &mut Option<OneImageLoop>) {
+    *slot = OneImageLoop::new(&CONFIG, flight_orbit()).ok();
 }
 
 /// SGP4 on the flight element set initialised on the ground: the board checks and reads the
@@ -88,7 +88,7 @@ pub fn flight_orbit() -> Option<Sgp4> {
 /// (`attitude`: the last filtered attitude, which a slew is planned from).
 #[inline(never)]
 #[cfg_attr(target_arch = "msp430", optimize(size))]
-pub fn take_uplink(acs: &mut FlightLoop, clock: &mut Epoch<Utc>, attitude: Option<&Quaternion>) {
+pub fn take_uplink(acs: &mut OneImageLoop, clock: &mut Epoch<Utc>, attitude: Option<&Quaternion>) {
     // SAFETY: single-threaded firmware, no interrupt touches the mailbox; volatile: written
     // from outside the program.
     let kind = unsafe { core::ptr::read_volatile(&raw const UPLINK_KIND) };

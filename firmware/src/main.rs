@@ -1,7 +1,7 @@
 //! The acs flight firmware: reset → SGP4 elements → the ACS loop, one step per control period
 //! (uplink, read tiles, models, determination, laws, actuators), for ever.
 //!
-//! The loop is [`acs::flight::FlightLoop`] over the flight configuration [`acs::flight::CONFIG`]
+//! The loop is [`acs::flight::OneImageLoop`] (the two nodes in one image) over the flight configuration [`acs::flight::CONFIG`]
 //! and the tile mailboxes ([`acs_firmware::tiles`]); the uplink and the clock are in
 //! [`acs_firmware::flight`].
 #![no_std]

@@ -63,7 +63,8 @@ pub mod scenarios;
 
 use std::f64::consts::PI;
 
-use crate::acs_loop::{AcsLoop, Command, Mode, StepReport};
+use crate::acs_loop::{Command, Mode, StepReport};
+use crate::two_node::TwoNodeLoop;
 use crate::attitude::Quaternion;
 use crate::env::eclipse::conical;
 use crate::env::igrf::{Degree, Igrf, FULL};
@@ -1386,7 +1387,7 @@ impl Sample {
 /// in s from the start) and measuring the pointing error against `target(t)`.
 pub fn run<const N: usize, const F: usize>(
     sim: &mut Simulator,
-    acs: &mut AcsLoop<'_, N, F>,
+    acs: &mut TwoNodeLoop<'_, N, F>,
     duration_s: f64,
     dt_s: f64,
     commands: &[(f64, Command)],

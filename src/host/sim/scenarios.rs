@@ -13,7 +13,7 @@
 //!
 //! # What flies
 //! `detumble`, `sun-safe`, `tracking`, `failed-tile` and `slew` fly [`crate::flight::CONFIG`] through
-//! [`FlightLoop`], the loop the firmware runs ([`Satellite::Flight`]): the loop borrows the
+//! [`FlightLoop`], the two flight images' nodes composed ([`Satellite::Flight`]): the nodes borrow the
 //! constant itself, not a copy, and the truth's spacecraft (inertia, tile geometry and
 //! equipment, coils and their limits, wheel momentum limit) is built from the same constant
 //! ([`spacecraft`]), so what `acs sim` flies cannot diverge from what flies.
@@ -55,7 +55,8 @@
 //!
 //! Its truth is built from its configuration by the same [`spacecraft`].
 
-use crate::acs_loop::{AcsConfig, AcsLoop, Command};
+use crate::acs_loop::{AcsConfig, Command};
+use crate::two_node::TwoNodeLoop;
 use crate::attitude::{Dcm, Euler321, Quaternion};
 use crate::control::bdot::BdotConfig;
 use crate::control::principal_axes::principal_axes;
@@ -245,8 +246,8 @@ impl Scenario {
     }
 
     /// Runs the scenario: the samples of every control period. [`Satellite::Flight`] is flown
-    /// by [`FlightLoop`] over [`crate::flight::CONFIG`], the thesis's satellite by a host loop
-    /// with room for its degree-13 field.
+    /// by [`FlightLoop`] over [`crate::flight::CONFIG`], the thesis's satellite by the same two
+    /// nodes composed with room for its degree-13 field.
     pub fn run(&self) -> Result<Vec<Sample>, SimError> {
         let orbit = self.orbit()?;
         let refused = |e: crate::acs_loop::AcsError| SimError::Model(e.to_string());
@@ -256,7 +257,8 @@ impl Scenario {
                 self.fly(&mut acs)
             }
             Satellite::Thesis(config) => {
-                let mut acs = AcsLoop::<TILES, FULL_COEFFS>::new(config, orbit).map_err(refused)?;
+                let mut acs =
+                    TwoNodeLoop::<TILES, FULL_COEFFS>::new(config, orbit).map_err(refused)?;
                 self.fly(&mut acs)
             }
         }
@@ -266,7 +268,7 @@ impl Scenario {
     /// simulator with the scenario's commands.
     pub fn fly<const N: usize, const F: usize>(
         &self,
-        acs: &mut AcsLoop<'_, N, F>,
+        acs: &mut TwoNodeLoop<'_, N, F>,
     ) -> Result<Vec<Sample>, SimError> {
         let mut sim = self.simulator()?;
         let target = self.target;
