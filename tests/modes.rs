@@ -1,8 +1,9 @@
 //! The loop's mode machine, transition by transition (issue 19 item 3): a table of (mode before,
 //! what happens, mode after), each row run on the flight loop (`FlightLoop` over `CONFIG`) with a
-//! scripted tile bus. Every transition is made by one function, `acs_loop::next_mode`, from the
-//! events the step finds (rates, attitude lost, a plan done) and the ground's commands; its own
-//! table of every (mode, event) pair is the unit test `acs_loop::tests::next_mode_table`.
+//! scripted tile bus. Every transition is made by one function, `attitude_node::modes::next_mode`,
+//! from the events the step finds (rates, attitude lost, a plan done), the ground's sun-safe and
+//! the reference node's guidance (track and slew commands, taken at the next step); its own
+//! table of every (mode, event) pair is the unit test `attitude_node::modes::tests::next_mode_table`.
 
 use acs::acs_loop::{AcsError, Command, Mode, StepReport, INVALID_STEPS_TO_SAFE};
 use acs::attitude::{Dcm, Quaternion};
@@ -112,11 +113,25 @@ impl Rig {
         match mode {
             Mode::Detumble => rig.event(steps(FAST, true, 1)),
             Mode::SunSafe => {}
-            Mode::Tracking => rig.event(Event::TrackCmd),
-            Mode::Slew => rig.event(Event::SlewCmd),
+            Mode::Tracking => {
+                rig.event(Event::TrackCmd);
+                rig.deliver(&Event::TrackCmd);
+            }
+            Mode::Slew => {
+                rig.event(Event::SlewCmd);
+                rig.deliver(&Event::SlewCmd);
+            }
         }
         assert_eq!(rig.acs.mode(), mode, "set-up");
         rig
+    }
+
+    /// A track or slew command is the reference node's: the attitude node takes it from the
+    /// next step's REF, so one step (still, Sun seen) follows it; the other events act at once.
+    fn deliver(&mut self, e: &Event) {
+        if matches!(e, Event::TrackCmd | Event::SlewCmd) {
+            self.steps(STILL, true, 1);
+        }
     }
 
     fn steps(&mut self, gyro: i16, sun: bool, n: u32) {
@@ -234,6 +249,7 @@ fn every_transition_of_the_mode_machine() {
     for (k, (before, event, after, what)) in table.iter().enumerate() {
         let mut rig = Rig::new(*before);
         rig.event(*event);
+        rig.deliver(event);
         assert_eq!(
             rig.acs.mode(),
             *after,

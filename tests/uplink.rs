@@ -4,6 +4,7 @@
 use acs::acs_loop::Mode;
 use acs::attitude::Quaternion;
 use acs::flight::{FlightLoop, CONFIG};
+use acs::link::messages::GuidanceKind;
 use acs::orbit::sgp4::{Sgp4, ELEMENT_WORDS};
 use acs::tiles::TileState;
 use acs::time::{Epoch, Utc};
@@ -90,7 +91,8 @@ fn commands_apply_and_refusals_change_nothing() {
     assert!(apply(kind::RESTORE, &words(&[2]), &mut acs, &mut clock, None).is_ok());
     assert_eq!(acs.tile_state(2), Some(TileState::Working));
     assert!(apply(kind::TRACK, &words(&qw), &mut acs, &mut clock, None).is_ok());
-    assert_eq!(acs.mode(), Mode::Tracking);
+    // the reference node's guidance: the attitude node takes it at the next step
+    assert_eq!(acs.guidance().kind, GuidanceKind::Track);
 
     // a slew needs an attitude: refused by the loop without one
     let mut slew = qw.clone();
@@ -98,10 +100,10 @@ fn commands_apply_and_refusals_change_nothing() {
     let e = apply(kind::SLEW, &words(&slew), &mut acs, &mut clock, None).unwrap_err();
     assert!(matches!(e, UplinkError::Refused(_)));
     assert_eq!(status(&Err(e)), 3);
-    assert_eq!(acs.mode(), Mode::Tracking);
+    assert_eq!(acs.guidance().kind, GuidanceKind::Track);
     let from = Quaternion::new_normalize(0.8, -0.2, 0.4, 0.1).unwrap();
     assert!(apply(kind::SLEW, &words(&slew), &mut acs, &mut clock, Some(&from)).is_ok());
-    assert_eq!(acs.mode(), Mode::Slew);
+    assert_eq!(acs.guidance().kind, GuidanceKind::Slew);
     assert!(apply(kind::SUN_SAFE, &words(&[]), &mut acs, &mut clock, None).is_ok());
     assert_eq!(acs.mode(), Mode::SunSafe);
 }

@@ -155,6 +155,7 @@ mod tests {
     use crate::attitude::Dcm;
     use crate::flight::CONFIG;
     use crate::host::sim::scenarios::make_tle;
+    use crate::link::messages::GuidanceKind;
     use crate::orbit::sgp4::{Gravity, Sgp4};
     use crate::tle::Tle;
 
@@ -197,7 +198,8 @@ mod tests {
         let q = Quaternion::new_normalize(0.9, 0.1, -0.3, 0.2).unwrap();
         let kind = mailbox.write(&Uplink::Track { target: q });
         assert_eq!(mailbox.take(kind, &mut acs, &mut clock, None), ACCEPTED);
-        assert_eq!(acs.mode(), Mode::Tracking);
+        // the reference node's guidance: the attitude node takes it at the next step
+        assert_eq!(acs.guidance().kind, GuidanceKind::Track);
 
         // a slew needs an attitude to plan from
         let kind = mailbox.write(&Uplink::of_command(&Command::Slew {
@@ -206,7 +208,7 @@ mod tests {
         }));
         assert_eq!(mailbox.take(kind, &mut acs, &mut clock, None), 3);
         assert_eq!(mailbox.take(kind, &mut acs, &mut clock, Some(&q)), ACCEPTED);
-        assert_eq!(acs.mode(), Mode::Slew);
+        assert_eq!(acs.guidance().kind, GuidanceKind::Slew);
 
         // a zero quaternion is invalid; a corrupt element set names its word
         let kind = mailbox.write(&Uplink::Track {
@@ -253,6 +255,7 @@ mod tests {
                 let status = mailbox.take(kind, &mut acs, &mut clock, attitude);
                 assert!(status == 2 || status >= 0x100, "{u:?}: status {status}");
                 assert_eq!(acs.mode(), Mode::Detumble, "{u:?}");
+                assert_eq!(acs.guidance().kind, GuidanceKind::None, "{u:?}");
                 assert_eq!(clock, start);
             }
         }
