@@ -35,11 +35,25 @@ fn span_s(later: &Epoch<Utc>, earlier: &Epoch<Utc>) -> f32 {
     whole + frac
 }
 
+/// How fast the field's magnitude may change along the orbit, as a fraction a second: without a
+/// REF the magnitude check widens from [`FIELD_MAGNITUDE_TOLERANCE`] by this much a second since
+/// the last REF (a quarter of a low orbit, ≈ 1 400 s, halves or doubles `|B|` at most: 0.1 %/s
+/// is conservative; a coil left on, +168 %, is still refused for the first 26 minutes).
+pub const FIELD_MAGNITUDE_DRIFT_PER_S: f32 = 1.0e-3;
+
 /// True if `|b|²` is within `(1 ± FIELD_MAGNITUDE_TOLERANCE)²` of `|m|²` (false for a NaN).
 #[cfg_attr(target_arch = "msp430", inline(never))]
 fn magnitude_agrees(b: &Vec3, m: &Vec3) -> bool {
     let (measured, model) = (dot(b, b), dot(m, m));
     measured >= FIELD_SQUARED_LOW * model && FIELD_SQUARED_HIGH * model >= measured
+}
+
+/// True if `|b|²` is within `(1 ± tolerance)²` of `model_nt2` (false for a NaN).
+#[cfg_attr(target_arch = "msp430", inline(never))]
+fn magnitude_within(b: &Vec3, model_nt2: f32, tolerance: f32) -> bool {
+    let measured = dot(b, b);
+    let (low, high) = (1.0 - tolerance, 1.0 + tolerance);
+    measured >= low * low * model_nt2 && high * high * model_nt2 >= measured
 }
 
 impl<const N: usize> AttitudeNode<'_, N> {
@@ -56,17 +70,29 @@ impl<const N: usize> AttitudeNode<'_, N> {
         report: &mut StepReport,
     ) -> f32 {
         let mut b_body_nt = self.field_body(readings);
-        if let (Some(b), Some(m)) = (&b_body_nt, &reference.and_then(|r| r.b_teme_nt)) {
+        let model = reference.and_then(|r| r.b_teme_nt);
+        if let (Some(b), Some(m)) = (&b_body_nt, &model) {
             if !magnitude_agrees(b, m) {
                 b_body_nt = None;
             }
         }
+        // without a REF: the last one's magnitude, the tolerance widening with the time since
+        if let (Some(b), None, Some(m2)) = (&b_body_nt, reference, self.last_field_nt2) {
+            let since_s = f32::from(self.without_reference) * self.config.control_period_s;
+            let tolerance = FIELD_MAGNITUDE_TOLERANCE + FIELD_MAGNITUDE_DRIFT_PER_S * since_s;
+            if !magnitude_within(b, m2, tolerance) {
+                b_body_nt = None;
+            }
+        }
+        if let Some(r) = reference {
+            self.last_field_nt2 = model.map(|m| dot(&m, &m));
+            self.last_umbra = r.illumination.is_some_and(|i| i.shadow == Shadow::Umbra);
+        }
         let omega = self.rate_body(readings);
         faults.field = b_body_nt.is_none();
         faults.rate = omega.is_none();
-        let in_umbra = reference
-            .and_then(|r| r.illumination)
-            .is_some_and(|i| i.shadow == Shadow::Umbra);
+        // without a REF, the last one's shadow: no Sun reading believed if it was the umbra
+        let in_umbra = self.last_umbra;
         let sun_body = if in_umbra {
             None
         } else {

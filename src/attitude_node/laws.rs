@@ -37,6 +37,8 @@ impl<const N: usize> AttitudeNode<'_, N> {
                 self.invalid_steps = self.invalid_steps.saturating_add(1);
                 if self.invalid_steps >= INVALID_STEPS_TO_SAFE {
                     self.transition(Event::AttitudeLost);
+                    // lost for want of the reference node: its guidance resumes with the link
+                    self.resume_guidance = self.without_reference > 0;
                 }
             }
         }

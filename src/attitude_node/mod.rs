@@ -76,6 +76,16 @@ pub struct AttitudeNode<'c, const N: usize = MAX_TILES> {
     boot_count: u16,
     /// The id of the last guidance accepted.
     guidance_id: u16,
+    /// Consecutive steps without a usable REF (saturating).
+    without_reference: u16,
+    /// The mode fell back to `SunSafe` while the link was down: the guidance in force is taken
+    /// again when usable REFs resume.
+    resume_guidance: bool,
+    /// The last usable REF's shadow was the umbra (no Sun reading is believed without a REF
+    /// until one says otherwise).
+    last_umbra: bool,
+    /// `|B|²` of the last usable REF's field, nT² (the magnitude check without a REF).
+    last_field_nt2: Option<f32>,
     /// Filtered attitude and the seconds since it last saw a measurement.
     estimate: Option<Estimate>,
     /// Commanded momentum of each tile's wheel, kg·m²/s along the tile normal.
@@ -126,6 +136,10 @@ impl<'c, const N: usize> AttitudeNode<'c, N> {
             step: 0,
             boot_count: 0,
             guidance_id: 0,
+            without_reference: 0,
+            resume_guidance: false,
+            last_umbra: false,
+            last_field_nt2: None,
             estimate: None,
             wheel_h: [0.0; N],
             failures: [0; N],
@@ -202,6 +216,7 @@ impl<'c, const N: usize> AttitudeNode<'c, N> {
     pub fn sun_safe(&mut self) {
         self.transition(Event::SunSafe);
         self.invalid_steps = 0;
+        self.resume_guidance = false;
     }
 
     /// Applies [`next_mode`]; leaving `Detumble` forgets the B-dot derivative's last sample
@@ -219,17 +234,22 @@ impl<'c, const N: usize> AttitudeNode<'c, N> {
     /// A guidance with a new id is the ground's command through the reference node: track, or
     /// a slew from the wheels' momentum now. A command starts the count of steps without
     /// attitude afresh (after a fall-back it stayed at [`INVALID_STEPS_TO_SAFE`]: a `TRACK`
-    /// would have gone straight back to `SunSafe`).
+    /// would have gone straight back to `SunSafe`). After a fall-back to `SunSafe` while the
+    /// link was down, the guidance in force is taken again when usable REFs resume (a slew
+    /// still in progress as tracking of its target: its plan ran on by the clock meanwhile).
     #[cfg_attr(target_arch = "msp430", inline(never))]
     fn accept(&mut self, reference: &Reference) {
         let g = &reference.guidance;
-        if g.id == self.guidance_id {
+        let resume = self.resume_guidance && matches!(self.mode, ModeState::SunSafe);
+        if g.id == self.guidance_id && !resume {
             return;
         }
+        self.resume_guidance = false;
         self.guidance_id = g.id;
         match g.kind {
             GuidanceKind::None => return,
             GuidanceKind::Track => self.transition(Event::Track(g.target)),
+            GuidanceKind::Slew if resume => self.transition(Event::Track(g.target)),
             GuidanceKind::Slew => self.transition(Event::Slew {
                 h_base: self.wheels_body(),
                 target: g.target,
@@ -270,9 +290,13 @@ impl<'c, const N: usize> AttitudeNode<'c, N> {
         match reference {
             Some(r) => {
                 faults.take_reference(r.faults);
+                self.without_reference = 0;
                 self.accept(r);
             }
-            None => faults.link = true,
+            None => {
+                faults.link = true;
+                self.without_reference = self.without_reference.saturating_add(1);
+            }
         }
         report.reset(self.mode());
         report.sun_fraction = reference.and_then(|r| r.illumination.map(|i| i.fraction));
