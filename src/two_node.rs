@@ -36,16 +36,29 @@ use crate::reference_node::ReferenceNode;
 use crate::tiles::{Tile, TileState, MAX_TILES};
 use crate::time::{Epoch, Utc};
 
+/// Which way a packet crosses the link ([`TwoNodeLoop::step_over_link`]).
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub enum LinkDirection {
+    /// REF, reference node → attitude node.
+    Reference,
+    /// STATUS, attitude node → reference node.
+    Status,
+}
+
 /// The two nodes composed in one program, joined by their messages as bytes (bit for bit what
 /// the link carries): for at most `N` ≤ 32 tiles (see [`AcsConfig`]), with room for `F` IGRF
 /// coefficients on the reference node (`F` ≥ the configured degree's
 /// [`crate::env::igrf::coefficient_count`]: 80 for degree 8, the default 195 for 13).
 #[derive(Clone, Debug)]
 pub struct TwoNodeLoop<'c, const N: usize = MAX_TILES, const F: usize = FULL_COEFFS> {
+    config: &'c AcsConfig<N>,
     reference: ReferenceNode<'c, N, F>,
     attitude: AttitudeNode<'c, N>,
     /// The attitude node's last STATUS, as the reference node received it.
     status: Option<Status>,
+    /// The step the reference node's next REF is for: the last STATUS's next, counted on
+    /// without one (as the reference image counts, `firmware/src/bin/reference.rs`).
+    reference_step: u32,
     /// The sequence counts of the REF and STATUS packets.
     reference_count: SequenceCounter,
     status_count: SequenceCounter,
@@ -61,9 +74,11 @@ impl<'c, const N: usize, const F: usize> TwoNodeLoop<'c, N, F> {
     /// each step until [`Self::set_orbit`] gives it one).
     pub fn new(config: &'c AcsConfig<N>, orbit: impl Into<Option<Sgp4>>) -> Result<Self, AcsError> {
         Ok(Self {
+            config,
             reference: ReferenceNode::new(config, orbit)?,
             attitude: AttitudeNode::new(config)?,
             status: None,
+            reference_step: 0,
             reference_count: SequenceCounter::new(),
             status_count: SequenceCounter::new(),
             reference_packet: [0; REFERENCE_PACKET_BYTES],
@@ -153,17 +168,70 @@ impl<'c, const N: usize, const F: usize> TwoNodeLoop<'c, N, F> {
         report: &mut StepReport,
     ) {
         self.reference.set_clock(now);
-        let step = self.attitude.step_number();
+        self.step_over_link(bus, dt_s, report, |_, _| true);
+    }
+
+    /// One control step as the two node images make it, over a link that may lose or damage
+    /// packets: the reference node keeps its own clock (set by the ground,
+    /// [`crate::uplink::apply_reference`], or brought back by a STATUS after a reset) and counts
+    /// its REFs' steps on from the last STATUS it received, as the reference image does. Each
+    /// packet is handed to `link` (its direction, a copy of its bytes) before it is delivered:
+    /// `link` may change the bytes (the receiver's CRC check then refuses the packet) or return
+    /// `false` to drop it. With a link that delivers every packet intact and a clock the ground
+    /// set to the first step's UTC, the same steps as [`TwoNodeLoop::step_into`].
+    pub fn step_over_link<B: TileBus>(
+        &mut self,
+        bus: &mut B,
+        dt_s: f32,
+        report: &mut StepReport,
+        mut link: impl FnMut(LinkDirection, &mut [u8]) -> bool,
+    ) {
+        let step = self.status.map_or(self.reference_step, |s| s.step.wrapping_add(1));
         let reference = self.reference.reference(step, self.status.as_ref());
+        self.reference_step = step.wrapping_add(1);
         self.reference_packet = reference.to_packet(self.reference_count.next_count());
-        let reference = Reference::from_packet(&self.reference_packet).ok();
+        let mut delivered = self.reference_packet;
+        let reference = link(LinkDirection::Reference, &mut delivered)
+            .then(|| Reference::from_packet(&delivered).ok())
+            .flatten();
         let status = self
             .attitude
             .step_into(bus, reference.as_ref().map(|(r, _)| r), dt_s, report);
         self.status_packet = status.to_packet(self.status_count.next_count());
-        self.status = Status::from_packet(&self.status_packet)
-            .ok()
+        let mut delivered = self.status_packet;
+        self.status = link(LinkDirection::Status, &mut delivered)
+            .then(|| Status::from_packet(&delivered).ok())
+            .flatten()
             .map(|(s, _)| s);
+    }
+
+    /// A power-on reset of the reference node: a fresh node with `orbit` (its element set at
+    /// reset) and no clock, no STATUS received, its REFs' steps and sequence counts from 0 (the
+    /// reference image after a reset, `firmware/src/bin/reference.rs`); the attitude node flies
+    /// on.
+    pub fn reset_reference(&mut self, orbit: impl Into<Option<Sgp4>>) -> Result<(), AcsError> {
+        self.reference = ReferenceNode::new(self.config, orbit)?;
+        self.status = None;
+        self.reference_step = 0;
+        self.reference_count = SequenceCounter::new();
+        Ok(())
+    }
+
+    /// The reference node (the ground's track, slew, element set and clock commands go to it,
+    /// [`crate::uplink::apply_reference`]).
+    pub fn reference_node_mut(&mut self) -> &mut ReferenceNode<'c, N, F> {
+        &mut self.reference
+    }
+
+    /// The attitude node (the ground's sun-safe and tile commands go to it,
+    /// [`crate::uplink::apply_attitude`]).
+    pub fn attitude_node_mut(&mut self) -> &mut AttitudeNode<'c, N> {
+        &mut self.attitude
+    }
+
+    /// The last STATUS the reference node received (a slew is planned from its attitude).
+    pub fn last_status(&self) -> Option<&Status> {
+        self.status.as_ref()
     }
 
     /// The last step's REF and STATUS packets, as the link carries them.

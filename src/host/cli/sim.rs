@@ -47,12 +47,21 @@ pub struct Args {
     /// with the host loop, and stop at the first actuator command that differs ([`pil`]).
     #[arg(long)]
     pil: bool,
-    /// With `--pil`: the flight image.
+    /// With `--pil`: the reference node's flight image.
     #[arg(
         long,
-        default_value = "firmware/target/msp430-none-elf/release/acs-firmware"
+        default_value = "firmware/target/msp430-none-elf/release/acs-reference"
     )]
-    elf: PathBuf,
+    elf_reference: PathBuf,
+    /// With `--pil`: the attitude node's flight image.
+    #[arg(
+        long,
+        default_value = "firmware/target/msp430-none-elf/release/acs-attitude"
+    )]
+    elf_attitude: PathBuf,
+    /// With `--pil`: leave out the link-fault case after the scenario.
+    #[arg(long)]
+    no_link_faults: bool,
     /// With `--pil`: where to write the run's summary.
     #[arg(long, default_value = "target/msp430/pil.json")]
     pil_json: PathBuf,
@@ -133,10 +142,17 @@ pub fn run(args: &Args) -> Result<(), CliError> {
 /// values.
 fn pil_run(args: &Args, scenario: &scenarios::Scenario) -> Result<(), CliError> {
     let options = pil::PilOptions {
-        elf: args.elf.clone(),
+        elf_reference: args.elf_reference.clone(),
+        elf_attitude: args.elf_attitude.clone(),
+        link_faults: !args.no_link_faults,
         ..pil::PilOptions::default()
     };
-    let steps = (scenario.duration_s / scenario.dt_s).round() as usize;
+    let steps = (scenario.duration_s / scenario.dt_s).round() as usize
+        + if options.link_faults {
+            pil::LINK_FAULT_STEPS + pil::RECOVERY_STEPS
+        } else {
+            0
+        };
     let started = std::time::Instant::now();
     let run = pil::run(scenario, &options, |k| {
         if k % 60 == 0 || k == steps {
@@ -160,21 +176,27 @@ fn pil_run(args: &Args, scenario: &scenarios::Scenario) -> Result<(), CliError> 
     print_summary(scenario, &run.samples, &files, &dir)?;
     let s = &run.summary;
     println!("pil_steps: {}", s.steps);
+    println!("pil_link_fault_steps: {}", s.link_fault_steps);
     println!("pil_mismatches: {}", s.mismatches);
-    println!("pil_cycles_max: {}", s.cycles_max);
-    println!("pil_cycles_mean: {}", s.cycles_mean);
-    for (mode, n, max, mean) in &s.cycles_by_mode {
+    for n in &s.nodes {
+        let node = n.node.name();
         println!(
-            "pil_cycles_{}: steps {n}, max {max}, mean {mean}",
-            mode.to_lowercase()
+            "pil_{node}_cycles: max {}, mean {}",
+            n.cycles_max, n.cycles_mean
         );
-    }
-    if let Some(b) = s.stack_bytes {
-        println!("pil_stack_bytes: {b}");
-    }
-    println!("pil_flash_bytes: {}", s.flash_bytes);
-    if let Some(c) = s.watchdog_recovery_cycles {
-        println!("pil_watchdog_recovery_cycles: {c}");
+        for (mode, steps, max, mean) in &n.cycles_by_mode {
+            println!(
+                "pil_{node}_cycles_{}: steps {steps}, max {max}, mean {mean}",
+                mode.to_lowercase()
+            );
+        }
+        if let Some(b) = n.stack_bytes {
+            println!("pil_{node}_stack_bytes: {b}");
+        }
+        println!("pil_{node}_flash_bytes: {}", n.flash_bytes);
+        if let Some(c) = n.watchdog_recovery_cycles {
+            println!("pil_{node}_watchdog_recovery_cycles: {c}");
+        }
     }
     println!("pil_steps_per_s: {:.1}", run.steps_per_s);
     println!("pil_json: {}", args.pil_json.display());

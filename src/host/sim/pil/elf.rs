@@ -176,8 +176,10 @@ impl Elf {
     /// The Rust function at `path` (e.g. `["acs_firmware", "flight", "take_uplink"]`), found
     /// by its mangled name whatever the crate's hash: legacy mangling
     /// `_ZN12acs_firmware6flight11take_uplink17h<hash>E`, or v0 mangling (the toolchain's
-    /// default) `_RNvNtCs<hash>_12acs_firmware6flight11take_uplink`. `None` if there is none
-    /// or more than one (generic instances).
+    /// default) `_RNvNtCs<hash>_12acs_firmware6flight11take_uplink`, or the v0 name of an
+    /// instance of a generic function (`_RINvNtCs<hash>_12acs_firmware6flight16take_node_uplink`
+    /// followed by its type arguments). `None` if there is none or more than one (several
+    /// instances of a generic function).
     pub fn rust_function(&self, path: &[&str]) -> Option<Symbol> {
         let encoded: String = path.iter().map(|p| format!("{}{p}", p.len())).collect();
         let legacy = format!("_ZN{encoded}");
@@ -192,7 +194,10 @@ impl Elf {
                     .is_some_and(|rest| rest.starts_with("17h") && rest.len() == 20);
                 let v0_match =
                     n.starts_with("_R") && (n.ends_with(&v0_hashed) || n.ends_with(&v0_plain));
-                legacy_match || v0_match
+                let v0_instance = n.starts_with("_RINv")
+                    && (n.contains(&v0_hashed) || n.contains(&v0_plain))
+                    && !n.ends_with(&v0_hashed);
+                legacy_match || v0_match || v0_instance
             })
             .map(|(_, s)| *s);
         let first = found.next()?;
@@ -298,6 +303,11 @@ pub(crate) mod tests {
                     0x7100,
                     4,
                 ),
+                (
+                    "_RINvNtCshTh0V548xLH_12acs_firmware6flight16take_node_uplinkNCNvCs5YbJjKyC2MG_12acs_attitude3run0EBZ_",
+                    0x7200,
+                    90,
+                ),
             ],
             344,
         );
@@ -318,6 +328,9 @@ pub(crate) mod tests {
         assert_eq!(take.addr, 0x5000);
         let publish = elf.rust_function(&["acs_firmware", "flight", "publish"]);
         assert_eq!(publish.unwrap().addr, 0x7000);
+        // the one instance of a generic function
+        let node_uplink = elf.rust_function(&["acs_firmware", "flight", "take_node_uplink"]);
+        assert_eq!(node_uplink.unwrap().addr, 0x7200);
         assert_eq!(
             elf.rust_function(&["acs_firmware", "flight", "init_loop"]),
             None

@@ -68,21 +68,36 @@ use std::time::{Duration, Instant};
 use self::bus::{Commands, Readings, Recorder, COILS};
 use self::elf::{Elf, EM_MSP430};
 use self::mspdebug::{Mspdebug, MspdebugError, Registers};
+pub use self::uplink::{owner, HostLoop, Node};
 use self::uplink::{mode_code, mode_name, Uplink, UplinkMailbox};
 use super::scenarios::Scenario;
 use super::{Sample, SimError, Simulator};
-use crate::acs_loop::Command;
+use crate::acs_loop::StepReport;
 use crate::attitude::Quaternion;
-use crate::flight::{FlightLoop, CONFIG, CONTROL_PERIOD_S, TILES};
+use crate::flight::{CONFIG, CONTROL_PERIOD_S, TILES};
+use crate::link::messages::Reference;
 use crate::orbit::sgp4::{Sgp4, ELEMENT_WORDS};
-use crate::time::{Epoch, TimeSpan, Utc};
+use crate::two_node::LinkDirection;
 
-/// The image's clock at reset (its `flight::RESET_EPOCH`: 2025-03-20 12:00 UTC), until the
-/// clock uplink sets it.
-pub const RESET_EPOCH: (i32, u32) = (9_210, 43_200);
+/// The longest packet of the link mailboxes (`firmware/src/node_link.rs`, `LINK_BYTES`).
+pub const LINK_BYTES: usize = 128;
 
-/// The mailboxes of the image and their sizes in bytes.
-pub const MAILBOXES: [(&str, usize); 13] = [
+/// The mailboxes of both node images and their sizes in bytes: the uplink, the published
+/// codes and the link (`firmware/src/flight.rs`, `firmware/src/node_link.rs`).
+pub const NODE_MAILBOXES: [(&str, usize); 9] = [
+    ("UPLINK_KIND", 2),
+    ("UPLINK_STATUS", 2),
+    ("UPLINK_ARGS", 4 * ELEMENT_WORDS),
+    ("STEP_MODE", 2),
+    ("STEP_FAULTS", 2),
+    ("LINK_TX", LINK_BYTES),
+    ("LINK_TX_LEN", 2),
+    ("LINK_RX", LINK_BYTES),
+    ("LINK_RX_LEN", 2),
+];
+
+/// The attitude image's tile mailboxes (`firmware/src/tiles.rs`, [`bus`]) and their sizes.
+pub const TILE_MAILBOXES: [(&str, usize); 8] = [
     ("TILE_SUN", 4 * TILES),
     ("TILE_SUN_SEEN", 2),
     ("TILE_MAG", 4 * TILES),
@@ -91,12 +106,17 @@ pub const MAILBOXES: [(&str, usize); 13] = [
     ("ACTUATOR_REFUSE", 2),
     ("CMD_WHEEL_NMS", 4 * TILES),
     ("CMD_DIPOLE_AM2", 4 * COILS),
-    ("UPLINK_KIND", 2),
-    ("UPLINK_STATUS", 2),
-    ("UPLINK_ARGS", 4 * ELEMENT_WORDS),
-    ("STEP_MODE", 2),
-    ("STEP_FAULTS", 2),
 ];
+
+/// The mailboxes of `node`'s image: [`NODE_MAILBOXES`], and for the attitude node
+/// [`TILE_MAILBOXES`].
+pub fn mailboxes(node: Node) -> Vec<(&'static str, usize)> {
+    let mut all = NODE_MAILBOXES.to_vec();
+    if node == Node::Attitude {
+        all.extend(TILE_MAILBOXES);
+    }
+    all
+}
 
 /// The image's stack paint pattern (`firmware/src/rt.rs`).
 const STACK_PAINT: u16 = 0xA55A;
@@ -143,9 +163,11 @@ impl From<SimError> for PilError {
     }
 }
 
-/// The addresses the host needs, from the image's symbol table.
+/// The addresses the host needs, from a node image's symbol table.
 #[derive(Clone, Debug)]
 pub struct ImageMap {
+    /// The node whose image this is.
+    pub node: Node,
     mailboxes: Vec<(&'static str, u32)>,
     period_start: u32,
     halt: u32,
@@ -154,31 +176,37 @@ pub struct ImageMap {
     take_uplink: u32,
     /// `__ebss` and `_stack_top`: the painted stack area.
     stack: Option<(u32, u32)>,
+    /// `__sdata` (or `__sbss`) and `_stack_top`: the RAM a power-on reset clears.
+    ram: Option<(u32, u32)>,
     /// Flash bytes of the image.
     pub flash_bytes: u32,
 }
 
 impl ImageMap {
-    /// The map of `elf`, checking that every mailbox is there with the host's size.
-    pub fn of(elf: &Elf) -> Result<Self, PilError> {
+    /// The map of `elf`, `node`'s image, checking that every mailbox of the node
+    /// ([`mailboxes`]) is there with the host's size.
+    pub fn of(elf: &Elf, node: Node) -> Result<Self, PilError> {
         if elf.machine != EM_MSP430 {
             return Err(PilError::Input(format!(
                 "not an MSP430 image (e_machine {})",
                 elf.machine
             )));
         }
-        let mut mailboxes = Vec::new();
-        for (name, size) in MAILBOXES {
-            let s = elf
-                .symbol(name)
-                .ok_or_else(|| PilError::Input(format!("the image has no mailbox `{name}`")))?;
+        let mut found = Vec::new();
+        for (name, size) in mailboxes(node) {
+            let s = elf.symbol(name).ok_or_else(|| {
+                PilError::Input(format!(
+                    "the image has no mailbox `{name}` (not the {} node's image?)",
+                    node.name()
+                ))
+            })?;
             if s.size != 0 && s.size as usize != size {
                 return Err(PilError::Input(format!(
                     "mailbox `{name}` is {} B in the image, {size} B on the host",
                     s.size
                 )));
             }
-            mailboxes.push((name, s.addr));
+            found.push((name, s.addr));
         }
         let function = |name: &str| {
             elf.symbol(name)
@@ -186,23 +214,28 @@ impl ImageMap {
                 .ok_or_else(|| PilError::Input(format!("the image has no function `{name}`")))
         };
         let take_uplink = elf
-            .rust_function(&["acs_firmware", "flight", "take_uplink"])
+            .rust_function(&["acs_firmware", "flight", "take_node_uplink"])
             .ok_or_else(|| {
                 PilError::Input(
-                    "the image has no (single) `acs_firmware::flight::take_uplink`".into(),
+                    "the image has no (single) `acs_firmware::flight::take_node_uplink`".into(),
                 )
             })?;
-        let stack = elf
-            .symbol("__ebss")
-            .zip(elf.symbol("_stack_top"))
+        let top = elf.symbol("_stack_top");
+        let stack = elf.symbol("__ebss").zip(top).map(|(b, t)| (b.addr, t.addr));
+        let ram = elf
+            .symbol("__sdata")
+            .or_else(|| elf.symbol("__sbss"))
+            .zip(top)
             .map(|(b, t)| (b.addr, t.addr));
         Ok(Self {
-            mailboxes,
+            node,
+            mailboxes: found,
             period_start: function("fw_period_start")?,
             halt: function("fw_halt")?,
             reset: elf.symbol("Reset").map(|s| s.addr),
             take_uplink: take_uplink.addr,
             stack,
+            ram,
             flash_bytes: elf.flash_bytes(),
         })
     }
@@ -216,11 +249,15 @@ impl ImageMap {
     }
 }
 
-/// What one control period produced, on either side.
+/// What one control period of a node produced, on either side.
 #[derive(Clone, Debug, PartialEq)]
 pub struct StepOutputs {
-    /// The command mailboxes after the step.
+    /// The command mailboxes after the step (the attitude node's; all zero for the reference
+    /// node, which commands no actuator).
     pub commands: Commands,
+    /// The packet the node sent (`LINK_TX`; the reference node's REF, the attitude node's
+    /// STATUS), as the link carries it.
+    pub packet: Vec<u8>,
     /// `STEP_MODE` code.
     pub mode: u16,
     /// `STEP_FAULTS` bits.
@@ -264,6 +301,15 @@ pub enum Difference {
         /// Image bits.
         target: u16,
     },
+    /// The packet the node sent: its length and its first differing byte.
+    Packet {
+        /// `REF` or `STATUS`.
+        name: &'static str,
+        /// Host bytes.
+        host: Vec<u8>,
+        /// Image bytes.
+        target: Vec<u8>,
+    },
     /// The status of an uplink command.
     UplinkStatus {
         /// Its kind.
@@ -300,6 +346,25 @@ impl std::fmt::Display for Difference {
             Self::Faults { host, target } => {
                 write!(f, "fault bits: host 0x{host:02x}, target 0x{target:02x}")
             }
+            Self::Packet { name, host, target } => {
+                let at = host
+                    .iter()
+                    .zip(target)
+                    .position(|(a, b)| a != b)
+                    .unwrap_or(host.len().min(target.len()));
+                let byte = |p: &[u8]| {
+                    p.get(at)
+                        .map_or_else(|| "(none)".to_string(), |b| format!("0x{b:02x}"))
+                };
+                write!(
+                    f,
+                    "{name} packet: host {} B, target {} B, first difference at byte {at}: host {}, target {}",
+                    host.len(),
+                    target.len(),
+                    byte(host),
+                    byte(target)
+                )
+            }
             Self::UplinkStatus { kind, host, target } => write!(
                 f,
                 "uplink command {kind}: host status 0x{host:x}, target status 0x{target:x}"
@@ -308,9 +373,14 @@ impl std::fmt::Display for Difference {
     }
 }
 
-/// The differences between the host's and the image's outputs of one step (empty: identical
-/// bit for bit). `kinds`: the uplink commands of the period.
-pub fn compare(host: &StepOutputs, target: &StepOutputs, kinds: &[u16]) -> Vec<Difference> {
+/// The differences between the host's and the image's outputs of one step of `node` (empty:
+/// identical bit for bit). `kinds`: the node's uplink commands of the period.
+pub fn compare(
+    node: Node,
+    host: &StepOutputs,
+    target: &StepOutputs,
+    kinds: &[u16],
+) -> Vec<Difference> {
     let mut out = Vec::new();
     let pairs = |a: &[f32], b: &[f32]| -> Vec<(usize, f32, f32)> {
         a.iter()
@@ -325,6 +395,16 @@ pub fn compare(host: &StepOutputs, target: &StepOutputs, kinds: &[u16]) -> Vec<D
     }
     for (coil, host, target) in pairs(&host.commands.dipole_am2, &target.commands.dipole_am2) {
         out.push(Difference::Dipole { coil, host, target });
+    }
+    if host.packet != target.packet {
+        out.push(Difference::Packet {
+            name: match node {
+                Node::Reference => "REF",
+                Node::Attitude => "STATUS",
+            },
+            host: host.packet.clone(),
+            target: target.packet.clone(),
+        });
     }
     if host.mode != target.mode {
         out.push(Difference::Mode {
@@ -352,9 +432,11 @@ pub fn compare(host: &StepOutputs, target: &StepOutputs, kinds: &[u16]) -> Vec<D
     out
 }
 
-/// The first step at which the image and the host differ.
+/// The first step at which an image and the host differ.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Mismatch {
+    /// The node whose image differs.
+    pub node: Node,
     /// Step index (0 first).
     pub step: usize,
     /// Time since the start, s.
@@ -371,9 +453,10 @@ impl std::fmt::Display for Mismatch {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "step {} (t = {:.3} s), mode {} on the host, {} on the target:",
+            "step {} (t = {:.3} s), {} node, mode {} on the host, {} on the target:",
             self.step,
             self.t_s,
+            self.node.name(),
             mode_name(self.host_mode),
             mode_name(self.target_mode)
         )?;
@@ -384,80 +467,152 @@ impl std::fmt::Display for Mismatch {
     }
 }
 
+/// The figures of one node image over a run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NodeFigures {
+    /// The node.
+    pub node: Node,
+    /// Largest MCLK cycles of one control period.
+    pub cycles_max: u64,
+    /// Mean MCLK cycles of one control period (rounded).
+    pub cycles_mean: u64,
+    /// Per mode of the satellite (the attitude node's after the step): (mode name, steps, max
+    /// cycles, mean cycles).
+    pub cycles_by_mode: Vec<(&'static str, usize, u64, u64)>,
+    /// Stack high-water mark of the run, bytes (painted words left; the reference image's
+    /// largest over its two lives, before and after its reset), if the image has the paint
+    /// symbols.
+    pub stack_bytes: Option<u32>,
+    /// Flash bytes of the image.
+    pub flash_bytes: u32,
+    /// MCLK cycles from a forced halt (`fw_halt`) after the run to the image's next period
+    /// start, through the watchdog's reset (`None`: not tried, the run stopped on a mismatch).
+    pub watchdog_recovery_cycles: Option<u64>,
+}
+
 /// The result of a run: `target/msp430/pil.json`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PilSummary {
     /// Scenario name.
     pub scenario: String,
-    /// Steps flown (up to and including a mismatching one).
+    /// Steps of the scenario flown (up to and including a mismatching one).
     pub steps: usize,
+    /// Steps of the link-fault case flown after the scenario ([`LINK_FAULT_STEPS`] with the
+    /// link damaged, then the reference image's reset and [`RECOVERY_STEPS`]).
+    pub link_fault_steps: usize,
     /// Steps whose outputs differ (0 or 1: the first stops the run).
     pub mismatches: usize,
-    /// Largest MCLK cycles of one control period.
+    /// Largest MCLK cycles of one control period of the attitude image (which flies the
+    /// control period), over every step flown.
     pub cycles_max: u64,
-    /// Mean MCLK cycles of one control period (rounded).
+    /// Mean MCLK cycles of one control period of the attitude image (rounded).
     pub cycles_mean: u64,
-    /// Per mode (after the step): (mode name, steps, max cycles, mean cycles).
+    /// The attitude image's per mode (after the step): (mode name, steps, max cycles, mean
+    /// cycles).
     pub cycles_by_mode: Vec<(&'static str, usize, u64, u64)>,
-    /// Stack high-water mark of the run, bytes (painted words left), if the image has the
-    /// paint symbols.
+    /// The attitude image's stack high-water mark, bytes.
     pub stack_bytes: Option<u32>,
-    /// Flash bytes of the image.
+    /// Flash bytes of the attitude image.
     pub flash_bytes: u32,
-    /// MCLK cycles from a forced halt (`fw_halt`, the fatal-error path) after the run to the
-    /// image's next period start, through the watchdog's reset and a new start-up (`None`: not
-    /// tried, the run stopped on a mismatch).
+    /// The attitude image's watchdog recovery, MCLK cycles ([`NodeFigures`]).
     pub watchdog_recovery_cycles: Option<u64>,
+    /// Each node's figures, in [`Node::ALL`]'s order.
+    pub nodes: Vec<NodeFigures>,
+}
+
+fn json_option<T: ToString>(v: Option<T>) -> String {
+    v.map_or_else(|| "null".to_string(), |x| x.to_string())
+}
+
+fn json_by_mode(by_mode: &[(&'static str, usize, u64, u64)]) -> String {
+    let modes: Vec<String> = by_mode
+        .iter()
+        .map(|(m, n, max, mean)| {
+            format!(r#""{m}": {{"steps": {n}, "cycles_max": {max}, "cycles_mean": {mean}}}"#)
+        })
+        .collect();
+    format!("{{{}}}", modes.join(", "))
 }
 
 impl PilSummary {
     /// The summary as `pil.json`, its keys in the order of the contract (`scenario`, `steps`,
     /// `mismatches`, `cycles_max`, `cycles_mean`), then `cycles_by_mode`, `stack_bytes`,
-    /// `flash_bytes`, `watchdog_recovery_cycles`.
+    /// `flash_bytes`, `watchdog_recovery_cycles` (these six the attitude image's), `nodes`,
+    /// `link_fault_steps` and `node_cycles` (per node: `max`, `mean`, `by_mode`,
+    /// `stack_bytes`, `flash_bytes`, `watchdog_recovery_cycles`).
     pub fn to_json(&self) -> String {
-        let by_mode: Vec<String> = self
-            .cycles_by_mode
+        let name = serde_json::to_string(&self.scenario).unwrap_or_else(|_| "\"\"".into());
+        let names: Vec<String> = self
+            .nodes
             .iter()
-            .map(|(m, n, max, mean)| {
-                format!(r#""{m}": {{"steps": {n}, "cycles_max": {max}, "cycles_mean": {mean}}}"#)
+            .map(|n| format!("\"{}\"", n.node.name()))
+            .collect();
+        let per_node: Vec<String> = self
+            .nodes
+            .iter()
+            .map(|n| {
+                format!(
+                    "    \"{}\": {{\"max\": {}, \"mean\": {}, \"by_mode\": {}, \"stack_bytes\": {}, \"flash_bytes\": {}, \"watchdog_recovery_cycles\": {}}}",
+                    n.node.name(),
+                    n.cycles_max,
+                    n.cycles_mean,
+                    json_by_mode(&n.cycles_by_mode),
+                    json_option(n.stack_bytes),
+                    n.flash_bytes,
+                    json_option(n.watchdog_recovery_cycles)
+                )
             })
             .collect();
-        let name = serde_json::to_string(&self.scenario).unwrap_or_else(|_| "\"\"".into());
-        let stack = self
-            .stack_bytes
-            .map_or_else(|| "null".to_string(), |b| b.to_string());
-        let recovery = self
-            .watchdog_recovery_cycles
-            .map_or_else(|| "null".to_string(), |c| c.to_string());
         format!(
-            "{{\n  \"scenario\": {name},\n  \"steps\": {},\n  \"mismatches\": {},\n  \"cycles_max\": {},\n  \"cycles_mean\": {},\n  \"cycles_by_mode\": {{{}}},\n  \"stack_bytes\": {stack},\n  \"flash_bytes\": {},\n  \"watchdog_recovery_cycles\": {recovery}\n}}\n",
+            "{{\n  \"scenario\": {name},\n  \"steps\": {},\n  \"mismatches\": {},\n  \"cycles_max\": {},\n  \"cycles_mean\": {},\n  \"cycles_by_mode\": {},\n  \"stack_bytes\": {},\n  \"flash_bytes\": {},\n  \"watchdog_recovery_cycles\": {},\n  \"nodes\": [{}],\n  \"link_fault_steps\": {},\n  \"node_cycles\": {{\n{}\n  }}\n}}\n",
             self.steps,
             self.mismatches,
             self.cycles_max,
             self.cycles_mean,
-            by_mode.join(", "),
-            self.flash_bytes
+            json_by_mode(&self.cycles_by_mode),
+            json_option(self.stack_bytes),
+            self.flash_bytes,
+            json_option(self.watchdog_recovery_cycles),
+            names.join(", "),
+            self.link_fault_steps,
+            per_node.join(",\n")
         )
     }
 }
 
-/// How to reach the image.
+/// How to reach the images.
 #[derive(Clone, Debug)]
 pub struct PilOptions {
-    /// The flight image (ELF).
-    pub elf: PathBuf,
+    /// The reference node's flight image (ELF, `acs-reference`).
+    pub elf_reference: PathBuf,
+    /// The attitude node's flight image (ELF, `acs-attitude`).
+    pub elf_attitude: PathBuf,
     /// The `mspdebug` program.
     pub mspdebug: String,
     /// Time allowed for one simulator command (a control period), s.
     pub timeout_s: u64,
+    /// Fly the link-fault case after the scenario (see the [module docs](self)).
+    pub link_faults: bool,
+}
+
+impl PilOptions {
+    /// The image of `node`.
+    pub fn elf(&self, node: Node) -> &Path {
+        match node {
+            Node::Reference => &self.elf_reference,
+            Node::Attitude => &self.elf_attitude,
+        }
+    }
 }
 
 impl Default for PilOptions {
     fn default() -> Self {
         Self {
-            elf: PathBuf::from("firmware/target/msp430-none-elf/release/acs-firmware"),
+            elf_reference: PathBuf::from("firmware/target/msp430-none-elf/release/acs-reference"),
+            elf_attitude: PathBuf::from("firmware/target/msp430-none-elf/release/acs-attitude"),
             mspdebug: "mspdebug".into(),
             timeout_s: 60,
+            link_faults: true,
         }
     }
 }
@@ -472,7 +627,7 @@ pub const WDT_KICK: u16 = 0x5A0C;
 /// `WDTCTL`'s address.
 const WDTCTL: u32 = 0x0120;
 
-/// The flight image in the simulator, stopped at a `fw_period_start`.
+/// A node image in its simulator, stopped at a `fw_period_start`.
 ///
 /// The run is made without mspdebug's watchdog device: its WDT+ (0.22, `simio/simio_wdt.c`)
 /// never restarts its count on a kick (it masks `WDTCNTCL` off the written word before testing
@@ -487,25 +642,30 @@ pub struct Target {
     halt_break: u32,
     /// MCLK count at the current `fw_period_start` stop.
     cycles: u64,
+    /// The stack high-water mark of the image's lives before its last power-on reset.
+    stack_before_reset: Option<u32>,
 }
 
 impl Target {
-    /// Loads `elf_path` into a new simulator and runs it to the first `fw_period_start`.
-    pub fn start(options: &PilOptions) -> Result<Self, PilError> {
-        let data = std::fs::read(&options.elf).map_err(|e| {
+    /// Loads `node`'s image of `options` into a new simulator and runs it to the first
+    /// `fw_period_start`.
+    pub fn start(options: &PilOptions, node: Node) -> Result<Self, PilError> {
+        let elf_path = options.elf(node);
+        let data = std::fs::read(elf_path).map_err(|e| {
             PilError::Input(format!(
-                "{}: {e} (build it: cd firmware && cargo build --release --bin acs-firmware)",
-                options.elf.display()
+                "{}: {e} (build it: cd firmware && cargo build --release --bin acs-{} \
+                 --features fg4619-map)",
+                elf_path.display(),
+                node.name()
             ))
         })?;
         let elf = Elf::parse(&data)
-            .map_err(|e| PilError::Input(format!("{}: {e}", options.elf.display())))?;
-        let map = ImageMap::of(&elf)
-            .map_err(|e| PilError::Input(format!("{}: {e}", options.elf.display())))?;
-        let path = options
-            .elf
+            .map_err(|e| PilError::Input(format!("{}: {e}", elf_path.display())))?;
+        let map = ImageMap::of(&elf, node)
+            .map_err(|e| PilError::Input(format!("{}: {e}", elf_path.display())))?;
+        let path = elf_path
             .canonicalize()
-            .unwrap_or_else(|_| options.elf.clone());
+            .unwrap_or_else(|_| elf_path.to_path_buf());
         let mut dbg = Mspdebug::start(
             &options.mspdebug,
             Duration::from_secs(options.timeout_s.max(1)),
@@ -520,6 +680,7 @@ impl Target {
             map,
             halt_break,
             cycles: 0,
+            stack_before_reset: None,
         };
         target.run_to_period_start("at start-up")?;
         Ok(target)
@@ -537,13 +698,14 @@ impl Target {
     }
 
     fn stopped_at(&self, pc: u16, expected: u32, what: &str) -> Result<(), PilError> {
+        let node = self.map.node.name();
         if u32::from(pc) == expected {
             Ok(())
         } else if u32::from(pc) == self.map.halt {
-            Err(PilError::Image(format!("halted (fw_halt) {what}")))
+            Err(PilError::Image(format!("{node}: halted (fw_halt) {what}")))
         } else {
             Err(PilError::Image(format!(
-                "stopped at 0x{pc:04x} instead of 0x{expected:04x} {what}"
+                "{node}: stopped at 0x{pc:04x} instead of 0x{expected:04x} {what}"
             )))
         }
     }
@@ -559,6 +721,25 @@ impl Target {
     pub fn watchdog_word(&mut self) -> Result<u16, PilError> {
         let b = self.dbg.read(WDTCTL, 2)?;
         Ok(u16::from_le_bytes([b[0], b[1]]))
+    }
+
+    /// A power-on reset: the CPU reset (`reset`), the RAM cleared to zero (`fill`: the image's
+    /// RAM from `__sdata` to `_stack_top`), and the image run through its start-up to its first
+    /// period start. The stack high-water mark of the life before is kept
+    /// ([`Target::stack_high_water`] reports the larger).
+    pub fn power_on_reset(&mut self) -> Result<(), PilError> {
+        let (bottom, top) = self
+            .map
+            .ram
+            .ok_or_else(|| PilError::Input("the image has no `__sdata`/`_stack_top`".into()))?;
+        let before = self.stack_high_water()?;
+        self.stack_before_reset = before;
+        self.dbg.command("reset")?;
+        self.dbg.command(&format!(
+            "fill 0x{bottom:04x} 0x{:x} 00",
+            top.saturating_sub(bottom)
+        ))?;
+        self.run_to_period_start("after a power-on reset")
     }
 
     /// The fatal-error path, tried: adds the watchdog device, runs one period (the image's
@@ -586,8 +767,9 @@ impl Target {
         self.halt_break = self.dbg.set_break(self.map.halt)?;
         if to_reset > WATCHDOG_CYCLES {
             return Err(PilError::Image(format!(
-                "the watchdog reset the halted image after {to_reset} cycles, more than its \
-                 interval ({WATCHDOG_CYCLES})"
+                "{}: the watchdog reset the halted image after {to_reset} cycles, more than \
+                 its interval ({WATCHDOG_CYCLES})",
+                self.map.node.name()
             )));
         }
         self.run_to_period_start("after the watchdog's reset")?;
@@ -614,22 +796,39 @@ impl Target {
     fn taken_status(&mut self, kind: u16) -> Result<u16, PilError> {
         if self.read_u16("UPLINK_KIND")? != 0 {
             return Err(PilError::Image(format!(
-                "uplink command {kind} was not taken"
+                "{}: uplink command {kind} was not taken",
+                self.map.node.name()
             )));
         }
         self.read_u16("UPLINK_STATUS")
     }
 
-    /// One control period: writes `readings` and the `uplinks` (kind, argument words), runs
-    /// to the next `fw_period_start`; the outputs and the period's cycles.
+    /// One control period: writes `readings` (the attitude image's tile mailboxes), the packet
+    /// `received` (if any) into `LINK_RX` and the `uplinks` (kind, argument words), runs to the
+    /// next `fw_period_start`; the outputs (the packet taken from `LINK_TX`, which is then
+    /// emptied) and the period's cycles.
     pub fn period(
         &mut self,
-        readings: &Readings,
+        readings: Option<&Readings>,
+        received: Option<&[u8]>,
         uplinks: &[(u16, Vec<u32>)],
     ) -> Result<(StepOutputs, u64), PilError> {
-        for (name, bytes) in readings.mailboxes() {
-            let addr = self.addr(name)?;
-            self.dbg.write(addr, &bytes)?;
+        if let Some(readings) = readings {
+            for (name, bytes) in readings.mailboxes() {
+                let addr = self.addr(name)?;
+                self.dbg.write(addr, &bytes)?;
+            }
+        }
+        if let Some(packet) = received {
+            if packet.len() > LINK_BYTES {
+                return Err(PilError::Input(format!(
+                    "a packet of {} B does not fit the link mailbox",
+                    packet.len()
+                )));
+            }
+            self.dbg.write(self.addr("LINK_RX")?, packet)?;
+            self.dbg
+                .write(self.addr("LINK_RX_LEN")?, &(packet.len() as u16).to_le_bytes())?;
         }
         let start = self.cycles;
         let mut extra = 0u64;
@@ -638,23 +837,23 @@ impl Target {
             self.write_uplink(*kind, args)?;
         }
         if uplinks.len() > 1 {
-            // stop at take_uplink's entry: its registers make the call again
+            // stop at take_node_uplink's entry: its registers make the call again
             let entry = self.dbg.set_break(self.map.take_uplink)?;
             let regs: Registers = self.dbg.run()?;
-            self.stopped_at(regs[0], self.map.take_uplink, "before take_uplink")?;
+            self.stopped_at(regs[0], self.map.take_uplink, "before take_node_uplink")?;
             self.dbg.delete_break(entry)?;
             let ret = self.dbg.read(u32::from(regs[1]), 2)?;
             let ret = u32::from(u16::from_le_bytes([ret[0], ret[1]]));
             let back = self.dbg.set_break(ret)?;
             let after = self.dbg.run()?;
-            self.stopped_at(after[0], ret, "after take_uplink")?;
+            self.stopped_at(after[0], ret, "after take_node_uplink")?;
             for (k, (kind, args)) in uplinks.iter().enumerate().skip(1) {
                 statuses.push(self.taken_status(uplinks[k - 1].0)?);
                 self.write_uplink(*kind, args)?;
                 self.dbg.set_registers(&regs)?;
                 let c0 = self.dbg.cycles()?;
                 let after = self.dbg.run()?;
-                self.stopped_at(after[0], ret, "after take_uplink")?;
+                self.stopped_at(after[0], ret, "after take_node_uplink")?;
                 extra += self.dbg.cycles()?.saturating_sub(c0);
             }
             self.dbg.delete_break(back)?;
@@ -663,12 +862,35 @@ impl Target {
         if let Some((kind, _)) = uplinks.last() {
             statuses.push(self.taken_status(*kind)?);
         }
-        let wheel = self.dbg.read(self.addr("CMD_WHEEL_NMS")?, 4 * TILES)?;
-        let dipole = self.dbg.read(self.addr("CMD_DIPOLE_AM2")?, 4 * COILS)?;
-        let commands = Commands::from_le_bytes(&wheel, &dipole)
-            .ok_or_else(|| PilError::Image("command mailboxes unreadable".into()))?;
+        if self.read_u16("LINK_RX_LEN")? != 0 {
+            return Err(PilError::Image(format!(
+                "{}: the packet in LINK_RX was not taken",
+                self.map.node.name()
+            )));
+        }
+        let commands = if self.map.node == Node::Attitude {
+            let wheel = self.dbg.read(self.addr("CMD_WHEEL_NMS")?, 4 * TILES)?;
+            let dipole = self.dbg.read(self.addr("CMD_DIPOLE_AM2")?, 4 * COILS)?;
+            Commands::from_le_bytes(&wheel, &dipole)
+                .ok_or_else(|| PilError::Image("command mailboxes unreadable".into()))?
+        } else {
+            Commands::default()
+        };
+        let len = usize::from(self.read_u16("LINK_TX_LEN")?);
+        let packet = if len == 0 {
+            Vec::new()
+        } else if len > LINK_BYTES {
+            return Err(PilError::Image(format!(
+                "{}: LINK_TX_LEN {len} is longer than the mailbox",
+                self.map.node.name()
+            )));
+        } else {
+            self.dbg.read(self.addr("LINK_TX")?, len)?
+        };
+        self.dbg.write(self.addr("LINK_TX_LEN")?, &[0, 0])?;
         let outputs = StepOutputs {
             commands,
+            packet,
             mode: self.read_u16("STEP_MODE")?,
             faults: self.read_u16("STEP_FAULTS")?,
             uplink_status: statuses,
@@ -678,7 +900,7 @@ impl Target {
     }
 
     /// The stack high-water mark so far, bytes: the part of `__ebss.._stack_top` no longer
-    /// painted.
+    /// painted (the larger of this life's and the one before the last power-on reset).
     pub fn stack_high_water(&mut self) -> Result<Option<u32>, PilError> {
         let Some((bottom, top)) = self.map.stack else {
             return Ok(None);
@@ -689,27 +911,89 @@ impl Target {
             .chunks_exact(2)
             .take_while(|w| u16::from_le_bytes([w[0], w[1]]) == STACK_PAINT)
             .count() as u32;
-        Ok(Some(top - bottom - 2 * painted))
+        let now = top - bottom - 2 * painted;
+        Ok(Some(self.stack_before_reset.map_or(now, |b| b.max(now))))
     }
 }
+
+/// One step flown: (step, the attitude image's mode code after it, the attitude image's
+/// cycles, the reference image's cycles for the REF of the step).
+pub type StepLog = (usize, u16, u64, u64);
 
 /// A processor-in-the-loop run.
 #[derive(Clone, Debug)]
 pub struct PilRun {
-    /// The truth and the host loop's report of every step flown.
+    /// The truth and the host composition's report of every step of the scenario flown.
     pub samples: Vec<Sample>,
     /// `pil.json`.
     pub summary: PilSummary,
     /// The first difference, if any.
     pub mismatch: Option<Mismatch>,
-    /// (step, mode code, cycles) of every step flown.
-    pub steps: Vec<(usize, u16, u64)>,
+    /// Every step flown, the link-fault case's included.
+    pub steps: Vec<StepLog>,
     /// Wall-clock steps per second of the run.
     pub steps_per_s: f64,
 }
 
-/// Flies `scenario` with the image of `options` and the host loop in lockstep (see the
-/// [module docs](self)); `progress` is called after each step with the step count.
+/// The periods of the link-fault case with the link damaged (30 s).
+pub const LINK_FAULT_STEPS: usize = 30;
+
+/// The periods of the link-fault case after the reference image's reset.
+pub const RECOVERY_STEPS: usize = 30;
+
+/// What the link does to a packet in period `i` of the link-fault case (0 first), going
+/// `direction`: drops it (`false`) or delivers `bytes`, in some periods with one byte flipped
+/// (the receiver's CRC check refuses it; a flipped header byte may be refused before the
+/// CRC). Of every five periods in each direction, two drop, two corrupt (a header byte, a
+/// payload or CRC byte) and one delivers intact; the directions are offset by one period.
+pub fn damage(i: usize, direction: LinkDirection, bytes: &mut [u8]) -> bool {
+    let offset = match direction {
+        LinkDirection::Reference => 0,
+        LinkDirection::Status => 1,
+    };
+    let n = bytes.len();
+    if n == 0 {
+        return false;
+    }
+    match (i + offset) % 5 {
+        0 | 3 => false,
+        1 => {
+            if let Some(b) = bytes.get_mut(i % 6 % n) {
+                *b ^= 0x24;
+            }
+            true
+        }
+        2 => {
+            if let Some(b) = bytes.get_mut((6 + 7 * i) % n) {
+                *b ^= 1 << (i % 8);
+            }
+            true
+        }
+        _ => true,
+    }
+}
+
+/// The periods' ground commands split by owner: (the reference node's, the attitude
+/// node's), each in the order of the period. An uplink of `both` goes to both nodes (the
+/// other node refuses it, status 4).
+fn route(uplinks: &[Uplink], both: &[Uplink]) -> [Vec<Uplink>; 2] {
+    let mut out = [Vec::new(), Vec::new()];
+    for u in uplinks {
+        match owner(u.kind()) {
+            Node::Reference => out[0].push(u.clone()),
+            Node::Attitude => out[1].push(u.clone()),
+        }
+    }
+    for u in both {
+        out[0].push(u.clone());
+        out[1].push(u.clone());
+    }
+    out
+}
+
+/// Flies `scenario` with the two node images of `options` and the host composition in
+/// lockstep (see the [module docs](self)); `progress` is called after each step with the step
+/// count.
 pub fn run(
     scenario: &Scenario,
     options: &PilOptions,
@@ -735,32 +1019,47 @@ pub fn run(
         .to_words();
     let orbit =
         Sgp4::from_words(&words).map_err(|e| PilError::Input(format!("element words: {e:?}")))?;
-    let mut acs = FlightLoop::new(&CONFIG, orbit)
+    let mut acs = HostLoop::new(&CONFIG, orbit.clone())
         .map_err(|e| PilError::Input(format!("flight configuration: {e}")))?;
-    let mut clock = Epoch::<Utc>::from_parts(RESET_EPOCH.0, RESET_EPOCH.1, 0)
-        .map_err(|e| PilError::Input(format!("reset epoch: {e}")))?;
-    let period = TimeSpan::from_whole_seconds(CONTROL_PERIOD_S as i32);
     let mut sim = Simulator::new(scenario.sim.clone(), scenario.initial.0, scenario.initial.1)?;
-    let mut target = Target::start(options)?;
+    let mut reference = Target::start(options, Node::Reference)?;
+    let mut attitude = Target::start(options, Node::Attitude)?;
 
     let steps = (scenario.duration_s / scenario.dt_s).round() as usize;
-    let mut pending: Vec<(f64, Command)> = scenario.commands.clone();
-    let mut mailbox = UplinkMailbox::default();
+    let fault_steps = if options.link_faults {
+        LINK_FAULT_STEPS + RECOVERY_STEPS
+    } else {
+        0
+    };
+    let reset_at = steps + LINK_FAULT_STEPS;
+    let mut pending: Vec<(f64, crate::acs_loop::Command)> = scenario.commands.clone();
+    let mut mailboxes = [UplinkMailbox::default(), UplinkMailbox::default()];
     let mut host_commands = Commands::default();
-    let mut attitude: Option<Quaternion> = None;
+    let mut report = StepReport::empty(acs.mode());
+    // the attitude of the STATUS the reference image holds when it takes its uplink: the one
+    // received the period before (see the module docs)
+    let mut held_attitude: Option<Quaternion> = None;
+    // the STATUS packet on its way to the reference image, as delivered
+    let mut status_in_flight: Option<Vec<u8>> = None;
     let mut samples = Vec::with_capacity(steps);
-    let mut log = Vec::with_capacity(steps);
+    let mut log: Vec<StepLog> = Vec::with_capacity(steps + fault_steps);
     let mut mismatch = None;
     let started = Instant::now();
-    for k in 0..steps {
+    for k in 0..steps + fault_steps {
         let t = sim.truth().t_s;
+        let faulty = (steps..reset_at).contains(&k).then(|| k - steps);
         let mut uplinks = Vec::new();
+        let mut both = Vec::new();
         if k == 0 {
             uplinks.push(Uplink::Elements(Box::new(words)));
             uplinks.push(Uplink::Clock(scenario.sim.start));
         }
         if k == steps * 3 / 4 {
-            uplinks.extend(non_finite_uplinks(&words));
+            both.extend(non_finite_uplinks(&words));
+        }
+        if k == reset_at {
+            // the ground restores the element set; the clock comes back with a STATUS
+            uplinks.push(Uplink::Elements(Box::new(words)));
         }
         let mut i = 0;
         while i < pending.len() {
@@ -770,62 +1069,139 @@ pub fn run(
                 i += 1;
             }
         }
-        // the host: uplink, step on the simulator through the recorder
-        let mut encoded = Vec::with_capacity(uplinks.len());
-        let mut host_status = Vec::with_capacity(uplinks.len());
-        for u in &uplinks {
-            let kind = mailbox.write(u);
-            host_status.push(mailbox.take(kind, &mut acs, &mut clock, attitude.as_ref()));
-            encoded.push((kind, u.args()));
+        let [reference_uplinks, attitude_uplinks] = route(&uplinks, &both);
+        if k == reset_at {
+            // a power-on reset of the reference image: the STATUS in flight is lost with its RAM
+            reference.power_on_reset()?;
+            acs.reset_reference(orbit.clone())
+                .map_err(|e| PilError::Input(format!("flight configuration: {e}")))?;
+            status_in_flight = None;
+        }
+        let slew_from = held_attitude;
+        held_attitude = acs.last_status().and_then(|s| s.attitude);
+        // the reference image: its uplinks, the STATUS of step k - 1, the REF of step k
+        let mut reference_status = Vec::new();
+        let mut reference_encoded = Vec::new();
+        for u in &reference_uplinks {
+            let kind = mailboxes[0].write(u);
+            reference_status.push(mailboxes[0].take(
+                kind,
+                Node::Reference,
+                &mut acs,
+                slew_from.as_ref(),
+            ));
+            reference_encoded.push((kind, u.args()));
+        }
+        let (reference_out, reference_cycles) =
+            reference.period(None, status_in_flight.as_deref(), &reference_encoded)?;
+        // the host: the attitude node's uplinks, the step on the simulator through the recorder
+        let mut attitude_status = Vec::new();
+        let mut attitude_encoded = Vec::new();
+        for u in &attitude_uplinks {
+            let kind = mailboxes[1].write(u);
+            attitude_status.push(mailboxes[1].take(kind, Node::Attitude, &mut acs, None));
+            attitude_encoded.push((kind, u.args()));
         }
         let mut recorder = Recorder::new(&mut sim, &mut host_commands);
-        let report = acs.step(&mut recorder, clock, CONTROL_PERIOD_S);
+        acs.step_over_link(&mut recorder, CONTROL_PERIOD_S, &mut report, |d, b| {
+            faulty.is_none_or(|i| damage(i, d, b))
+        });
         let readings = recorder.finish().map_err(PilError::Record)?;
-        attitude = report.attitude;
-        clock = clock.add(period);
-        let host = StepOutputs {
+        let (host_ref, host_status) = acs.packets();
+        let (host_ref, host_status) = (host_ref.to_vec(), host_status.to_vec());
+        let host_reference = StepOutputs {
+            commands: Commands::default(),
+            mode: 0,
+            faults: Reference::from_packet(&host_ref).map_or(u16::MAX, |(r, _)| r.faults),
+            packet: host_ref,
+            uplink_status: reference_status,
+        };
+        let host_attitude = StepOutputs {
             commands: host_commands,
+            packet: host_status,
             mode: mode_code(report.mode),
             faults: report.faults.bits(),
-            uplink_status: host_status,
+            uplink_status: attitude_status,
         };
-        // the image, on the same readings and uplinks
-        let (image, cycles) = target.period(&readings, &encoded)?;
-        log.push((k, image.mode, cycles));
-        let kinds: Vec<u16> = encoded.iter().map(|(kind, _)| *kind).collect();
-        let differences = compare(&host, &image, &kinds);
-        samples.push(Sample::of_step(&sim, t, report, scenario.target));
+        let kinds = |list: &[Uplink]| list.iter().map(Uplink::kind).collect::<Vec<u16>>();
+        let differences = compare(
+            Node::Reference,
+            &host_reference,
+            &reference_out,
+            &kinds(&reference_uplinks),
+        );
+        if !differences.is_empty() {
+            log.push((k, host_attitude.mode, 0, reference_cycles));
+            progress(k + 1);
+            mismatch = Some(Mismatch {
+                node: Node::Reference,
+                step: k,
+                t_s: t,
+                host_mode: host_attitude.mode,
+                target_mode: reference_out.mode,
+                differences,
+            });
+            break;
+        }
+        // the attitude image: the readings, its uplinks, the REF of step k as delivered
+        let mut delivered = reference_out.packet.clone();
+        let delivered = faulty
+            .is_none_or(|i| damage(i, LinkDirection::Reference, &mut delivered))
+            .then_some(delivered);
+        let (image, cycles) =
+            attitude.period(Some(&readings), delivered.as_deref(), &attitude_encoded)?;
+        log.push((k, image.mode, cycles, reference_cycles));
+        let differences = compare(
+            Node::Attitude,
+            &host_attitude,
+            &image,
+            &kinds(&attitude_uplinks),
+        );
+        if k < steps {
+            samples.push(Sample::of_step(&sim, t, report.clone(), scenario.target));
+        }
         progress(k + 1);
         if !differences.is_empty() {
             mismatch = Some(Mismatch {
+                node: Node::Attitude,
                 step: k,
                 t_s: t,
-                host_mode: host.mode,
+                host_mode: host_attitude.mode,
                 target_mode: image.mode,
                 differences,
             });
             break;
         }
+        let mut delivered = image.packet;
+        status_in_flight = faulty
+            .is_none_or(|i| damage(i, LinkDirection::Status, &mut delivered))
+            .then_some(delivered);
         sim.advance(scenario.dt_s)?;
     }
     let elapsed = started.elapsed().as_secs_f64();
-    let stack_bytes = target.stack_high_water()?;
-    let mut summary = summarise(
+    let mut images = [
+        (reference.stack_high_water()?, reference.map().flash_bytes, None),
+        (attitude.stack_high_water()?, attitude.map().flash_bytes, None),
+    ];
+    if mismatch.is_none() {
+        for (target, figures) in [&mut reference, &mut attitude].into_iter().zip(&mut images) {
+            let word = target.watchdog_word()?;
+            if word != WDT_KICK {
+                return Err(PilError::Image(format!(
+                    "{}: WDTCTL holds 0x{word:04x} after the run, not the kick 0x{WDT_KICK:04x}",
+                    target.map().node.name()
+                )));
+            }
+            figures.2 = Some(target.halt_and_recover()?);
+        }
+    }
+    let summary = summarise(
         scenario.name,
         &log,
+        steps,
         usize::from(mismatch.is_some()),
-        stack_bytes,
-        target.map().flash_bytes,
+        images,
     );
-    if mismatch.is_none() {
-        let word = target.watchdog_word()?;
-        if word != WDT_KICK {
-            return Err(PilError::Image(format!(
-                "WDTCTL holds 0x{word:04x} after the run, not the kick 0x{WDT_KICK:04x}"
-            )));
-        }
-        summary.watchdog_recovery_cycles = Some(target.halt_and_recover()?);
-    }
     Ok(PilRun {
         samples,
         summary,
@@ -835,10 +1211,10 @@ pub fn run(
     })
 }
 
-/// Ground commands with non-finite arguments, each of which the loop must refuse
-/// ([`crate::uplink::UplinkError`]): tracking and slewing to NaN and infinite quaternions, a slew
-/// within a NaN, an infinite and a negative time, and the element set `words` with a NaN in a
-/// float word (its check word then fails).
+/// Ground commands with non-finite arguments, each of which the reference node must refuse
+/// ([`crate::uplink::UplinkError`]; the attitude node refuses them as not its own): tracking
+/// and slewing to NaN and infinite quaternions, a slew within a NaN, an infinite and a negative
+/// time, and the element set `words` with a NaN in a float word (its check word then fails).
 pub fn non_finite_uplinks(words: &[u32; ELEMENT_WORDS]) -> Vec<Uplink> {
     let nan_q = Quaternion {
         q0: f32::NAN,
@@ -879,50 +1255,77 @@ pub fn non_finite_uplinks(words: &[u32; ELEMENT_WORDS]) -> Vec<Uplink> {
     ]
 }
 
-/// The summary of the steps flown: (step, mode code, cycles) each.
+/// (steps, max, mean) of some cycle counts.
+fn stats(cycles: impl Iterator<Item = u64>) -> (usize, u64, u64) {
+    let (n, max, sum) = cycles.fold((0usize, 0u64, 0u128), |(n, m, s), c| {
+        (n + 1, m.max(c), s + u128::from(c))
+    });
+    let mean = if n == 0 {
+        0
+    } else {
+        ((sum + n as u128 / 2) / n as u128) as u64
+    };
+    (n, max, mean)
+}
+
+/// The summary of the steps flown (`log`, of which the first `scenario_steps` are the
+/// scenario's and the rest the link-fault case's); `images`: per node in [`Node::ALL`]'s order,
+/// (stack high-water mark, flash bytes, watchdog recovery cycles).
 pub fn summarise(
     scenario: &str,
-    log: &[(usize, u16, u64)],
+    log: &[StepLog],
+    scenario_steps: usize,
     mismatches: usize,
-    stack_bytes: Option<u32>,
-    flash_bytes: u32,
+    images: [(Option<u32>, u32, Option<u64>); 2],
 ) -> PilSummary {
-    let stats = |cycles: &mut dyn Iterator<Item = u64>| {
-        let (n, max, sum) = cycles.fold((0usize, 0u64, 0u128), |(n, m, s), c| {
-            (n + 1, m.max(c), s + u128::from(c))
-        });
-        let mean = if n == 0 {
-            0
-        } else {
-            ((sum + n as u128 / 2) / n as u128) as u64
-        };
-        (n, max, mean)
-    };
-    let (_, cycles_max, cycles_mean) = stats(&mut log.iter().map(|s| s.2));
-    let cycles_by_mode = (0..4u16)
-        .filter_map(|m| {
-            let (n, max, mean) = stats(&mut log.iter().filter(|s| s.1 == m).map(|s| s.2));
-            (n > 0).then_some((mode_name(m), n, max, mean))
+    let nodes: Vec<NodeFigures> = Node::ALL
+        .iter()
+        .zip(images)
+        .map(|(&node, (stack_bytes, flash_bytes, watchdog))| {
+            let cycles = |s: &StepLog| match node {
+                Node::Reference => s.3,
+                Node::Attitude => s.2,
+            };
+            let (_, cycles_max, cycles_mean) = stats(log.iter().map(cycles));
+            let cycles_by_mode = (0..4u16)
+                .filter_map(|m| {
+                    let (n, max, mean) = stats(log.iter().filter(|s| s.1 == m).map(cycles));
+                    (n > 0).then_some((mode_name(m), n, max, mean))
+                })
+                .collect();
+            NodeFigures {
+                node,
+                cycles_max,
+                cycles_mean,
+                cycles_by_mode,
+                stack_bytes,
+                flash_bytes,
+                watchdog_recovery_cycles: watchdog,
+            }
         })
         .collect();
+    let attitude = nodes[1].clone();
     PilSummary {
         scenario: scenario.to_string(),
-        steps: log.len(),
+        steps: log.len().min(scenario_steps),
+        link_fault_steps: log.len().saturating_sub(scenario_steps),
         mismatches,
-        cycles_max,
-        cycles_mean,
-        cycles_by_mode,
-        stack_bytes,
-        flash_bytes,
-        watchdog_recovery_cycles: None,
+        cycles_max: attitude.cycles_max,
+        cycles_mean: attitude.cycles_mean,
+        cycles_by_mode: attitude.cycles_by_mode,
+        stack_bytes: attitude.stack_bytes,
+        flash_bytes: attitude.flash_bytes,
+        watchdog_recovery_cycles: attitude.watchdog_recovery_cycles,
+        nodes,
     }
 }
 
-/// The per-step log as CSV: `step,mode,cycles`.
-pub fn steps_csv(log: &[(usize, u16, u64)]) -> String {
-    let mut out = String::from("step,mode,cycles\n");
-    for (k, mode, cycles) in log {
-        out.push_str(&format!("{k},{},{cycles}\n", mode_name(*mode)));
+/// The per-step log as CSV: `step,mode,cycles,reference_cycles` (`cycles`: the attitude
+/// image's).
+pub fn steps_csv(log: &[StepLog]) -> String {
+    let mut out = String::from("step,mode,cycles,reference_cycles\n");
+    for (k, mode, cycles, reference) in log {
+        out.push_str(&format!("{k},{},{cycles},{reference}\n", mode_name(*mode)));
     }
     out
 }

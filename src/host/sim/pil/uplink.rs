@@ -1,18 +1,56 @@
-//! The ground side of the flight image's uplink ([`crate::uplink`]): ground commands encoded
-//! as a command code and argument words, written to the host's copy of the mailbox and applied
-//! to the host loop by the same [`crate::uplink::apply`] the image runs, so that both loops
-//! receive every command exactly as the image decodes it.
+//! The ground side of the node images' uplinks ([`crate::uplink`]): ground commands encoded
+//! as a command code and argument words, each sent to the node that owns it ([`owner`]: track,
+//! slew, element set and clock to the reference node, sun-safe and the tiles to the attitude
+//! node), written to the host's copy of that node's mailbox and applied to the host
+//! composition's node by the same function the image runs ([`crate::uplink::apply_reference`],
+//! [`crate::uplink::apply_attitude`]), so that both sides receive every command exactly as the
+//! image decodes it.
 //!
 //! A slew's target goes up as a quaternion (`Dcm::to_quaternion`) and the image turns it back
-//! into a DCM after normalising it, so the host loop gets the same DCM only through the
-//! mailbox; that is why the host loop is commanded through it too.
+//! into a DCM after normalising it, so the host composition gets the same DCM only through the
+//! mailbox; that is why the host is commanded through it too.
 
 use crate::acs_loop::{Command, Mode};
 use crate::attitude::Quaternion;
-use crate::flight::FlightLoop;
+use crate::flight::{FIELD_COEFFS, TILES};
+use crate::two_node::TwoNodeLoop;
 use crate::orbit::sgp4::ELEMENT_WORDS;
 use crate::time::{Epoch, Utc};
 use crate::uplink::{self, kind};
+
+/// The host composition the PIL flies: the two nodes over the flight configuration.
+pub type HostLoop<'c> = TwoNodeLoop<'c, TILES, FIELD_COEFFS>;
+
+/// A node of the satellite, with its flight image.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, Hash)]
+pub enum Node {
+    /// The reference node (`acs-reference`): clock, SGP4, Sun, shadow, IGRF, guidance.
+    Reference,
+    /// The attitude node (`acs-attitude`): tiles, determination, modes, laws, actuators.
+    Attitude,
+}
+
+impl Node {
+    /// Both nodes, in the order of `pil.json`'s `nodes`.
+    pub const ALL: [Node; 2] = [Node::Reference, Node::Attitude];
+
+    /// Its name in `pil.json` and in a mismatch.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Reference => "reference",
+            Self::Attitude => "attitude",
+        }
+    }
+}
+
+/// The node that owns command `kind` ([`crate::two_node`]): track, slew, element set and clock
+/// the reference node; sun-safe, mark failed, restore (and any unknown code) the attitude node.
+pub fn owner(kind: u16) -> Node {
+    match kind {
+        kind::TRACK | kind::SLEW | kind::ELEMENTS | kind::CLOCK => Node::Reference,
+        _ => Node::Attitude,
+    }
+}
 
 /// Uplink status: accepted.
 pub const ACCEPTED: u16 = 0;
@@ -119,17 +157,31 @@ impl UplinkMailbox {
         uplink.kind()
     }
 
-    /// Applies command `kind` with the mailbox's arguments to the loop or the clock, as the
-    /// image does ([`crate::uplink::apply`]; `attitude`: the last filtered attitude); returns
-    /// the status the image writes to `UPLINK_STATUS`.
+    /// Applies command `kind` with the mailbox's arguments to `node` of the host composition,
+    /// as that node's image does: [`crate::uplink::apply_reference`] (a slew planned from
+    /// `attitude`, the attitude of the STATUS the reference image holds when it takes the
+    /// uplink) or [`crate::uplink::apply_attitude`]; returns the status the image writes to
+    /// `UPLINK_STATUS`.
     pub fn take(
         &self,
         kind: u16,
-        acs: &mut FlightLoop,
-        clock: &mut Epoch<Utc>,
+        node: Node,
+        acs: &mut HostLoop<'_>,
         attitude: Option<&Quaternion>,
     ) -> u16 {
-        uplink::status(&uplink::apply(kind, &self.args, acs, clock, attitude))
+        match node {
+            Node::Reference => uplink::status(&uplink::apply_reference(
+                kind,
+                &self.args,
+                acs.reference_node_mut(),
+                attitude,
+            )),
+            Node::Attitude => uplink::status(&uplink::apply_attitude(
+                kind,
+                &self.args,
+                acs.attitude_node_mut(),
+            )),
+        }
     }
 }
 
@@ -155,7 +207,6 @@ mod tests {
     use crate::attitude::Dcm;
     use crate::flight::CONFIG;
     use crate::host::sim::scenarios::make_tle;
-    use crate::link::messages::GuidanceKind;
     use crate::orbit::sgp4::{Gravity, Sgp4};
     use crate::tle::Tle;
 
@@ -185,33 +236,46 @@ mod tests {
     }
 
     #[test]
-    fn the_mirror_applies_commands_as_take_uplink() {
-        let mut acs = FlightLoop::new(&CONFIG, orbit()).unwrap();
-        let mut clock = Epoch::<Utc>::from_parts(9_210, 43_200, 0).unwrap();
-        let mut mailbox = UplinkMailbox::default();
+    fn commands_go_to_the_node_that_owns_them() {
+        for k in [kind::TRACK, kind::SLEW, kind::ELEMENTS, kind::CLOCK] {
+            assert_eq!(owner(k), Node::Reference);
+        }
+        for k in [kind::SUN_SAFE, kind::MARK_FAILED, kind::RESTORE, 99] {
+            assert_eq!(owner(k), Node::Attitude);
+        }
+        assert_eq!(Node::ALL.map(Node::name), ["reference", "attitude"]);
+    }
+
+    #[test]
+    fn the_mirror_applies_commands_as_the_node_images() {
+        let mut acs = HostLoop::new(&CONFIG, orbit()).unwrap();
+        let mut reference = UplinkMailbox::default();
+        let mut attitude = UplinkMailbox::default();
+        let r = Node::Reference;
+        let a = Node::Attitude;
 
         let t = Epoch::<Utc>::from_parts(9_300, 7, 0).unwrap();
-        let kind = mailbox.write(&Uplink::Clock(t));
-        assert_eq!(mailbox.take(kind, &mut acs, &mut clock, None), ACCEPTED);
-        assert_eq!(clock, t);
+        let kind = reference.write(&Uplink::Clock(t));
+        assert_eq!(reference.take(kind, r, &mut acs, None), ACCEPTED);
+        assert_eq!(acs.reference_node_mut().clock(), Some(t));
+        // the other node's command is refused with status 4
+        assert_eq!(attitude.take(kind, a, &mut acs, None), 4);
 
         let q = Quaternion::new_normalize(0.9, 0.1, -0.3, 0.2).unwrap();
-        let kind = mailbox.write(&Uplink::Track { target: q });
-        assert_eq!(mailbox.take(kind, &mut acs, &mut clock, None), ACCEPTED);
-        // the reference node's guidance: the attitude node takes it at the next step
-        assert_eq!(acs.guidance().kind, GuidanceKind::Track);
+        let kind = reference.write(&Uplink::Track { target: q });
+        assert_eq!(reference.take(kind, r, &mut acs, None), ACCEPTED);
+        assert_eq!(acs.guidance().target, q);
 
         // a slew needs an attitude to plan from
-        let kind = mailbox.write(&Uplink::of_command(&Command::Slew {
+        let kind = reference.write(&Uplink::of_command(&Command::Slew {
             target: Dcm::a1(0.5),
             within_s: 100.0,
         }));
-        assert_eq!(mailbox.take(kind, &mut acs, &mut clock, None), 3);
-        assert_eq!(mailbox.take(kind, &mut acs, &mut clock, Some(&q)), ACCEPTED);
-        assert_eq!(acs.guidance().kind, GuidanceKind::Slew);
+        assert_eq!(reference.take(kind, r, &mut acs, None), 3);
+        assert_eq!(reference.take(kind, r, &mut acs, Some(&q)), ACCEPTED);
 
         // a zero quaternion is invalid; a corrupt element set names its word
-        let kind = mailbox.write(&Uplink::Track {
+        let kind = reference.write(&Uplink::Track {
             target: Quaternion {
                 q0: 0.0,
                 q1: 0.0,
@@ -219,32 +283,42 @@ mod tests {
                 q3: 0.0,
             },
         });
-        assert_eq!(mailbox.take(kind, &mut acs, &mut clock, None), 2);
+        assert_eq!(reference.take(kind, r, &mut acs, None), 2);
         let mut words = orbit().to_words();
-        let kind = mailbox.write(&Uplink::Elements(Box::new(words)));
-        assert_eq!(mailbox.take(kind, &mut acs, &mut clock, None), ACCEPTED);
+        let kind = reference.write(&Uplink::Elements(Box::new(words)));
+        assert_eq!(reference.take(kind, r, &mut acs, None), ACCEPTED);
         words[ELEMENT_WORDS - 1] ^= 1;
-        let kind = mailbox.write(&Uplink::Elements(Box::new(words)));
+        let kind = reference.write(&Uplink::Elements(Box::new(words)));
         assert_eq!(
-            mailbox.take(kind, &mut acs, &mut clock, None),
+            reference.take(kind, r, &mut acs, None),
             0x100 + (ELEMENT_WORDS as u16 - 1)
         );
-        assert_eq!(mailbox.take(6, &mut acs, &mut clock, None), 2); // arg 0 is a word
-        let kind = mailbox.write(&Uplink::MarkFailed(2));
-        assert_eq!(mailbox.take(kind, &mut acs, &mut clock, None), ACCEPTED);
-        assert_eq!(mailbox.take(99, &mut acs, &mut clock, None), 1);
-        let kind = mailbox.write(&Uplink::SunSafe);
-        assert_eq!(mailbox.take(kind, &mut acs, &mut clock, None), ACCEPTED);
+        // the attitude node's mailbox has its own argument words: word 0 is still 0 there
+        assert_eq!(attitude.take(kind::MARK_FAILED, a, &mut acs, None), ACCEPTED);
+        assert_eq!(
+            acs.tile_state(0),
+            Some(crate::tiles::TileState::Failed)
+        );
+        let kind = attitude.write(&Uplink::Restore(0));
+        assert_eq!(attitude.take(kind, a, &mut acs, None), ACCEPTED);
+        let kind = attitude.write(&Uplink::MarkFailed(TILES as u32));
+        assert_eq!(attitude.take(kind, a, &mut acs, None), 2);
+        assert_eq!(attitude.take(99, a, &mut acs, None), 1);
+        assert_eq!(reference.take(99, r, &mut acs, None), 1);
+        let kind = attitude.write(&Uplink::SunSafe);
+        assert_eq!(attitude.take(kind, a, &mut acs, None), ACCEPTED);
         assert_eq!(acs.mode(), Mode::SunSafe);
     }
 
-    /// The PIL run's non-finite uplinks are each refused (invalid argument, or the element set
-    /// at its first bad word), with or without an attitude to plan from, and change nothing.
+    /// The PIL run's non-finite uplinks are each refused by the reference node (invalid
+    /// argument, or the element set at its first bad word), with or without an attitude to
+    /// plan from, and by the attitude node as not its own; they change nothing.
     #[test]
     fn non_finite_uplinks_are_refused() {
-        let mut acs = FlightLoop::new(&CONFIG, orbit()).unwrap();
-        let mut clock = Epoch::<Utc>::from_parts(9_210, 43_200, 0).unwrap();
-        let start = clock;
+        let mut acs = HostLoop::new(&CONFIG, orbit()).unwrap();
+        let start = Epoch::<Utc>::from_parts(9_210, 43_200, 0).unwrap();
+        acs.reference_node_mut().set_clock(start);
+        let guidance = *acs.guidance();
         let mut mailbox = UplinkMailbox::default();
         let q = Quaternion::new_normalize(0.9, 0.1, -0.3, 0.2).unwrap();
         let uplinks = crate::host::sim::pil::non_finite_uplinks(&orbit().to_words());
@@ -252,11 +326,12 @@ mod tests {
         for u in &uplinks {
             for attitude in [None, Some(&q)] {
                 let kind = mailbox.write(u);
-                let status = mailbox.take(kind, &mut acs, &mut clock, attitude);
+                let status = mailbox.take(kind, Node::Reference, &mut acs, attitude);
                 assert!(status == 2 || status >= 0x100, "{u:?}: status {status}");
+                assert_eq!(mailbox.take(kind, Node::Attitude, &mut acs, attitude), 4);
                 assert_eq!(acs.mode(), Mode::Detumble, "{u:?}");
-                assert_eq!(acs.guidance().kind, GuidanceKind::None, "{u:?}");
-                assert_eq!(clock, start);
+                assert_eq!(*acs.guidance(), guidance, "{u:?}");
+                assert_eq!(acs.reference_node_mut().clock(), Some(start));
             }
         }
     }
