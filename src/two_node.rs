@@ -186,7 +186,9 @@ impl<'c, const N: usize, const F: usize> TwoNodeLoop<'c, N, F> {
         report: &mut StepReport,
         mut link: impl FnMut(LinkDirection, &mut [u8]) -> bool,
     ) {
-        let step = self.status.map_or(self.reference_step, |s| s.step.wrapping_add(1));
+        let step = self
+            .status
+            .map_or(self.reference_step, |s| s.step.wrapping_add(1));
         let reference = self.reference.reference(step, self.status.as_ref());
         self.reference_step = step.wrapping_add(1);
         self.reference_packet = reference.to_packet(self.reference_count.next_count());
@@ -214,6 +216,14 @@ impl<'c, const N: usize, const F: usize> TwoNodeLoop<'c, N, F> {
         self.status = None;
         self.reference_step = 0;
         self.reference_count = SequenceCounter::new();
+        Ok(())
+    }
+
+    /// A power-on reset of the attitude node: a fresh node (in `Detumble`, step 0, no clock, no
+    /// guidance accepted) and its STATUS sequence count from 0; the reference node flies on.
+    pub fn reset_attitude(&mut self) -> Result<(), AcsError> {
+        self.attitude = AttitudeNode::new(self.config)?;
+        self.status_count = SequenceCounter::new();
         Ok(())
     }
 

@@ -16,6 +16,7 @@ use acs::host::sim::scenarios::{self, Scenario};
 use acs::host::sim::{Sample, Simulator};
 use acs::tiles::TileState;
 use acs::time::{days_from_civil, Epoch, Utc};
+use acs::two_node::LinkDirection;
 use acs::uplink::{self, kind, UplinkError, ARG_WORDS};
 
 /// When the faults start, s (the loop has held its target for 299 s).
@@ -68,6 +69,25 @@ enum Ground {
     RestoreFailed,
     /// Uplink `TRACK` of the scenario's target.
     Track,
+    /// The link between the nodes fails this way until this time (s).
+    Link(LinkFault, f64),
+    /// A power-on reset of the reference node (RAM cleared: no clock, no STATUS; its element
+    /// set at reset, the scenario's); the harness no longer sets its clock: it must come back
+    /// from the attitude node's STATUS.
+    ResetReference,
+    /// A power-on reset of the attitude node; the reference node flies on.
+    ResetAttitude,
+}
+
+/// How the link between the nodes fails (issue 29 item 3).
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum LinkFault {
+    /// Every packet lost, both ways.
+    Down,
+    /// Every packet damaged (one byte flipped: the receiver's CRC refuses it), both ways.
+    Corrupt,
+    /// Every packet delivered one period late (the one made for the step before).
+    Late,
 }
 
 /// One run: the samples, the uplink results, the largest wheel and coil commands.
@@ -138,6 +158,10 @@ fn fly_on(
     let coil_limit = CONFIG.coils.iter().map(|c| c.limit).fold(0.0f32, f32::max);
     let mut offset_s = 0.0f64;
     let mut last_attitude = None;
+    let mut link: Option<(LinkFault, f64)> = None;
+    let mut reference_reset = false;
+    // the packets of the step before, each way (for `LinkFault::Late`)
+    let mut previous: [Option<Vec<u8>>; 2] = [None, None];
     for _ in 0..steps {
         let t = sim.truth().t_s;
         let mut clock = sim.epoch_at(t + offset_s);
@@ -171,6 +195,12 @@ fn fly_on(
                     }
                 }
                 Ground::Track => up(kind::TRACK, &track_words(&target), &mut clock, &mut acs),
+                Ground::Link(fault, until) => link = Some((fault, until)),
+                Ground::ResetReference => {
+                    acs.reset_reference(sc.orbit().unwrap()).unwrap();
+                    reference_reset = true;
+                }
+                Ground::ResetAttitude => acs.reset_attitude().unwrap(),
             }
             // the on-board clock as the action left it
             offset_s = clock.span_since(&sim.epoch_at(t)).as_seconds_f64();
@@ -181,7 +211,35 @@ fn fly_on(
             wheels: Vec::new(),
             coils: Vec::new(),
         };
-        let report = acs.step(&mut bus, clock, dt as f32);
+        // the reference node's clock: the ground's (with its jumps), until a reset takes it
+        if !reference_reset {
+            acs.reference_node_mut().set_clock(clock);
+        }
+        if link.is_some_and(|(_, until)| t + 1e-9 >= until) {
+            link = None;
+        }
+        let mut report = StepReport::empty(acs.mode());
+        acs.step_over_link(&mut bus, dt as f32, &mut report, |direction, bytes| {
+            let way = usize::from(direction == LinkDirection::Status);
+            let sent = bytes.to_vec();
+            let delivered = match link.map(|(f, _)| f) {
+                None => true,
+                Some(LinkFault::Down) => false,
+                Some(LinkFault::Corrupt) => {
+                    bytes[12] ^= 0x40;
+                    true
+                }
+                Some(LinkFault::Late) => match &previous[way] {
+                    Some(p) if p.len() == bytes.len() => {
+                        bytes.copy_from_slice(p);
+                        true
+                    }
+                    _ => false,
+                },
+            };
+            previous[way] = Some(sent);
+            delivered
+        });
         for (tile, h) in &bus.wheels {
             assert!(
                 h.is_finite() && h.abs() <= CONFIG.wheel_limit_nms,
@@ -1052,4 +1110,132 @@ fn injections_on_the_bus() {
     assert_eq!(sim.read_gyro(4), Err(ErrorKind::OutOfRange));
     assert!((0..6).all(|tile| matches!(sim.read_sun(tile), Ok(None) | Err(_))));
     assert!((0..6).any(|tile| sim.read_sun(tile) == Ok(None)));
+}
+
+const LINK: u16 = 1 << 11;
+
+/// The link between the nodes fails (`fault`) for `seconds` from [`FAULT_AT`], the satellite
+/// tracking its target (issue 29 item 3).
+fn link_run(fault: LinkFault, seconds: f64, faults: &[(Fault, f64, f64)]) -> (Run, f64, f64) {
+    let (clear, end) = (FAULT_AT + seconds, FAULT_AT + seconds + 600.0);
+    let run = fly(faults, &[(FAULT_AT, Ground::Link(fault, clear))], end);
+    (run, clear, end)
+}
+
+/// The steps from `a` to `b` without a usable REF (the `link` bit).
+fn link_steps(run: &Run, a: f64, b: f64) -> usize {
+    run.samples
+        .iter()
+        .filter(|s| s.t_s >= a && s.t_s < b && s.report.faults.bits() & LINK != 0)
+        .count()
+}
+
+/// Link down 30 s: every step of it reported (`link`), the attitude bridged on the gyros, the
+/// loop stays in `Tracking` and on its target.
+#[test]
+fn link_down_30_s() {
+    let (run, clear, end) = link_run(LinkFault::Down, 30.0, &[]);
+    let back = summary("link down 30 s", &run, clear, end);
+    assert_eq!(link_steps(&run, FAULT_AT, clear), 30);
+    assert_eq!(link_steps(&run, clear, end), 0);
+    assert!(run
+        .samples
+        .iter()
+        .filter(|s| s.t_s >= 60.0)
+        .all(|s| s.mode == Mode::Tracking));
+    recovered("link down 30 s", back);
+}
+
+/// Link down 10 minutes: the gyros bridge `max_propagation_s`, then `INVALID_STEPS_TO_SAFE`
+/// steps without attitude send the loop to `SunSafe` (which needs no reference); when the REFs
+/// return the loop takes its guidance again by itself, no ground command.
+#[test]
+fn link_down_10_min() {
+    let (run, clear, end) = link_run(LinkFault::Down, 600.0, &[]);
+    let back = summary("link down 10 min", &run, clear, end);
+    assert_eq!(link_steps(&run, FAULT_AT, clear), 600);
+    let during = |m: Mode| {
+        run.samples
+            .iter()
+            .any(|s| s.t_s >= FAULT_AT && s.t_s < clear && s.mode == m)
+    };
+    assert!(during(Mode::SunSafe), "fell back to SunSafe");
+    assert_eq!(
+        run.samples.last().unwrap().mode,
+        Mode::Tracking,
+        "and back by itself"
+    );
+    recovered("link down 10 min", back);
+}
+
+/// Damaged packets (the CRC refuses them) and packets one period late (made for another step)
+/// for 30 s each: never used, each step reported, the loop stays on its target.
+#[test]
+fn link_corrupt_and_late() {
+    for (fault, name) in [
+        (LinkFault::Corrupt, "link corrupt 30 s"),
+        (LinkFault::Late, "link late 30 s"),
+    ] {
+        let (run, clear, end) = link_run(fault, 30.0, &[]);
+        let back = summary(name, &run, clear, end);
+        assert_eq!(link_steps(&run, FAULT_AT, clear), 30, "{name}");
+        assert!(run
+            .samples
+            .iter()
+            .filter(|s| s.t_s >= 60.0)
+            .all(|s| s.mode == Mode::Tracking));
+        recovered(name, back);
+    }
+}
+
+/// A coil left on while the link is down: without the REF's field the magnitude check runs
+/// against the last REF's, its tolerance widening 0.1 %/s: the coil's field is still refused
+/// (`field` every step of it) and the loop stays on its target.
+#[test]
+fn link_down_with_a_coil_left_on() {
+    let coil = (
+        Fault::CoilLeftOn {
+            coil: 0,
+            dipole_am2: 0.2,
+        },
+        FAULT_AT + 30.0,
+        FAULT_AT + 90.0,
+    );
+    let (run, clear, end) = link_run(LinkFault::Down, 120.0, &[coil]);
+    let back = summary("link down 120 s, coil left on 60 s", &run, clear, end);
+    assert!(
+        every_step(&run, coil.1 + 1.0, coil.2, 1 << 4),
+        "the coil's field refused"
+    );
+    recovered("link down with a coil left on", back);
+}
+
+/// A power-on reset of the reference node while the attitude node flies on: the reset node has
+/// no clock, its REFs are not used until a STATUS brings the attitude node's clock back (the
+/// next period); the loop stays on its target.
+#[test]
+fn reference_node_reset() {
+    let end = FAULT_AT + 600.0;
+    let run = fly(&[], &[(FAULT_AT, Ground::ResetReference)], end);
+    let back = summary("reference node reset", &run, FAULT_AT + 1.0, end);
+    let missing = link_steps(&run, FAULT_AT, end);
+    println!("FAULT reference node reset: {missing} steps without a usable REF");
+    assert!(missing <= 2, "{missing}");
+    recovered("reference node reset", back);
+}
+
+/// A power-on reset of the attitude node while the reference node flies on: the fresh node
+/// detumbles, takes the guidance in force from the first REF made for its step, and is back on
+/// its target.
+#[test]
+fn attitude_node_reset() {
+    let end = FAULT_AT + 600.0;
+    let run = fly(&[], &[(FAULT_AT, Ground::ResetAttitude)], end);
+    let back = summary("attitude node reset", &run, FAULT_AT + 1.0, end);
+    println!(
+        "FAULT attitude node reset: {} steps without a usable REF",
+        link_steps(&run, FAULT_AT, end)
+    );
+    assert_eq!(run.samples.last().unwrap().mode, Mode::Tracking);
+    recovered("attitude node reset", back);
 }

@@ -68,8 +68,8 @@ use std::time::{Duration, Instant};
 use self::bus::{Commands, Readings, Recorder, COILS};
 use self::elf::{Elf, EM_MSP430};
 use self::mspdebug::{Mspdebug, MspdebugError, Registers};
-pub use self::uplink::{owner, HostLoop, Node};
 use self::uplink::{mode_code, mode_name, Uplink, UplinkMailbox};
+pub use self::uplink::{owner, HostLoop, Node};
 use super::scenarios::Scenario;
 use super::{Sample, SimError, Simulator};
 use crate::acs_loop::StepReport;
@@ -827,8 +827,10 @@ impl Target {
                 )));
             }
             self.dbg.write(self.addr("LINK_RX")?, packet)?;
-            self.dbg
-                .write(self.addr("LINK_RX_LEN")?, &(packet.len() as u16).to_le_bytes())?;
+            self.dbg.write(
+                self.addr("LINK_RX_LEN")?,
+                &(packet.len() as u16).to_le_bytes(),
+            )?;
         }
         let start = self.cycles;
         let mut extra = 0u64;
@@ -1180,8 +1182,16 @@ pub fn run(
     }
     let elapsed = started.elapsed().as_secs_f64();
     let mut images = [
-        (reference.stack_high_water()?, reference.map().flash_bytes, None),
-        (attitude.stack_high_water()?, attitude.map().flash_bytes, None),
+        (
+            reference.stack_high_water()?,
+            reference.map().flash_bytes,
+            None,
+        ),
+        (
+            attitude.stack_high_water()?,
+            attitude.map().flash_bytes,
+            None,
+        ),
     ];
     if mismatch.is_none() {
         for (target, figures) in [&mut reference, &mut attitude].into_iter().zip(&mut images) {
