@@ -13,9 +13,9 @@
 use crate::acs_loop::{Command, Mode};
 use crate::attitude::Quaternion;
 use crate::flight::{FIELD_COEFFS, TILES};
-use crate::two_node::TwoNodeLoop;
 use crate::orbit::sgp4::ELEMENT_WORDS;
 use crate::time::{Epoch, Utc};
+use crate::two_node::TwoNodeLoop;
 use crate::uplink::{self, kind};
 
 /// The host composition the PIL flies: the two nodes over the flight configuration.
@@ -264,7 +264,9 @@ mod tests {
         let q = Quaternion::new_normalize(0.9, 0.1, -0.3, 0.2).unwrap();
         let kind = reference.write(&Uplink::Track { target: q });
         assert_eq!(reference.take(kind, r, &mut acs, None), ACCEPTED);
-        assert_eq!(acs.guidance().target, q);
+        // the target as the image decodes it: normalised again
+        let decoded = Quaternion::new_normalize(q.q0, q.q1, q.q2, q.q3).unwrap();
+        assert_eq!(acs.guidance().target, decoded);
 
         // a slew needs an attitude to plan from
         let kind = reference.write(&Uplink::of_command(&Command::Slew {
@@ -294,11 +296,11 @@ mod tests {
             0x100 + (ELEMENT_WORDS as u16 - 1)
         );
         // the attitude node's mailbox has its own argument words: word 0 is still 0 there
-        assert_eq!(attitude.take(kind::MARK_FAILED, a, &mut acs, None), ACCEPTED);
         assert_eq!(
-            acs.tile_state(0),
-            Some(crate::tiles::TileState::Failed)
+            attitude.take(kind::MARK_FAILED, a, &mut acs, None),
+            ACCEPTED
         );
+        assert_eq!(acs.tile_state(0), Some(crate::tiles::TileState::Failed));
         let kind = attitude.write(&Uplink::Restore(0));
         assert_eq!(attitude.take(kind, a, &mut acs, None), ACCEPTED);
         let kind = attitude.write(&Uplink::MarkFailed(TILES as u32));
