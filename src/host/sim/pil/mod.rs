@@ -110,7 +110,9 @@
 //! the words) except that ground commands arrive as the uplink carries them: a slew's target
 //! DCM goes up as a quaternion and comes back as `new_normalize(q).to_dcm()`, not bit for bit
 //! the original, and the slew is planned from the attitude of an older STATUS, so the two runs
-//! are the same up to the first slew command and differ at the noise level after it. The
+//! are the same up to the first slew command and differ at the noise level from it on
+//! (`slew`: `run.csv` identical for steps 0–119, different from the slew command's step 120
+//! on: its coil dipoles at the 1e-8 A·m² level, then the whole state). The
 //! link-fault case's steps come after the scenario's and are not in `run.csv`.
 //!
 
