@@ -8,9 +8,12 @@
 //! at the step's UTC, the attitude node runs the step with it and answers STATUS. The API is
 //! [`crate::acs_loop::AcsLoop`]'s, and so are the commands: `tests/two_node.rs` flies the
 //! closed-loop scenarios through both and finds every step's report bit for bit the same. The
-//! simulator and the one-image flight firmware still fly [`crate::acs_loop::AcsLoop`] until
-//! the two node images replace it (issue #29); a team with one larger processor composes the
-//! nodes in one image exactly as here.
+//! simulator still flies [`crate::acs_loop::AcsLoop`]; the processor-in-the-loop run flies the
+//! two node images (`acs-reference`, `acs-attitude`) against this composition
+//! ([`TwoNodeLoop::step_over_link`]: the link's packets as the images exchange them, damaged
+//! or lost as the harness damages theirs, and a reset of the reference node,
+//! [`TwoNodeLoop::reset_reference`]); a team with one larger processor composes the nodes in
+//! one image exactly as here.
 //!
 //! # Who owns which command
 //! | command | node | why |

@@ -213,7 +213,7 @@ fn sim_truth_option() {
     assert_eq!(out.status.code(), Some(2), "{}", text(&out.stderr));
 }
 
-/// `acs sim --pil` without a flight image, or with a file that is not an MSP430 image, is
+/// `acs sim --pil` without a node's flight image, or with a file that is not an MSP430 image, is
 /// invalid input (exit 2) naming the file; the run itself needs mspdebug (`firmware/pil`).
 #[test]
 fn sim_pil_needs_a_flight_image() {
@@ -222,7 +222,7 @@ fn sim_pil_needs_a_flight_image() {
         "sim",
         "tracking",
         "--pil",
-        "--elf",
+        "--elf-reference",
         missing.to_str().unwrap(),
     ]);
     assert_eq!(out.status.code(), Some(2), "{}", text(&out.stderr));
@@ -232,7 +232,7 @@ fn sim_pil_needs_a_flight_image() {
         "sim",
         "tracking",
         "--pil",
-        "--elf",
+        "--elf-reference",
         env!("CARGO_BIN_EXE_acs"),
     ]);
     assert_eq!(out.status.code(), Some(2), "{}", text(&out.stderr));

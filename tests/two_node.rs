@@ -201,3 +201,63 @@ fn the_composition_commands_what_the_one_image_loop_commands() {
         println!("{}: {steps} steps bit for bit", scenario.name);
     }
 }
+
+/// Over a link that drops every packet the attitude node flies without a REF (the link fault);
+/// after a reset the reference node has no clock (its REF says so) until the next STATUS brings
+/// the attitude node's back, the step after: from then on the REFs are those of a composition
+/// never reset, with the clock it was given (`TwoNodeLoop::step_over_link`, `reset_reference`,
+/// as the PIL flies the two node images).
+#[test]
+fn the_reference_node_gets_its_clock_back_from_a_status_after_a_reset() {
+    use acs::link::messages::Reference;
+    type Flight<'c> = TwoNodeLoop<'c, { acs::flight::TILES }, { acs::flight::FIELD_COEFFS }>;
+    let scenario = scenarios::tracking(None)
+        .unwrap()
+        .with_truth(TruthLevel::Realistic);
+    let orbit = scenario.orbit().unwrap();
+    let mut sim = scenario.simulator().unwrap();
+    let mut linked = Flight::new(&CONFIG, orbit.clone()).unwrap();
+    let mut reset = linked.clone();
+    let start = sim.epoch_at(sim.truth().t_s);
+    linked.reference_node_mut().set_clock(start);
+    reset.reference_node_mut().set_clock(start);
+    let dt_s = scenario.dt_s as f32;
+    let reference = |l: &Flight<'_>| Reference::from_packet(l.packets().0).unwrap().0;
+    for step in 0..12u32 {
+        let now = sim.epoch_at(sim.truth().t_s);
+        let mut record = Record {
+            bus: &mut sim,
+            calls: Vec::new(),
+        };
+        let mut r1 = StepReport::empty(linked.mode());
+        linked.step_over_link(&mut record, dt_s, &mut r1, |_, _| true);
+        assert_eq!(reference(&linked).utc, now, "step {step}");
+        assert!(!r1.faults.link, "step {step}");
+        if step == 8 {
+            reset.reset_reference(orbit.clone()).unwrap();
+        }
+        let mut replay = Replay {
+            calls: record.calls.into(),
+            step: step as usize,
+        };
+        let mut r2 = StepReport::empty(reset.mode());
+        // steps 5 to 7: every packet lost
+        let lost = (5..8).contains(&step);
+        reset.step_over_link(&mut replay, dt_s, &mut r2, |_, _| !lost);
+        let r = reference(&reset);
+        match step {
+            5..=7 => assert!(r2.faults.link && r.clock_valid, "step {step}"),
+            // the reset: no clock, and its REF counts its steps from 0
+            8 => assert!(r2.faults.link && !r.clock_valid && r.step == 0),
+            _ => {
+                assert!(!r2.faults.link && r.clock_valid, "step {step}");
+                assert_eq!((r.step, r.utc), (step, now), "step {step}");
+            }
+        }
+        if step >= 10 {
+            // the same REF as the composition never reset, but for its sequence count
+            assert_eq!(reference(&linked).to_bytes(), r.to_bytes(), "step {step}");
+        }
+        sim.advance(scenario.dt_s).unwrap();
+    }
+}

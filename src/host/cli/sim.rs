@@ -177,6 +177,16 @@ fn pil_run(args: &Args, scenario: &scenarios::Scenario) -> Result<(), CliError> 
     let s = &run.summary;
     println!("pil_steps: {}", s.steps);
     println!("pil_link_fault_steps: {}", s.link_fault_steps);
+    let lf = &s.link_fault;
+    println!(
+        "pil_link_fault: {} packets dropped, {} corrupted, {} steps without a usable REF, \
+         reference clock back {} periods after its reset",
+        lf.dropped,
+        lf.corrupted,
+        lf.steps_without_reference,
+        lf.clock_back_after_steps
+            .map_or_else(|| "never".to_string(), |n| n.to_string())
+    );
     println!("pil_mismatches: {}", s.mismatches);
     for n in &s.nodes {
         let node = n.node.name();

@@ -1,60 +1,119 @@
-//! Processor-in-the-loop simulation: the flight image flies in `mspdebug`'s MSP430 simulator
-//! against the host simulator's truth, in lockstep with the host build of the same loop, and
-//! every actuator command of the image is checked bit for bit against the host's.
+//! Processor-in-the-loop simulation: the two node flight images (issue #29: `acs-reference`,
+//! `firmware/src/bin/reference.rs`; `acs-attitude`, `firmware/src/bin/attitude.rs`) fly each in
+//! its own `mspdebug` MSP430 simulator against the host simulator's truth, in lockstep with the
+//! host composition of the same nodes ([`crate::two_node::TwoNodeLoop`] over [`CONFIG`],
+//! [`HostLoop`]), and everything the images produce is checked bit for bit against the host's:
+//! actuator commands, both nodes' packets, mode, faults and uplink statuses.
 //!
-//! # One control period
-//! The image (`firmware/src/main.rs`) loops: `fw_period_start()`, take the uplink, `step`,
-//! publish the mode and faults, clock += 1 s. The host stops it at `fw_period_start` (a break
-//! point on the symbol) each period and:
-//! 1. steps the host loop ([`FlightLoop`] over [`CONFIG`], the image's loop) on the simulator
-//!    through a [`bus::Recorder`], which records the raw readings in the image's mailbox
-//!    format: the image reads exactly the values the host loop read;
-//! 2. writes them into the image's `TILE_*` mailboxes (`mw` at the symbols' addresses, read
-//!    from the ELF) and the period's ground commands into the uplink mailbox;
-//! 3. runs the image to the next `fw_period_start` and reads back `CMD_WHEEL_NMS`,
-//!    `CMD_DIPOLE_AM2`, `STEP_MODE`, `STEP_FAULTS`, `UPLINK_STATUS` (`md`) and the tracer's
-//!    MCLK cycle count;
-//! 4. compares the commands bit for bit, and the mode, faults and uplink statuses, with the
-//!    host's: the first difference stops the run ([`Mismatch`]);
-//! 5. integrates the f64 truth over the period with the commands (those the loop gave the
-//!    simulator through the recorder, proven equal to the image's by step 4).
+//! # The images
+//! Each image loops: `fw_period_start()` (the host's break point), take its uplink mailbox
+//! (`UPLINK_KIND`/`UPLINK_ARGS` → `UPLINK_STATUS`; each node applies only its own commands,
+//! another node's gets status 4), take the packet in its `LINK_RX`/`LINK_RX_LEN` mailbox, do its
+//! work, put its packet in `LINK_TX`/`LINK_TX_LEN`, publish `STEP_MODE`/`STEP_FAULTS`. The
+//! attitude image also has the tile mailboxes ([`TILE_MAILBOXES`], [`bus`]); its packet is
+//! STATUS(k), which it sends after step k using the REF delivered to it if that was made for
+//! step k with a valid clock. The reference image answers STATUS(k) with REF(k + 1) (without a
+//! STATUS it counts its steps on by itself); its `STEP_MODE` is 0 and its `STEP_FAULTS` the
+//! REF's fault bits. Each [`Target`] reads its image's addresses from the ELF ([`ImageMap`],
+//! with the node's mailbox set, [`mailboxes`]).
+//!
+//! # One control period k
+//! 1. The reference image runs one period on its uplinks of the period and the STATUS(k − 1)
+//!    packet the attitude image sent (none before step 0: the first period carries the element
+//!    set and the clock, so REF(0) exists); its `LINK_TX` is REF(k).
+//! 2. The host applies the same uplinks to the composition's nodes, then steps it
+//!    ([`crate::two_node::TwoNodeLoop::step_over_link`]) on the simulator through a
+//!    [`bus::Recorder`], which records the raw readings in the tile mailboxes' format: the
+//!    attitude image reads exactly the values the host read. The image's REF(k) is compared
+//!    with the host's (`packets().0`), and its uplink statuses and fault bits.
+//! 3. The attitude image gets the readings (`mw` into its `TILE_*` mailboxes), its uplinks and
+//!    the REF(k) the reference *image* made in its `LINK_RX`, and runs one period; its
+//!    `CMD_WHEEL_NMS`, `CMD_DIPOLE_AM2`, `STEP_MODE`, `STEP_FAULTS`, `UPLINK_STATUS` and its
+//!    STATUS(k) packet are compared with the host's (`packets().1`).
+//! 4. The STATUS(k) packet goes to the reference image's `LINK_RX` at the next period, and the
+//!    f64 truth is integrated over the period with the commands (those the composition gave
+//!    the simulator, proven equal to the image's by step 3).
+//!
+//! The first difference anywhere stops the run ([`Mismatch`], naming the node and the field).
+//! The host composition is stepped as the images run: the reference node keeps its own clock,
+//! set by the clock uplink (the scenario's start) and advanced one period per REF, and counts
+//! its REFs' steps from the STATUS it received; with every packet delivered that is
+//! [`crate::two_node::TwoNodeLoop::step_into`], which sets the clock to the step's UTC each
+//! step, to the bit.
 //!
 //! # Ground commands
-//! The scenario's orbit and clock reach the image through the uplink like its commands: at the
-//! first period the element set ([`Sgp4::to_words`] of the scenario's TLE, kind 4) and the
-//! clock (the scenario's start, kind 5), then each ground command at the period the host
-//! simulator's `run` would give it (time ≤ the truth's time). The host loop receives the same
-//! words through [`uplink::UplinkMailbox::take`] ([`crate::uplink::apply`], what the image runs).
+//! The scenario's orbit and clock reach the reference image through its uplink like the
+//! commands: at the first period the element set ([`Sgp4::to_words`] of the scenario's TLE,
+//! kind 4) and the clock (the scenario's start, kind 5), then each ground command at the period
+//! the host simulator's `run` would give it (time ≤ the truth's time). Each command goes to the
+//! node that owns it ([`owner`]: track 2, slew 3, elements 4, clock 5 the reference node;
+//! sun-safe 1, mark failed 6, restore 7 the attitude node), through that image's mailbox; the
+//! host applies the same words to the composition's node ([`uplink::UplinkMailbox::take`]:
+//! [`crate::uplink::apply_reference`], [`crate::uplink::apply_attitude`], what the images run).
+//! The reference image takes its uplink before its link mailbox, so it plans a slew from the
+//! attitude of the STATUS it received the period before (STATUS(k − 2) for REF(k)); the host
+//! gives `apply_reference` that attitude too.
+//!
 //! Three quarters of the way through the run, one period also carries uplinks whose arguments
 //! are NaN and infinities ([`non_finite_uplinks`]: the readings are raw integers, so the uplink
-//! is where non-finite floats reach the image): both sides must refuse them with the same status
-//! and fly on bit for bit (issue 19: the MSP430's float comparisons are wrong for a NaN where
-//! the host's are not, so the host alone cannot show what the image does with one).
+//! is where non-finite floats reach the images), sent to both nodes: the reference node must
+//! refuse each for its argument and the attitude node as not its own, with the same statuses on
+//! both sides, and both fly on bit for bit (issue 19: the MSP430's float comparisons are wrong
+//! for a NaN where the host's are not, so the host alone cannot show what an image does with
+//! one).
 //!
-//! The image takes one command per period (`take_uplink` before each step); when a period
-//! carries several, the host calls `take_uplink` again for each after the first, as a
+//! An image takes one command per period (`take_node_uplink` before its work); when a period
+//! carries several, the host calls `take_node_uplink` again for each after the first, as a
 //! debugger does: at its entry it saves the registers, and after it returns it writes the next
 //! command, restores the registers (the call's arguments and return address are still in
 //! place) and runs it again. The cycles of these extra calls are left out of the period's.
 //!
+//! # The link-fault case
+//! After the scenario (unless [`PilOptions::link_faults`] is off) the run goes on for
+//! [`LINK_FAULT_STEPS`] periods (30 s) in which the link drops or damages packets in both
+//! directions ([`damage`]: of every five periods in each direction two drop the packet, two
+//! flip one byte, a header byte or a payload/CRC byte, which the receiver's CRC or header
+//! check refuses, and one delivers it intact). The images' packets are damaged by the harness
+//! between `LINK_TX` and `LINK_RX`, the composition's by the same function through
+//! [`crate::two_node::TwoNodeLoop::step_over_link`]: both receive the same bytes. Then the
+//! reference image has a power-on reset ([`Target::power_on_reset`]: `reset`, its RAM filled
+//! with zeros, its start-up run) while the attitude image keeps stepping; the STATUS in flight
+//! is lost with its RAM, and the composition's reference node is replaced by a fresh one
+//! ([`crate::two_node::TwoNodeLoop::reset_reference`]). The ground uplinks the element set
+//! again in that period (so the reset element set, the flight set in the image's flash, is
+//! replaced before the first REF on both sides), but not the clock: the reference node has
+//! none until the next STATUS brings the attitude node's copy back
+//! ([`crate::reference_node::ReferenceNode::reference`]). [`RECOVERY_STEPS`] periods follow.
+//! Both sides must stay identical throughout; `pil.json`'s `link_fault` says what the case
+//! did (packets dropped and corrupted, steps the attitude node flew without a REF, periods
+//! until the reference clock was back).
+//!
 //! # Cycles
-//! The cycles of a period are the MCLK cycles between two `fw_period_start` stops: uplink,
-//! step and publish, as on the part (with the hardware multiplier, `simio add hwmult`).
+//! The cycles of a period are the MCLK cycles between two `fw_period_start` stops of an image:
+//! uplink, link, work, publish, as on the part (with the hardware multiplier, `simio add
+//! hwmult`). `pil.json` keeps the one-image keys for the attitude image (`cycles_max`,
+//! `cycles_mean`, `cycles_by_mode`, `stack_bytes`, `flash_bytes`,
+//! `watchdog_recovery_cycles`) and gives both nodes' under `node_cycles` ([`PilSummary`]).
+//! After the run the watchdog's recovery from a halt is checked on both images
+//! ([`Target::halt_and_recover`]).
 //!
 //! # Requirements
 //! The scenario flies the flight configuration: its tiles are the flight tiles ([`TILES`] of
 //! them) and its control period [`CONTROL_PERIOD_S`]; the truth side (inertia, disturbances,
-//! noise) is the scenario's. `mspdebug` must be installed (`apt-get install mspdebug`) and the
-//! image built (`firmware/pil` does both).
+//! noise) is the scenario's. `mspdebug` must be installed (`apt-get install mspdebug`) and both
+//! images built for the MSP430FG4619 map (`firmware/pil` does both).
 //!
 //! # Relation to `acs sim`
 //! The host side is `acs sim`'s run of the same scenario (same simulator, same random draws,
-//! same loop over [`CONFIG`], the element set through [`Sgp4::from_words`], which propagates
-//! bit for bit as the set that wrote the words) except that ground commands arrive as the
-//! uplink carries them: a slew's target DCM goes up as a quaternion and comes back as
-//! `new_normalize(q).to_dcm()`, not bit for bit the original, so the two runs are the same up to
-//! the first slew command and differ at the noise level after it (`slew`: `run.csv` identical
-//! for steps 0–120, different from the slew command at step 121 on).
+//! the loop's commands bit for bit those of `acs_loop::AcsLoop`, `tests/two_node.rs`; the
+//! element set through [`Sgp4::from_words`], which propagates bit for bit as the set that wrote
+//! the words) except that ground commands arrive as the uplink carries them: a slew's target
+//! DCM goes up as a quaternion and comes back as `new_normalize(q).to_dcm()`, not bit for bit
+//! the original, and the slew is planned from the attitude of an older STATUS, so the two runs
+//! are the same up to the first slew command and differ at the noise level from it on
+//! (`slew`: `run.csv` identical for steps 0–119, different from the slew command's step 120
+//! on: its coil dipoles at the 1e-8 A·m² level, then the whole state). The
+//! link-fault case's steps come after the scenario's and are not in `run.csv`.
 //!
 
 pub mod bus;
@@ -443,7 +502,8 @@ pub struct Mismatch {
     pub t_s: f64,
     /// The host's mode code after the step.
     pub host_mode: u16,
-    /// The image's mode code after the step.
+    /// The attitude image's mode code after the step (after the step before, for a
+    /// difference of the reference image, which runs first).
     pub target_mode: u16,
     /// Every difference of the step.
     pub differences: Vec<Difference>,
@@ -490,6 +550,21 @@ pub struct NodeFigures {
     pub watchdog_recovery_cycles: Option<u64>,
 }
 
+/// What the link-fault case did (`pil.json`'s `link_fault`).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct LinkFaultFigures {
+    /// Packets dropped, both directions.
+    pub dropped: usize,
+    /// Packets delivered with a byte flipped, both directions.
+    pub corrupted: usize,
+    /// Steps of the case in which the attitude node flew without a usable REF
+    /// ([`crate::attitude_node::Faults::link`]).
+    pub steps_without_reference: usize,
+    /// Periods from the reference image's reset to its first REF with a valid clock again
+    /// (`None`: not back by the end of the case).
+    pub clock_back_after_steps: Option<usize>,
+}
+
 /// The result of a run: `target/msp430/pil.json`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PilSummary {
@@ -518,6 +593,8 @@ pub struct PilSummary {
     pub watchdog_recovery_cycles: Option<u64>,
     /// Each node's figures, in [`Node::ALL`]'s order.
     pub nodes: Vec<NodeFigures>,
+    /// What the link-fault case did.
+    pub link_fault: LinkFaultFigures,
 }
 
 fn json_option<T: ToString>(v: Option<T>) -> String {
@@ -538,8 +615,10 @@ impl PilSummary {
     /// The summary as `pil.json`, its keys in the order of the contract (`scenario`, `steps`,
     /// `mismatches`, `cycles_max`, `cycles_mean`), then `cycles_by_mode`, `stack_bytes`,
     /// `flash_bytes`, `watchdog_recovery_cycles` (these six the attitude image's), `nodes`,
-    /// `link_fault_steps` and `node_cycles` (per node: `max`, `mean`, `by_mode`,
-    /// `stack_bytes`, `flash_bytes`, `watchdog_recovery_cycles`).
+    /// `link_fault_steps`, `node_cycles` (per node: `max`, `mean`, `by_mode`,
+    /// `stack_bytes`, `flash_bytes`, `watchdog_recovery_cycles`) and `link_fault`
+    /// ([`LinkFaultFigures`]: `dropped`, `corrupted`, `steps_without_reference`,
+    /// `clock_back_after_steps`).
     pub fn to_json(&self) -> String {
         let name = serde_json::to_string(&self.scenario).unwrap_or_else(|_| "\"\"".into());
         let names: Vec<String> = self
@@ -564,7 +643,7 @@ impl PilSummary {
             })
             .collect();
         format!(
-            "{{\n  \"scenario\": {name},\n  \"steps\": {},\n  \"mismatches\": {},\n  \"cycles_max\": {},\n  \"cycles_mean\": {},\n  \"cycles_by_mode\": {},\n  \"stack_bytes\": {},\n  \"flash_bytes\": {},\n  \"watchdog_recovery_cycles\": {},\n  \"nodes\": [{}],\n  \"link_fault_steps\": {},\n  \"node_cycles\": {{\n{}\n  }}\n}}\n",
+            "{{\n  \"scenario\": {name},\n  \"steps\": {},\n  \"mismatches\": {},\n  \"cycles_max\": {},\n  \"cycles_mean\": {},\n  \"cycles_by_mode\": {},\n  \"stack_bytes\": {},\n  \"flash_bytes\": {},\n  \"watchdog_recovery_cycles\": {},\n  \"nodes\": [{}],\n  \"link_fault_steps\": {},\n  \"node_cycles\": {{\n{}\n  }},\n  \"link_fault\": {{\"dropped\": {}, \"corrupted\": {}, \"steps_without_reference\": {}, \"clock_back_after_steps\": {}}}\n}}\n",
             self.steps,
             self.mismatches,
             self.cycles_max,
@@ -575,7 +654,11 @@ impl PilSummary {
             json_option(self.watchdog_recovery_cycles),
             names.join(", "),
             self.link_fault_steps,
-            per_node.join(",\n")
+            per_node.join(",\n"),
+            self.link_fault.dropped,
+            self.link_fault.corrupted,
+            self.link_fault.steps_without_reference,
+            json_option(self.link_fault.clock_back_after_steps)
         )
     }
 }
@@ -975,6 +1058,17 @@ pub fn damage(i: usize, direction: LinkDirection, bytes: &mut [u8]) -> bool {
     }
 }
 
+impl LinkFaultFigures {
+    /// Counts a packet `sent` that arrived as `delivered`.
+    fn count(&mut self, sent: &[u8], delivered: Option<&[u8]>) {
+        match delivered {
+            None => self.dropped += 1,
+            Some(d) if d != sent => self.corrupted += 1,
+            Some(_) => {}
+        }
+    }
+}
+
 /// The periods' ground commands split by owner: (the reference node's, the attitude
 /// node's), each in the order of the period. An uplink of `both` goes to both nodes (the
 /// other node refuses it, status 4).
@@ -1046,6 +1140,9 @@ pub fn run(
     let mut samples = Vec::with_capacity(steps);
     let mut log: Vec<StepLog> = Vec::with_capacity(steps + fault_steps);
     let mut mismatch = None;
+    let mut link_fault = LinkFaultFigures::default();
+    // the attitude image's mode after its last step (a reference node's mismatch names it)
+    let mut image_mode = 0u16;
     let started = Instant::now();
     for k in 0..steps + fault_steps {
         let t = sim.truth().t_s;
@@ -1109,8 +1206,15 @@ pub fn run(
             faulty.is_none_or(|i| damage(i, d, b))
         });
         let readings = recorder.finish().map_err(PilError::Record)?;
+        if k >= steps {
+            link_fault.steps_without_reference += usize::from(report.faults.link);
+        }
         let (host_ref, host_status) = acs.packets();
         let (host_ref, host_status) = (host_ref.to_vec(), host_status.to_vec());
+        if k >= reset_at && link_fault.clock_back_after_steps.is_none() {
+            let valid = Reference::from_packet(&host_ref).is_ok_and(|(r, _)| r.clock_valid);
+            link_fault.clock_back_after_steps = valid.then_some(k - reset_at);
+        }
         let host_reference = StepOutputs {
             commands: Commands::default(),
             mode: 0,
@@ -1140,7 +1244,7 @@ pub fn run(
                 step: k,
                 t_s: t,
                 host_mode: host_attitude.mode,
-                target_mode: reference_out.mode,
+                target_mode: image_mode,
                 differences,
             });
             break;
@@ -1150,8 +1254,10 @@ pub fn run(
         let delivered = faulty
             .is_none_or(|i| damage(i, LinkDirection::Reference, &mut delivered))
             .then_some(delivered);
+        link_fault.count(&reference_out.packet, delivered.as_deref());
         let (image, cycles) =
             attitude.period(Some(&readings), delivered.as_deref(), &attitude_encoded)?;
+        image_mode = image.mode;
         log.push((k, image.mode, cycles, reference_cycles));
         let differences = compare(
             Node::Attitude,
@@ -1160,7 +1266,7 @@ pub fn run(
             &kinds(&attitude_uplinks),
         );
         if k < steps {
-            samples.push(Sample::of_step(&sim, t, report.clone(), scenario.target));
+            samples.push(Sample::of_step(&sim, t, report, scenario.target));
         }
         progress(k + 1);
         if !differences.is_empty() {
@@ -1174,10 +1280,11 @@ pub fn run(
             });
             break;
         }
-        let mut delivered = image.packet;
+        let mut delivered = image.packet.clone();
         status_in_flight = faulty
             .is_none_or(|i| damage(i, LinkDirection::Status, &mut delivered))
             .then_some(delivered);
+        link_fault.count(&image.packet, status_in_flight.as_deref());
         sim.advance(scenario.dt_s)?;
     }
     let elapsed = started.elapsed().as_secs_f64();
@@ -1205,13 +1312,14 @@ pub fn run(
             figures.2 = Some(target.halt_and_recover()?);
         }
     }
-    let summary = summarise(
+    let mut summary = summarise(
         scenario.name,
         &log,
         steps,
         usize::from(mismatch.is_some()),
         images,
     );
+    summary.link_fault = link_fault;
     Ok(PilRun {
         samples,
         summary,
@@ -1327,6 +1435,7 @@ pub fn summarise(
         flash_bytes: attitude.flash_bytes,
         watchdog_recovery_cycles: attitude.watchdog_recovery_cycles,
         nodes,
+        link_fault: LinkFaultFigures::default(),
     }
 }
 
@@ -1358,6 +1467,7 @@ mod tests {
                 wheel_nms: [1e-4, -2e-4, 0.0, 3e-5, 0.0, 0.0],
                 dipole_am2: [0.1, 0.0, -0.05],
             },
+            packet: vec![0x08, 0x40, 0xc0, 0x00, 0x00, 0x05, 0x11, 0x22],
             mode: 2,
             faults: 0x40,
             uplink_status: vec![0, 3],
@@ -1366,7 +1476,7 @@ mod tests {
 
     #[test]
     fn identical_outputs_have_no_difference() {
-        assert!(compare(&outputs(), &outputs(), &[4, 3]).is_empty());
+        assert!(compare(Node::Attitude, &outputs(), &outputs(), &[4, 3]).is_empty());
     }
 
     #[test]
@@ -1375,11 +1485,12 @@ mod tests {
         let mut image = outputs();
         image.commands.wheel_nms[1] = f32::from_bits((-2e-4f32).to_bits() + 1);
         image.commands.dipole_am2[2] = 0.05;
+        image.packet[6] = 0x10;
         image.mode = 3;
         image.faults = 0x41;
         image.uplink_status[1] = 0;
-        let d = compare(&host, &image, &[4, 3]);
-        assert_eq!(d.len(), 5);
+        let d = compare(Node::Attitude, &host, &image, &[4, 3]);
+        assert_eq!(d.len(), 6);
         assert_eq!(
             d[0],
             Difference::Wheel {
@@ -1389,6 +1500,7 @@ mod tests {
             }
         );
         let m = Mismatch {
+            node: Node::Attitude,
             step: 312,
             t_s: 312.0,
             host_mode: host.mode,
@@ -1397,26 +1509,53 @@ mod tests {
         };
         let text = m.to_string();
         assert!(text.starts_with(
-            "step 312 (t = 312.000 s), mode Slew on the host, Tracking on the target:"
-        ));
+            "step 312 (t = 312.000 s), attitude node, mode Slew on the host, Tracking on the target:"
+        ), "{text}");
         assert!(
             text.contains("wheel 1 momentum, kg·m²/s: host -1.999999949e-4 (0xb951b717), target")
         );
         assert!(text.contains("coil 2 dipole, A·m²: host -5.000000075e-2 (0xbd4ccccd), target 5.000000075e-2 (0x3d4ccccd)"));
+        assert!(text.contains(
+            "STATUS packet: host 8 B, target 8 B, first difference at byte 6: host 0x11, target 0x10"
+        ), "{text}");
         assert!(text.contains("mode: host Slew, target Tracking"));
         assert!(text.contains("fault bits: host 0x40, target 0x41"));
         assert!(text.contains("uplink command 3: host status 0x3, target status 0x0"));
         // -0.0 and 0.0 differ bit for bit
         let mut zero = outputs();
         zero.commands.wheel_nms[2] = -0.0;
-        assert_eq!(compare(&outputs(), &zero, &[]).len(), 1);
+        assert_eq!(compare(Node::Attitude, &outputs(), &zero, &[]).len(), 1);
+        // a missing packet (a dropped one) differs from any, and the reference node's is REF
+        let mut none = outputs();
+        none.packet.clear();
+        let d = compare(Node::Reference, &outputs(), &none, &[]);
+        assert_eq!(d.len(), 1);
+        assert!(d[0].to_string().starts_with(
+            "REF packet: host 8 B, target 0 B, first difference at byte 0: host 0x08, target (none)"
+        ), "{}", d[0]);
     }
 
     #[test]
-    fn summary_counts_cycles_per_mode_and_writes_the_json_of_the_contract() {
-        let log = [(0, 0, 900), (1, 3, 400), (2, 3, 501), (3, 2, 700)];
-        let s = summarise("slew", &log, 0, Some(1800), 56_000);
-        assert_eq!(s.steps, 4);
+    fn summary_counts_cycles_per_node_and_mode_and_writes_the_json_of_the_contract() {
+        // (step, mode, attitude cycles, reference cycles); the last two are the link-fault case's
+        let log = [
+            (0, 0, 900, 3000),
+            (1, 3, 400, 2000),
+            (2, 3, 501, 2100),
+            (3, 2, 700, 4000),
+        ];
+        let s = summarise(
+            "slew",
+            &log,
+            2,
+            0,
+            [
+                (Some(2700), 38_000, Some(8_000_000)),
+                (Some(1800), 35_000, None),
+            ],
+        );
+        assert_eq!(s.steps, 2);
+        assert_eq!(s.link_fault_steps, 2);
         assert_eq!(s.cycles_max, 900);
         assert_eq!(s.cycles_mean, 625);
         assert_eq!(
@@ -1427,48 +1566,152 @@ mod tests {
                 ("Tracking", 2, 501, 451)
             ]
         );
+        assert_eq!(s.nodes[0].node, Node::Reference);
+        assert_eq!(s.nodes[0].cycles_max, 4000);
+        assert_eq!(s.nodes[0].cycles_mean, 2775);
+        assert_eq!(s.stack_bytes, Some(1800));
+        assert_eq!(s.flash_bytes, 35_000);
         let json = s.to_json();
-        assert!(json.starts_with("{\n  \"scenario\": \"slew\",\n  \"steps\": 4,\n  \"mismatches\": 0,\n  \"cycles_max\": 900,\n  \"cycles_mean\": 625,\n"), "{json}");
+        assert!(json.starts_with("{\n  \"scenario\": \"slew\",\n  \"steps\": 2,\n  \"mismatches\": 0,\n  \"cycles_max\": 900,\n  \"cycles_mean\": 625,\n"), "{json}");
         let v: serde_json::Value = serde_json::from_str(&json).unwrap();
         assert_eq!(v["cycles_by_mode"]["Tracking"]["cycles_mean"], 451);
         assert_eq!(v["scenario"], "slew");
-        assert_eq!(v["steps"], 4);
+        assert_eq!(v["steps"], 2);
         assert_eq!(v["mismatches"], 0);
         assert_eq!(v["cycles_max"], 900);
         assert_eq!(v["cycles_mean"], 625);
         assert_eq!(v["stack_bytes"], 1800);
-        assert_eq!(steps_csv(&log[..1]), "step,mode,cycles\n0,Detumble,900\n");
+        assert_eq!(v["nodes"], serde_json::json!(["reference", "attitude"]));
+        assert_eq!(v["link_fault_steps"], 2);
+        let r = &v["node_cycles"]["reference"];
+        assert_eq!(r["max"], 4000);
+        assert_eq!(r["by_mode"]["Tracking"]["cycles_max"], 2100);
+        assert_eq!(r["stack_bytes"], 2700);
+        assert_eq!(r["watchdog_recovery_cycles"], 8_000_000);
+        assert_eq!(v["node_cycles"]["attitude"]["by_mode"]["Slew"]["steps"], 1);
+        assert!(v["node_cycles"]["attitude"]["watchdog_recovery_cycles"].is_null());
+        assert_eq!(v["link_fault"]["dropped"], 0);
+        assert!(v["link_fault"]["clock_back_after_steps"].is_null());
+        assert_eq!(
+            steps_csv(&log[..1]),
+            "step,mode,cycles,reference_cycles\n0,Detumble,900,3000\n"
+        );
     }
 
-    #[test]
-    fn the_image_map_checks_every_mailbox() {
-        let mut symbols: Vec<(&str, u32, u32)> = MAILBOXES
+    /// The symbols of a node image: its mailboxes, the functions the host stops at.
+    fn image_symbols(node: Node) -> Vec<(&'static str, u32, u32)> {
+        let mut symbols: Vec<(&str, u32, u32)> = mailboxes(node)
             .iter()
             .enumerate()
-            .map(|(i, (n, size))| (*n, 0x200 + 0x20 * i as u32, *size as u32))
+            .map(|(i, (n, size))| (*n, 0x1100 + 0x100 * i as u32, *size as u32))
             .collect();
         symbols.push(("fw_period_start", 0x4000, 4));
         symbols.push(("fw_halt", 0x4010, 6));
         symbols.push((
-            "_ZN12acs_firmware6flight11take_uplink17h0011223344556677E",
+            "_RINvNtCshTh0V548xLH_12acs_firmware6flight16take_node_uplinkNCNvCs5YbJjKyC2MG_12acs_attitude3run0EBZ_",
             0x4100,
             200,
         ));
+        symbols
+    }
+
+    #[test]
+    fn the_image_map_checks_every_mailbox_of_its_node() {
+        let mut symbols = image_symbols(Node::Attitude);
         let elf = Elf::parse(&elf::tests::tiny_elf(&symbols, 0)).unwrap();
-        let map = ImageMap::of(&elf).unwrap();
-        assert_eq!(map.mailbox("TILE_MAG"), Some(0x240));
+        let map = ImageMap::of(&elf, Node::Attitude).unwrap();
+        assert_eq!(map.mailbox("LINK_RX"), Some(0x1800));
+        assert_eq!(map.mailbox("TILE_MAG"), Some(0x1100 + 0x100 * 11));
         assert_eq!(map.take_uplink, 0x4100);
-        // a mailbox of another size (an image of another tile count) is refused
-        symbols[0].2 = 16;
+        // the attitude image is a reference image too as far as the mailboxes go, not the
+        // other way round: the reference image has no tile mailboxes
+        assert!(ImageMap::of(&elf, Node::Reference).is_ok());
+        let reference = image_symbols(Node::Reference);
+        let elf = Elf::parse(&elf::tests::tiny_elf(&reference, 0)).unwrap();
+        let map = ImageMap::of(&elf, Node::Reference).unwrap();
+        assert_eq!(map.mailbox("TILE_SUN"), None);
+        let e = ImageMap::of(&elf, Node::Attitude).unwrap_err().to_string();
+        assert!(
+            e.contains("no mailbox `TILE_SUN` (not the attitude node's image?)"),
+            "{e}"
+        );
+        // a mailbox of another size (an image of another tile count, another link) is refused
+        let sun = symbols.iter().position(|s| s.0 == "TILE_SUN").unwrap();
+        symbols[sun].2 = 16;
         let elf = Elf::parse(&elf::tests::tiny_elf(&symbols, 0)).unwrap();
-        let e = ImageMap::of(&elf).unwrap_err().to_string();
+        let e = ImageMap::of(&elf, Node::Attitude).unwrap_err().to_string();
         assert!(
             e.contains("`TILE_SUN` is 16 B in the image, 24 B on the host"),
             "{e}"
         );
-        symbols.remove(0);
+        symbols[sun].2 = 24;
+        let link = symbols.iter().position(|s| s.0 == "LINK_TX").unwrap();
+        symbols[link].2 = 64;
         let elf = Elf::parse(&elf::tests::tiny_elf(&symbols, 0)).unwrap();
-        assert!(ImageMap::of(&elf).is_err());
+        assert!(ImageMap::of(&elf, Node::Attitude).is_err());
+        symbols.remove(link);
+        let elf = Elf::parse(&elf::tests::tiny_elf(&symbols, 0)).unwrap();
+        assert!(ImageMap::of(&elf, Node::Reference).is_err());
+    }
+
+    #[test]
+    fn the_link_faults_drop_corrupt_and_deliver_in_both_directions() {
+        let packet: Vec<u8> = (0..60u8).collect();
+        let mut counts = [[0usize; 3]; 2];
+        for i in 0..LINK_FAULT_STEPS {
+            for (d, direction) in [LinkDirection::Reference, LinkDirection::Status]
+                .into_iter()
+                .enumerate()
+            {
+                let mut bytes = packet.clone();
+                let delivered = damage(i, direction, &mut bytes);
+                let changed = bytes.iter().zip(&packet).filter(|(a, b)| a != b).count();
+                let kind = match (delivered, changed) {
+                    (false, _) => 0,
+                    (true, 1) => 1,
+                    (true, 0) => 2,
+                    other => panic!("{other:?}"),
+                };
+                counts[d][kind] += 1;
+                // the same packet is damaged the same way every time (both paths)
+                let mut again = packet.clone();
+                assert_eq!(damage(i, direction, &mut again), delivered);
+                assert_eq!(again, bytes);
+            }
+        }
+        assert_eq!(counts, [[12, 12, 6], [12, 12, 6]]);
+        // a corrupted packet is refused by the receiver
+        let status = crate::link::messages::Status {
+            step: 7,
+            boot_count: 0,
+            mode: 3,
+            attitude: None,
+            h_wheels_body_nms: crate::linalg::Vec3::zeros(),
+            guidance_id: 0,
+            faults: 0,
+            utc: None,
+        };
+        for i in 0..LINK_FAULT_STEPS {
+            let mut p = status.to_packet(i as u16);
+            if damage(i, LinkDirection::Status, &mut p) {
+                let ok = crate::link::messages::Status::from_packet(&p).is_ok();
+                assert_eq!(ok, p == status.to_packet(i as u16), "period {i}");
+            }
+        }
+    }
+
+    #[test]
+    fn commands_are_routed_to_their_nodes() {
+        let q = Quaternion::IDENTITY;
+        let uplinks = [
+            Uplink::Clock(crate::time::Epoch::DAY0),
+            Uplink::SunSafe,
+            Uplink::Track { target: q },
+            Uplink::MarkFailed(1),
+        ];
+        let [r, a] = route(&uplinks, &[Uplink::Track { target: q }]);
+        assert_eq!(r.iter().map(Uplink::kind).collect::<Vec<_>>(), [5, 2, 2]);
+        assert_eq!(a.iter().map(Uplink::kind).collect::<Vec<_>>(), [1, 6, 2]);
     }
 
     #[test]

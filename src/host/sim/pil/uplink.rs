@@ -264,7 +264,9 @@ mod tests {
         let q = Quaternion::new_normalize(0.9, 0.1, -0.3, 0.2).unwrap();
         let kind = reference.write(&Uplink::Track { target: q });
         assert_eq!(reference.take(kind, r, &mut acs, None), ACCEPTED);
-        assert_eq!(acs.guidance().target, q);
+        // the target as the image decodes it: normalised again
+        let decoded = Quaternion::new_normalize(q.q0, q.q1, q.q2, q.q3).unwrap();
+        assert_eq!(acs.guidance().target, decoded);
 
         // a slew needs an attitude to plan from
         let kind = reference.write(&Uplink::of_command(&Command::Slew {
