@@ -296,7 +296,7 @@ fn back_under(run: &Run, from: f64, to: f64, bound: f64) -> Option<f64> {
     at
 }
 
-const NAMES: [&str; 10] = [
+const NAMES: [&str; 12] = [
     "device_read",
     "actuator",
     "orbit",
@@ -307,11 +307,13 @@ const NAMES: [&str; 10] = [
     "saturated",
     "law",
     "clock",
+    "extrapolated",
+    "link",
 ];
 
 /// Steps of `[a, b)` with each fault bit set, as `name n` (only the bits seen).
 fn bit_counts(run: &Run, a: f64, b: f64) -> String {
-    let mut counts = [0usize; 10];
+    let mut counts = [0usize; 12];
     let mut n = 0;
     for s in run.samples.iter().filter(|s| s.t_s >= a && s.t_s < b) {
         n += 1;
@@ -1238,4 +1240,55 @@ fn attitude_node_reset() {
     );
     assert_eq!(run.samples.last().unwrap().mode, Mode::Tracking);
     recovered("attitude node reset", back);
+}
+
+/// The link down through a real umbra (the `sun-safe` scenario's noon-midnight orbit, as
+/// [`umbra`]), from 30 s before the entry to 30 s after the exit: without the reference node's
+/// shadow the attitude node believes no Sun reading in the umbra (none is seen), falls back to
+/// `SunSafe` after its gyro bridge as in the umbra with the link up, and, having fallen back for
+/// want of REFs, takes its guidance again by itself when they return (no ground command).
+#[test]
+fn link_down_in_umbra() {
+    let mut sc = scenarios::sun_safe().unwrap();
+    let target = scenario().target.unwrap();
+    sc.target = Some(target);
+    sc.initial = (target, nalgebra::Vector3::zeros());
+    let mut probe = sc.simulator().unwrap();
+    let (mut entry, mut exit) = (None, None);
+    while probe.truth().t_s < sc.duration_s && exit.is_none() {
+        let t = probe.truth().t_s;
+        let dark = probe.env().sun_fraction < 1e-9;
+        if dark && entry.is_none() {
+            entry = Some(t);
+        }
+        if !dark && entry.is_some() {
+            exit = Some(t);
+        }
+        probe.advance(sc.dt_s).unwrap();
+    }
+    let (entry, exit) = (entry.unwrap(), exit.unwrap());
+    let (down, up, end) = (entry - 30.0, exit + 30.0, exit + 900.0);
+    let run = fly_on(&sc, &[], &[(down, Ground::Link(LinkFault::Down, up))], end);
+    let back = back_under(&run, up, end, BOUND_DEG);
+    println!(
+        "FAULT link down in umbra: link down {down:.0}–{up:.0} s, umbra {entry:.0}–{exit:.0} s; bits while down: {}; modes {}; \
+         pointing worst before {:.3}°, while down {:.3}°, after {:.3}°; back under {BOUND_DEG}° for good {}",
+        bit_counts(&run, down, up),
+        modes(&run, 0.0, end),
+        worst(&run, 100.0, down),
+        worst(&run, down, up),
+        worst(&run, up, end),
+        back.map_or("never".into(), |t| format!("at {t:.0} s ({:.0} s after the link returned)", t - up)),
+    );
+    assert_eq!(link_steps(&run, down, up), (up - down) as usize);
+    assert!(run
+        .samples
+        .iter()
+        .filter(|s| s.t_s >= entry && s.t_s < exit)
+        .all(|s| s.report.sun_body.is_none()));
+    assert_eq!(
+        run.samples.last().unwrap().mode,
+        Mode::Tracking,
+        "back by itself"
+    );
 }

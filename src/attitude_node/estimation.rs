@@ -37,8 +37,8 @@ fn span_s(later: &Epoch<Utc>, earlier: &Epoch<Utc>) -> f32 {
 
 /// How fast the field's magnitude may change along the orbit, as a fraction a second: without a
 /// REF the magnitude check widens from [`FIELD_MAGNITUDE_TOLERANCE`] by this much a second since
-/// the last REF (a quarter of a low orbit, ≈ 1 400 s, halves or doubles `|B|` at most: 0.1 %/s
-/// is conservative; a coil left on, +168 %, is still refused for the first 26 minutes).
+/// the last REF (a quarter of a low orbit, ≈ 1 400 s, halves or doubles `|B|`: 0.07 %/s on
+/// average; a coil left on, +168 %, is still refused for the first 26 minutes).
 pub const FIELD_MAGNITUDE_DRIFT_PER_S: f32 = 1.0e-3;
 
 /// True if `|b|²` is within `(1 ± FIELD_MAGNITUDE_TOLERANCE)²` of `|m|²` (false for a NaN).
@@ -52,7 +52,8 @@ fn magnitude_agrees(b: &Vec3, m: &Vec3) -> bool {
 #[cfg_attr(target_arch = "msp430", inline(never))]
 fn magnitude_within(b: &Vec3, model_nt2: f32, tolerance: f32) -> bool {
     let measured = dot(b, b);
-    let (low, high) = (1.0 - tolerance, 1.0 + tolerance);
+    // a tolerance beyond 1 takes the lower bound to 0, not back up
+    let (low, high) = (crate::fmath::max(1.0 - tolerance, 0.0), 1.0 + tolerance);
     measured >= low * low * model_nt2 && high * high * model_nt2 >= measured
 }
 
@@ -194,5 +195,26 @@ impl<const N: usize> AttitudeNode<'_, N> {
         let tiles = self.config.tiles.as_slice();
         let sun = readings.sun_rad();
         sun_direction_body(tiles, sun.get(..tiles.len())?).ok()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Without a REF the tolerance widens past 1: the lower bound stays at 0 (it once came back
+    /// up, `(1 − t)²`, and refused good fields after 15 minutes without a link).
+    #[test]
+    fn a_tolerance_beyond_one_takes_the_lower_bound_to_zero() {
+        let b = Vec3::new(30_000.0, 0.0, 0.0);
+        let m2 = 40_000.0f32 * 40_000.0;
+        assert!(!magnitude_within(&b, m2, 0.1));
+        assert!(magnitude_within(&b, m2, 0.3));
+        for tolerance in [1.0, 1.5, 2.5] {
+            assert!(magnitude_within(&b, m2, tolerance), "{tolerance}");
+            assert!(magnitude_within(&(b * 0.01), m2, tolerance), "{tolerance}");
+        }
+        assert!(!magnitude_within(&(b * 10.0), m2, 1.5));
+        assert!(!magnitude_within(&Vec3::new(f32::NAN, 0.0, 0.0), m2, 2.0));
     }
 }
