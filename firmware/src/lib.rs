@@ -9,6 +9,8 @@
 //!   [`acs::hal::msp430`], and the LPM3 sleep of the control period.
 //! - [`periph`]: the part's clocks, control period (Timer_A, LPM3) and inter-node link (USCI_A0)
 //!   of the flight node images (feature `pil` off), and their interrupt vectors.
+//! - [`element_flash`]: the reference node's uplinked element set kept in two flash segments
+//!   (flight build).
 //! - [`safe_state`]: the hook that puts every actuator in its safe state; unexpected interrupts
 //!   call it and then halt, and the watchdog resets the part ([`kick_watchdog`]).
 //!
@@ -18,6 +20,7 @@
 #![feature(asm_experimental_arch)]
 #![feature(optimize_attribute)]
 
+pub mod element_flash;
 pub mod elements;
 pub mod flight;
 pub mod flight_elements;

@@ -4,15 +4,32 @@
 //! take the STATUS packet the attitude node sent, answer with the REF for its next step, and
 //! publish. Its clock is not valid until the ground sets it or a STATUS brings the attitude
 //! node's copy back (after a reset: [`acs::reference_node`]).
+//!
+//! Two builds (`firmware/Cargo.toml`): with feature `pil` the link and the period are the RAM
+//! mailboxes the processor-in-the-loop host drives ([`node_link`]) and the element set at reset
+//! is the image's; without it (the flight build) the part's peripherals: the clocks and the
+//! one-second Timer_A period with LPM3 between periods, the link over USCI_A0
+//! ([`acs_firmware::periph`]), and the element set kept in two flash segments
+//! ([`acs_firmware::element_flash`]: the newer valid record at reset, the image's words the
+//! fall-back; each accepted ELEMENTS uplink stored). The uplink is the RAM mailbox in both
+//! ([`flight`]).
 #![no_std]
 #![no_main]
+#![cfg_attr(not(feature = "pil"), feature(asm_experimental_arch))]
 
 use acs::flight::{CONFIG, FIELD_COEFFS, TILES};
 use acs::link::messages::{Reference, Status};
 use acs::link::sequence::SequenceCounter;
 use acs::reference_node::ReferenceNode;
-use acs_firmware::node_link::{self, LINK_BYTES};
 use acs_firmware::flight;
+#[cfg(feature = "pil")]
+use acs_firmware::node_link;
+use acs_firmware::node_link::LINK_BYTES;
+#[cfg(not(feature = "pil"))]
+use acs_firmware::{element_flash::ElementFlash, periph};
+
+#[cfg(not(feature = "pil"))]
+acs_firmware::flight_vectors!();
 
 /// Entry point, called by the reset handler (`acs_firmware::rt`).
 #[no_mangle]
@@ -22,6 +39,7 @@ pub extern "C" fn main() -> ! {
 
 /// The node over the flight configuration and the element set at reset; a halt, which the
 /// watchdog turns into a reset, if the configuration is invalid.
+#[cfg(feature = "pil")]
 #[inline(never)]
 fn run() -> ! {
     let Ok(mut node) = ReferenceNode::<TILES, FIELD_COEFFS>::new(&CONFIG, flight::flight_orbit())
@@ -50,6 +68,42 @@ fn run() -> ! {
     }
 }
 
+/// The node over the flight configuration and the part's peripherals (see the module docs);
+/// a halt, which the watchdog turns into a reset, if the configuration is invalid.
+#[cfg(not(feature = "pil"))]
+#[inline(never)]
+fn run() -> ! {
+    periph::init_clocks();
+    let mut elements = ElementFlash::open();
+    let Ok(mut node) =
+        ReferenceNode::<TILES, FIELD_COEFFS>::new(&CONFIG, elements.orbit_at_reset())
+    else {
+        acs_firmware::fw_halt()
+    };
+    let mut link = Link {
+        count: SequenceCounter::new(),
+        status: None,
+        step: 0,
+        uart: periph::link(),
+    };
+    loop {
+        periph::wait_period();
+        acs_firmware::fw_period_start();
+        acs_firmware::kick_watchdog();
+        let attitude = link.status.and_then(|s| s.attitude);
+        flight::take_node_uplink(|kind, args| {
+            let outcome =
+                acs::uplink::apply_reference(kind, args, &mut node, attitude.as_ref());
+            if kind == acs::uplink::kind::ELEMENTS && outcome.is_ok() {
+                elements.keep(args);
+            }
+            acs::uplink::status(&outcome)
+        });
+        link.exchange(&mut node);
+        acs_firmware::kick_watchdog();
+    }
+}
+
 /// The node's side of the link between periods.
 struct Link {
     count: SequenceCounter,
@@ -57,6 +111,9 @@ struct Link {
     status: Option<Status>,
     /// The step the next REF is for: the last STATUS's next, counted on without one.
     step: u32,
+    /// The link over USCI_A0 (flight build).
+    #[cfg(not(feature = "pil"))]
+    uart: periph::Link,
 }
 
 impl Link {
@@ -65,18 +122,29 @@ impl Link {
     /// in their frames only, neither under the uplink's frame nor under the models'.
     #[inline(never)]
     fn exchange(&mut self, node: &mut ReferenceNode<'static, TILES, FIELD_COEFFS>) {
-        self.status = receive_status();
+        #[cfg(feature = "pil")]
+        {
+            self.status = receive_status();
+        }
+        #[cfg(not(feature = "pil"))]
+        {
+            self.status = receive_status(&mut self.uart);
+        }
         if let Some(s) = &self.status {
             self.step = s.step.wrapping_add(1);
         }
         let reference = node.reference(self.step, self.status.as_ref());
+        #[cfg(feature = "pil")]
         send_reference(&reference, self.count.next_count());
+        #[cfg(not(feature = "pil"))]
+        send_reference(&mut self.uart, &reference, self.count.next_count());
         flight::publish_codes(0, reference.faults);
         self.step = self.step.wrapping_add(1);
     }
 }
 
 /// The STATUS in `LINK_RX`, if a valid one came.
+#[cfg(feature = "pil")]
 #[inline(never)]
 fn receive_status() -> Option<Status> {
     let mut packet = [0u8; LINK_BYTES];
@@ -86,7 +154,25 @@ fn receive_status() -> Option<Status> {
         .map(|(s, _)| s)
 }
 
+/// The last valid STATUS that arrived over the link since the last period.
+#[cfg(not(feature = "pil"))]
+#[inline(never)]
+fn receive_status(uart: &mut periph::Link) -> Option<Status> {
+    let mut packet = [0u8; LINK_BYTES];
+    periph::receive_last(uart, &mut packet, |p| {
+        Status::from_packet(p).ok().map(|(s, _)| s)
+    })
+}
+
+/// Sends `reference` as its packet with sequence count `count` over the link.
+#[cfg(not(feature = "pil"))]
+#[inline(never)]
+fn send_reference(uart: &mut periph::Link, reference: &Reference, count: u16) {
+    periph::send(uart, &reference.to_packet(count));
+}
+
 /// Sends `reference` as its packet with sequence count `count`.
+#[cfg(feature = "pil")]
 #[inline(never)]
 fn send_reference(reference: &Reference, count: u16) {
     node_link::send(&reference.to_packet(count));
