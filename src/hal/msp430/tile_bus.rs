@@ -1,4 +1,4 @@
-//! The attitude node's tile bus on the MSP430FG4619: the satellite's [`TileBus`] as a
+//! The attitude node's tile bus on the MSP430FG4619: the satellite's [`TileBus`](crate::hal::TileBus) as a
 //! [`DeviceBus`] of [`super::super::drivers`] devices over the part's peripherals, and the
 //! I²C address map of the tiles.
 //!
@@ -25,7 +25,7 @@
 //! | magnetometer ([`I2cMagnetometer`]) | `0x28 + i` ([`MAGNETOMETER_BASE`]) | 0x03 | x, y (10 nT) |
 //! | gyro ([`I2cGyro`]) | `0x30 + i` ([`GYRO_BASE`]) | 0x10 | rate about tile z (1e-4 rad/s) |
 //! | wheel controller ([`PwmReactionWheel`]) | `0x38 + i` ([`WHEEL_BASE`]) | 0x20 write | set-point, 0 … [`WHEEL_FULL_SCALE`] of [`crate::flight::WHEEL_LIMIT_NMS`] (`u16`) |
-//! | (same) | (same) | 0x21 write | direction: 1 positive (momentum along +tile z), 0 negative (one byte) |
+//! | (same) | (same) | 0x22 write | direction: 1 positive (momentum along +tile z), 0 negative (one byte) |
 //!
 //! The telecom tile (tile 0 of the flight cube) has no ACS device: its addresses are
 //! reserved and never addressed (the loop reads only the devices its configuration gives a
@@ -77,7 +77,7 @@ pub const GYRO_REGISTER: u8 = 0x10;
 /// The wheel controller's set-point word.
 pub const WHEEL_SETPOINT_REGISTER: u8 = 0x20;
 /// The wheel controller's direction byte.
-pub const WHEEL_DIRECTION_REGISTER: u8 = 0x21;
+pub const WHEEL_DIRECTION_REGISTER: u8 = 0x22;
 /// The set-point of the wheel's full momentum ([`WHEEL_LIMIT_NMS`]).
 pub const WHEEL_FULL_SCALE: u16 = 10_000;
 
@@ -191,6 +191,10 @@ pub type Wheel<R> = PwmReactionWheel<WheelSetpoint<Bus<R>>, WheelDirection<Bus<R
 /// A coil: a Timer_B channel and a direction pin.
 pub type Coil<R> = PwmMagnetorquer<PwmChannel<R>, OutputPin<R>>;
 
+/// One tile's devices.
+pub type Tile<R> =
+    TileDevices<I2cSunSensor<Bus<R>>, I2cMagnetometer<Bus<R>>, I2cGyro<Bus<R>>, Wheel<R>>;
+
 /// The attitude node's tile bus (see the [module docs](self)).
 pub type AttitudeBus<R> = DeviceBus<
     I2cSunSensor<Bus<R>>,
@@ -203,11 +207,7 @@ pub type AttitudeBus<R> = DeviceBus<
 >;
 
 /// The devices of tile `tile` at their addresses of the map (tile < 8).
-fn tile_devices<R: Registers + Clone>(
-    regs: &R,
-    config: I2cConfig,
-    tile: u8,
-) -> TileDevices<I2cSunSensor<Bus<R>>, I2cMagnetometer<Bus<R>>, I2cGyro<Bus<R>>, Wheel<R>> {
+fn tile_devices<R: Registers + Clone>(regs: &R, config: I2cConfig, tile: u8) -> Tile<R> {
     let bus = || UsciI2c::attach(regs.clone(), config);
     let t = tile & 7;
     TileDevices::new(
