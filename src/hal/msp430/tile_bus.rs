@@ -244,10 +244,11 @@ pub fn attitude_bus<R: Registers + Clone>(
     DeviceBus::new(tiles, coils)
 }
 
-/// The flight coils' safe state without the bus (a fault handler's): every coil's Timer_B
-/// channel to output mode 0, low (no pulse), whatever state the bus is in.
+/// The flight coils' safe state without the bus (a fault handler's): the coils' Timer_B
+/// channels (TB3–TB5, [`COIL_OUTPUTS`]) to output mode 0, low (no pulse), whatever state the
+/// bus is in. Three constant register writes.
 pub fn coils_off<R: Registers>(regs: &mut R) {
-    for (out, _) in COIL_OUTPUTS {
-        regs.write16(out.control_register(), 0);
-    }
+    regs.write16(TbOutput::TB3.control_register(), 0);
+    regs.write16(TbOutput::TB4.control_register(), 0);
+    regs.write16(TbOutput::TB5.control_register(), 0);
 }
