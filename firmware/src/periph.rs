@@ -39,7 +39,8 @@
 //! `UART_RX_RING`, counted by `UART_RX_COUNT`, whatever the CPU is doing (stepping, or in LPM3:
 //! the USCI requests SMCLK for a character it receives, SLAU056 "USCI Operation in Low-Power
 //! Modes"), and read by the loop through [`acs::hal::msp430::usci_uart::RxRing`]. The handler is
-//! 7 instructions, 29 cycles a byte. Each frame is preceded by one more 0x00 (an empty frame,
+//! 10 instructions, about 37 cycles a byte (44 on a delimiter, which also wakes the loop:
+//! [`Events`]; the reference node answers a STATUS as soon as its frame ends). Each frame is preceded by one more 0x00 (an empty frame,
 //! ignored): the byte that wakes the far end's clock, whose corruption costs no frame.
 //!
 //! While the element store writes flash (about 23 ms once per accepted ELEMENTS uplink, the
@@ -100,6 +101,71 @@ static mut UART_RX_RING: [u8; RX_RING_BYTES as usize] = [0; RX_RING_BYTES as usi
 #[no_mangle]
 static mut UART_RX_COUNT: u16 = 0;
 
+/// Frame delimiters (0x00) the USCIAB0RX handler has received (free-running, wrapping): each
+/// wakes the loop.
+#[no_mangle]
+static mut UART_RX_DELIMITERS: u16 = 0;
+
+/// Periods ended: the TACCR0 handler's count (free-running, wrapping).
+#[no_mangle]
+static mut PERIOD_TICKS: u16 = 0;
+
+/// A word the handlers count up (a single word read: atomic on the MSP430).
+fn counter(c: *const u16) -> u16 {
+    // SAFETY: `c` is one of this module's statics (valid, aligned); volatile: a handler
+    // writes it.
+    unsafe { core::ptr::read_volatile(c) }
+}
+
+/// Sleeps in LPM3 unless `awake()` already holds; returns after an interrupt handler woke the
+/// loop, or at once. The test runs with interrupts disabled, and the LPM3 entry enables them in
+/// the same instruction (`bis #0x00D8, SR`; an interrupt is taken after it, so it wakes the
+/// sleep it interrupts): a handler that runs between the test and the sleep is not missed.
+fn sleep_unless(awake: impl Fn() -> bool) {
+    // SAFETY: `dint` clears GIE only; the `nop` is the one SLAU056 asks after it.
+    unsafe { core::arch::asm!("dint", "nop") };
+    if awake() {
+        // SAFETY: `eint` sets GIE only.
+        unsafe { core::arch::asm!("eint", "nop") };
+    } else {
+        crate::mmio::sleep_lpm3();
+    }
+}
+
+/// What the loop has seen of the handlers' counts: the events it waits for.
+pub struct Events {
+    ticks: u16,
+    delimiters: u16,
+}
+
+impl Events {
+    /// The counts now (nothing pending).
+    pub fn now() -> Self {
+        Self {
+            ticks: counter(&raw const PERIOD_TICKS),
+            delimiters: counter(&raw const UART_RX_DELIMITERS),
+        }
+    }
+
+    /// Sleeps until a period ends or a frame delimiter arrives; which of the two happened
+    /// since the last call: `(period, delimiter)`.
+    #[inline(never)]
+    pub fn wait(&mut self) -> (bool, bool) {
+        let (t0, d0) = (self.ticks, self.delimiters);
+        loop {
+            sleep_unless(|| {
+                counter(&raw const PERIOD_TICKS) != t0
+                    || counter(&raw const UART_RX_DELIMITERS) != d0
+            });
+            self.ticks = counter(&raw const PERIOD_TICKS);
+            self.delimiters = counter(&raw const UART_RX_DELIMITERS);
+            if self.ticks != t0 || self.delimiters != d0 {
+                return (self.ticks != t0, self.delimiters != d0);
+            }
+        }
+    }
+}
+
 /// The clocks' state after [`init_clocks`] (see `CLOCK_STATUS`).
 pub fn clock_status() -> u16 {
     // SAFETY: single-threaded, no handler touches it.
@@ -149,11 +215,15 @@ pub fn start_period() {
     timer.enable_wakeup();
 }
 
-/// Sleeps in LPM3 until the end of the current period (the TACCR0 handler wakes the loop);
-/// interrupts are enabled from the first call on.
-#[inline(always)]
+/// Sleeps in LPM3 until the end of the current period (the TACCR0 handler counts it and wakes
+/// the loop; the wake-ups of frame delimiters sleep again); interrupts are enabled from the
+/// first call on.
+#[inline(never)]
 pub fn wait_period() {
-    crate::mmio::sleep_lpm3();
+    let t0 = counter(&raw const PERIOD_TICKS);
+    while counter(&raw const PERIOD_TICKS) == t0 {
+        sleep_unless(|| counter(&raw const PERIOD_TICKS) != t0);
+    }
 }
 
 /// Runs `f` with interrupts disabled (a flash erase or write: SLAU056 "Flash Memory Access
@@ -251,11 +321,13 @@ pub fn receive_last<T>(
 }
 
 /// Defines the two interrupt handlers of the flight node images (see the [module docs](self)):
-/// `TIMERA0_VECTOR` clears CPUOFF, OSCOFF, SCG0 and SCG1 in the status register saved on the
-/// stack, so `reti` returns to the loop awake (as `crate::mmio`'s `TIMERA0_ISR`);
-/// `USCIAB0RX_VECTOR` stores UCA0RXBUF (0x0066; reading it clears UCA0RXIFG and the error
-/// flags) at `UART_RX_RING[UART_RX_COUNT mod 128]` and increments `UART_RX_COUNT`. Invoke once,
-/// in a flight node binary.
+/// `TIMERA0_VECTOR` counts `PERIOD_TICKS` and clears CPUOFF, OSCOFF, SCG0 and SCG1 in the
+/// status register saved on the stack, so `reti` returns to the loop awake (as
+/// `crate::mmio`'s `TIMERA0_ISR`); `USCIAB0RX_VECTOR` stores UCA0RXBUF (0x0066; reading it
+/// clears UCA0RXIFG and the error flags) at `UART_RX_RING[UART_RX_COUNT mod 128]`, increments
+/// `UART_RX_COUNT`, and on a frame delimiter (0x00) counts `UART_RX_DELIMITERS` and wakes the
+/// loop (the saved status register is at 2(SP) after its push). Invoke once, in a flight node
+/// binary.
 #[macro_export]
 macro_rules! flight_vectors {
     () => {
@@ -265,6 +337,7 @@ macro_rules! flight_vectors {
     .global TIMERA0_VECTOR
     .type TIMERA0_VECTOR,@function
 TIMERA0_VECTOR:
+    inc &PERIOD_TICKS
     bic #0x00F0, 0(r1)
     reti
 
@@ -277,7 +350,11 @@ USCIAB0RX_VECTOR:
     and #0x007F, r15
     mov.b &0x0066, UART_RX_RING(r15)
     inc &UART_RX_COUNT
-    pop r15
+    tst.b UART_RX_RING(r15)
+    jnz 1f
+    inc &UART_RX_DELIMITERS
+    bic #0x00F0, 2(r1)
+1:  pop r15
     reti
 "#
         );

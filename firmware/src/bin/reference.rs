@@ -86,20 +86,37 @@ fn run() -> ! {
         step: 0,
         uart: periph::link(),
     };
+    let mut events = periph::Events::now();
+    // periods since the last STATUS
+    let mut quiet: u8 = 0;
     loop {
-        periph::wait_period();
+        let (tick, frame) = events.wait();
         acs_firmware::fw_period_start();
         acs_firmware::kick_watchdog();
-        let attitude = link.status.and_then(|s| s.attitude);
-        flight::take_node_uplink(|kind, args| {
-            let outcome =
-                acs::uplink::apply_reference(kind, args, &mut node, attitude.as_ref());
-            if kind == acs::uplink::kind::ELEMENTS && outcome.is_ok() {
-                elements.keep(args);
-            }
-            acs::uplink::status(&outcome)
-        });
-        link.exchange(&mut node);
+        if tick {
+            let attitude = link.status.and_then(|s| s.attitude);
+            flight::take_node_uplink(|kind, args| {
+                let outcome =
+                    acs::uplink::apply_reference(kind, args, &mut node, attitude.as_ref());
+                if kind == acs::uplink::kind::ELEMENTS && outcome.is_ok() {
+                    elements.keep(args);
+                }
+                acs::uplink::status(&outcome)
+            });
+            quiet = quiet.saturating_add(1);
+        }
+        // a STATUS is answered at once; without one for two periods, a REF each period
+        let status = if frame {
+            receive_status(&mut link.uart)
+        } else {
+            None
+        };
+        if status.is_some() {
+            quiet = 0;
+            link.answer(&mut node, status);
+        } else if tick && quiet >= 2 {
+            link.answer(&mut node, None);
+        }
         acs_firmware::kick_watchdog();
     }
 }
@@ -120,23 +137,34 @@ impl Link {
     /// Takes the STATUS packet, answers with the REF for the attitude node's next step, and
     /// publishes its faults. Out of line, and so are the packets' own steps: the packets live
     /// in their frames only, neither under the uplink's frame nor under the models'.
+    #[cfg(feature = "pil")]
     #[inline(never)]
     fn exchange(&mut self, node: &mut ReferenceNode<'static, TILES, FIELD_COEFFS>) {
-        #[cfg(feature = "pil")]
-        {
-            self.status = receive_status();
-        }
-        #[cfg(not(feature = "pil"))]
-        {
-            self.status = receive_status(&mut self.uart);
-        }
+        self.status = receive_status();
         if let Some(s) = &self.status {
             self.step = s.step.wrapping_add(1);
         }
         let reference = node.reference(self.step, self.status.as_ref());
-        #[cfg(feature = "pil")]
         send_reference(&reference, self.count.next_count());
-        #[cfg(not(feature = "pil"))]
+        flight::publish_codes(0, reference.faults);
+        self.step = self.step.wrapping_add(1);
+    }
+
+    /// Answers `status` (the STATUS just received; `None`: none came for two periods, the
+    /// step counted on) with the REF for the attitude node's next step, and publishes its
+    /// faults (the flight build's [`Link::exchange`]).
+    #[cfg(not(feature = "pil"))]
+    #[inline(never)]
+    fn answer(
+        &mut self,
+        node: &mut ReferenceNode<'static, TILES, FIELD_COEFFS>,
+        status: Option<Status>,
+    ) {
+        self.status = status;
+        if let Some(s) = &self.status {
+            self.step = s.step.wrapping_add(1);
+        }
+        let reference = node.reference(self.step, self.status.as_ref());
         send_reference(&mut self.uart, &reference, self.count.next_count());
         flight::publish_codes(0, reference.faults);
         self.step = self.step.wrapping_add(1);
@@ -154,7 +182,7 @@ fn receive_status() -> Option<Status> {
         .map(|(s, _)| s)
 }
 
-/// The last valid STATUS that arrived over the link since the last period.
+/// The last valid STATUS that arrived over the link since the last call.
 #[cfg(not(feature = "pil"))]
 #[inline(never)]
 fn receive_status(uart: &mut periph::Link) -> Option<Status> {
