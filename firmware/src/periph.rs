@@ -22,14 +22,30 @@
 //! the images run either way (a stopped crystal also stops the period and the watchdog's
 //! clock, both on ACLK: the failure is visible as a node that does not step).
 //!
-//! # The control period ([`start_period`], [`wait_period`])
+//! # The control period ([`start_period`], [`wait_period`], [`Events`])
 //! Timer_A in up mode from ACLK, 32 768 counts: one TACCR0 match a second
 //! ([`acs::hal::msp430::timer_a`]), its interrupt (CCIE) enabled. The loop sleeps in LPM3
 //! ([`crate::mmio::sleep_lpm3`]) at the start of each period; the TACCR0 handler
 //! (`TIMERA0_VECTOR`, vector 0xFFEC) clears the low-power bits of the saved status register, so
 //! the loop wakes and steps once a second. Between periods only ACLK (crystal, Timer_A, the
-//! watchdog) runs. A step longer than its period (none is: the worst attitude step is about
-//! 0.6 M cycles, 75 ms) would wake at once and the period it overran is lost, not queued.
+//! watchdog) runs. The handler also counts the periods (`PERIOD_TICKS`): the attitude node
+//! waits for the next count ([`wait_period`]; the wake-ups of the link's frames sleep again),
+//! the reference node for the next count or the next frame ([`Events`]). A step longer than
+//! its period (none is) would be followed at once by the next, the periods it overran lost,
+//! not queued.
+//!
+//! # Duty cycle (estimated; the simulator has no Timer_A, no USCI)
+//! Active per second, at MCLK = 7 995 392 Hz with the multiplier:
+//! - reference node: its step (SGP4, Sun, IGRF, guidance) 543 603 cycles, 68.0 ms (measured:
+//!   the PIL image in `mspdebug -n sim` with the clock set, a steady step), plus the REF frame
+//!   out, 118 bytes polled, 10.2 ms, and 80 received bytes in the handler, 0.4 ms: 78.6 ms,
+//!   a duty cycle of 7.9 %, LPM3 92 % of the time;
+//! - attitude node: its step, bounded by the one-image ACS step (592 476 cycles, 74.1 ms; the
+//!   PIL image without readings or reference measures 85 338 cycles, 10.7 ms), plus the tile
+//!   bus (15 sensor reads of 2–6 bytes, about 9.9 ms at 100 kHz; 5 wheel set-points and
+//!   directions, 4.0 ms), the STATUS frame out (68 bytes, 5.9 ms) and 120 received bytes
+//!   (0.6 ms): at most 94.5 ms, 9.5 % (about 31 ms, 3.1 %, for the measured step); LPM3 the
+//!   rest.
 //!
 //! # The link ([`Link`], [`link`], [`send`], [`receive_last`])
 //! [`acs::hal::link::FramedLink`] (COBS frames) over [`UartStream`]: USCI_A0 at 115 200 Bd
@@ -38,10 +54,11 @@
 //! handler (`USCIAB0RX_VECTOR`, vector 0xFFF2; UCA0RXIE) into a 128-byte RAM ring,
 //! `UART_RX_RING`, counted by `UART_RX_COUNT`, whatever the CPU is doing (stepping, or in LPM3:
 //! the USCI requests SMCLK for a character it receives, SLAU056 "USCI Operation in Low-Power
-//! Modes"), and read by the loop through [`acs::hal::msp430::usci_uart::RxRing`]. The handler is
-//! 10 instructions, about 37 cycles a byte (44 on a delimiter, which also wakes the loop:
-//! [`Events`]; the reference node answers a STATUS as soon as its frame ends). Each frame is preceded by one more 0x00 (an empty frame,
-//! ignored): the byte that wakes the far end's clock, whose corruption costs no frame.
+//! Modes"), and read by the loop through [`acs::hal::msp430::usci_uart::RxRing`]. The handler
+//! is 10 instructions, about 37 cycles a byte (44 on a delimiter, which also wakes the loop:
+//! [`Events`]; the reference node answers a STATUS as soon as its frame ends). Each frame is
+//! preceded by one more 0x00 (an empty frame, ignored): the byte that wakes the far end's
+//! clock, whose corruption costs no frame.
 //!
 //! While the element store writes flash (about 23 ms once per accepted ELEMENTS uplink, the
 //! interrupts disabled as SLAU056 requires), bytes arriving are lost (UCOE): the frame in

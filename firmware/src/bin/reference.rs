@@ -13,6 +13,15 @@
 //! ([`acs_firmware::element_flash`]: the newer valid record at reset, the image's words the
 //! fall-back; each accepted ELEMENTS uplink stored). The uplink is the RAM mailbox in both
 //! ([`flight`]).
+//!
+//! In the flight build the node is paced by the attitude node: it answers each STATUS as soon
+//! as its frame has arrived (the receive handler wakes it on the frame's delimiter,
+//! [`periph::Events`]), so the REF reaches the attitude node some 80 ms after that node's
+//! step, well before its next, whatever the phase between the two nodes' crystals. Its own
+//! Timer_A period takes the uplink once a second, and when no STATUS has come for two
+//! periods sends a REF each period with the step counted on (an attitude node whose STATUS
+//! frames are lost still gets its references). The order within an exchange (STATUS in, REF
+//! for its next step out) is the PIL build's.
 #![no_std]
 #![no_main]
 #![cfg_attr(not(feature = "pil"), feature(asm_experimental_arch))]

@@ -1,6 +1,6 @@
-//! The attitude node's tile bus on the MSP430FG4619: the satellite's [`TileBus`](crate::hal::TileBus) as a
-//! [`DeviceBus`] of [`super::super::drivers`] devices over the part's peripherals, and the
-//! I²C address map of the tiles.
+//! The attitude node's tile bus on the MSP430FG4619: the satellite's
+//! [`TileBus`](crate::hal::TileBus) as a [`DeviceBus`] of [`super::super::drivers`] devices over
+//! the part's peripherals, and the I²C address map of the tiles.
 //!
 //! # What is where
 //! - The tiles' sensors and the wheels' speed controllers are I²C slaves on the one tile bus,
