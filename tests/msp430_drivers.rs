@@ -1156,3 +1156,47 @@ fn the_attitude_tile_bus_follows_its_address_map() {
     }
     no_violations(&h);
 }
+
+#[test]
+fn the_element_set_at_reset_is_the_newest_valid_record_else_the_fallback() {
+    let sgp4 = |l1: &str, l2: &str| {
+        let tle = acs::tle::Tle::parse(l1, l2).unwrap();
+        Sgp4::new(&tle, Gravity::Wgs72).unwrap().to_words()
+    };
+    // the image's set (the flight orbit) and an uplinked one (Vallado's satellite 00005)
+    let image = sgp4(
+        "1 90101U 25001A   25079.50000000  .00000000  00000-0  00000-0 0  9997",
+        "2 90101  97.4000  90.0000 0001000   0.0000   0.0000 15.21936487    10",
+    );
+    let uplinked = sgp4(
+        "1 00005U 58002B   00179.78495062  .00000023  00000-0  28098-4 0  4753",
+        "2 00005  34.2682 348.7242 1859667 331.7664  19.3264 10.82419157413667",
+    );
+    let h = Handle::new();
+    let words = |o: Option<Sgp4>| o.map(|o| o.to_words());
+    // nothing stored: the image's set
+    let (orbit, seq) = store(&h).orbit_or(&image);
+    assert_eq!((words(orbit), seq), (Some(image), None));
+    // an uplinked set stored: it, at reset
+    store(&h).store(&uplinked).unwrap();
+    let (orbit, seq) = store(&h).orbit_or(&image);
+    assert_eq!((words(orbit), seq), (Some(uplinked), Some(0)));
+    // a newer record whose words do not initialise SGP4 (a valid CRC over bad words): the
+    // image's set, not the older record (the store's newest is what the ground last sent)
+    store(&h).store(&elements(7)).unwrap();
+    assert!(Sgp4::from_words(&elements(7)).is_err());
+    let (orbit, seq) = store(&h).orbit_or(&image);
+    assert_eq!((words(orbit), seq), (Some(image), None));
+    // that record corrupted: the older valid one, the uplinked set
+    let w = h.mcu().flash.word(0x2400 + 40);
+    h.mcu().flash.set_word(0x2400 + 40, w ^ 0x0100);
+    let (orbit, seq) = store(&h).orbit_or(&image);
+    assert_eq!((words(orbit), seq), (Some(uplinked), Some(0)));
+    // neither set checks out: none
+    let mut bad = image;
+    bad[0] ^= 0xFFFF;
+    assert!(Sgp4::from_words(&bad).is_err());
+    store(&h).store(&elements(8)).unwrap();
+    assert_eq!(words(store(&h).orbit_or(&bad).0), None);
+    no_violations(&h);
+}

@@ -55,17 +55,20 @@ impl ElementFlash {
     }
 
     /// The element set at reset: the newer valid record's, else the image's words (`None` if
-    /// neither checks out). Out of line: the words' 232 B live in this frame only.
+    /// neither checks out; [`ElementStore::orbit_or`]). Out of line: the words' 232 B live in
+    /// its frame only.
     #[inline(never)]
     pub fn orbit_at_reset(&mut self) -> Option<Sgp4> {
-        let mut words: [u32; ELEMENT_WORDS] = FLIGHT_ELEMENT_WORDS;
-        if let Some(seq) = self.store.as_mut().and_then(|s| s.load(&mut words)) {
-            if let Ok(orbit) = Sgp4::from_words(&words) {
-                publish(0, seq.wrapping_add(1));
-                return Some(orbit);
+        match self.store.as_mut() {
+            Some(store) => {
+                let (orbit, seq) = store.orbit_or(&FLIGHT_ELEMENT_WORDS);
+                if let Some(seq) = seq {
+                    publish(0, seq.wrapping_add(1));
+                }
+                orbit
             }
+            None => Sgp4::from_words(&FLIGHT_ELEMENT_WORDS).ok(),
         }
-        Sgp4::from_words(&FLIGHT_ELEMENT_WORDS).ok()
     }
 
     /// Keeps `words` (an element set the node accepted) as the next record.
