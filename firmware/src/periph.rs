@@ -77,7 +77,7 @@
 //! | peripheral | reference | attitude |
 //! |---|---|---|
 //! | tile bus ([`acs::hal::msp430::tile_bus`]: USCI_B0 I²C, the drivers, wheel set-points, Timer_B coils) | — | 3 814 B flash, +480 B stack (the drivers live in the loop's frame), −92 B static (no tile mailboxes) |
-//! | link (USCI_A0, ring and handler, `FramedLink`, COBS) | 1 268 B flash, −260 B static (the ring and counters, 134 B, for the 264 B of mailboxes) | 1 078 B, −260 B static |
+//! | link (USCI_A0, ring and handler, `FramedLink`, COBS) | 1 268 B flash; −260 B static, the link mailboxes' (the ring's 128 B and the handlers' counters, in the images either way, stay) | 1 078 B, −260 B static |
 //! | element store ([`crate::element_flash`]: flash controller, store, load at reset) | 1 200 B flash, −126 B stack (the words out of the loop's frame) | — |
 //! | clocks (FLL+ set-up and settling) | 188 B | 188 B |
 //! | period, LPM3, vectors, the reference's event loop, coils in `safe_state` | 268 B | 90 B |
