@@ -52,6 +52,7 @@
 //! Attitudes follow [`crate::attitude`]: `v_body = A · v_ref`, reference TEME of date.
 
 use crate::acs_loop::{AcsConfig, AcsLoop};
+use crate::two_node::TwoNodeLoop;
 use crate::control::bdot::BdotConfig;
 use crate::control::principal_axes::PrincipalAxes;
 use crate::control::slew::SlewLimits;
@@ -60,7 +61,6 @@ use crate::control::tracking::TrackingGains;
 use crate::control::wheels::Wheel;
 use crate::env::igrf::{coefficient_count, Degree, FLIGHT};
 use crate::linalg::{Mat3, Vec3};
-use crate::two_node::TwoNodeLoop;
 
 /// The number of tiles of the flight configuration (the thesis's cube): the loop is sized to it.
 pub const TILES: usize = 6;

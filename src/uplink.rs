@@ -20,13 +20,13 @@
 use core::fmt;
 
 use crate::acs_loop::{AcsError, AcsLoop, Command};
+use crate::tiles::TileState;
+use crate::two_node::TwoNodeLoop;
 use crate::attitude::Quaternion;
 use crate::attitude_node::AttitudeNode;
 use crate::orbit::sgp4::{Sgp4, Sgp4Error, ELEMENT_WORDS};
 use crate::reference_node::ReferenceNode;
-use crate::tiles::TileState;
 use crate::time::{Epoch, Utc};
-use crate::two_node::TwoNodeLoop;
 
 /// Number of argument words (the longest command, an element set).
 pub const ARG_WORDS: usize = ELEMENT_WORDS;

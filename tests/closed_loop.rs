@@ -342,9 +342,9 @@ fn field_model_error(scenario: &Scenario, model: &Model, degree: Degree) -> (f64
 #[test]
 fn tracking_with_wheels_and_noisy_tiles() {
     use acs::acs_loop::AcsConfig;
+    use acs::two_node::TwoNodeLoop;
     use acs::env::igrf::coefficient_count;
     use acs::flight::TILES;
-    use acs::two_node::TwoNodeLoop;
     const REQUIREMENT_DEG: f64 = 0.1;
     for truth in TRUTHS {
         let scenario = scenarios::tracking(None).unwrap().with_truth(truth);
@@ -1036,8 +1036,7 @@ fn refused_allocation_holds_the_wheels() {
         ..CONFIG.clone()
     };
     let mut acs =
-        acs::two_node::TwoNodeLoop::<6, { acs::flight::FIELD_COEFFS }>::new(&config, orbit)
-            .unwrap();
+        acs::two_node::TwoNodeLoop::<6, { acs::flight::FIELD_COEFFS }>::new(&config, orbit).unwrap();
     acs.command(acs::acs_loop::Command::SunSafe, None, tle.epoch)
         .unwrap();
     let mut bus = ConstantBus::new(100);

@@ -64,6 +64,7 @@ pub mod scenarios;
 use std::f64::consts::PI;
 
 use crate::acs_loop::{Command, Mode, StepReport};
+use crate::two_node::TwoNodeLoop;
 use crate::attitude::Quaternion;
 use crate::env::eclipse::conical;
 use crate::env::igrf::{Degree, Igrf, FULL};
@@ -72,7 +73,6 @@ use crate::hal::{ErrorKind, TileBus};
 use crate::linalg::{Mat3d, Vec3, Vec3d};
 use crate::tiles::{sun_angles_of_direction, Tiles};
 use crate::time::{gmst_rad_f64, Epoch, TimeSpan, Utc};
-use crate::two_node::TwoNodeLoop;
 
 use self::faults::{Fault, Held, Injections, Sensor};
 use self::realistic::devices::{

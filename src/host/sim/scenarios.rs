@@ -56,6 +56,7 @@
 //! Its truth is built from its configuration by the same [`spacecraft`].
 
 use crate::acs_loop::{AcsConfig, Command};
+use crate::two_node::TwoNodeLoop;
 use crate::attitude::{Dcm, Euler321, Quaternion};
 use crate::control::bdot::BdotConfig;
 use crate::control::principal_axes::principal_axes;
@@ -68,7 +69,6 @@ use crate::linalg::{Mat3, Mat3d, Vec3, Vec3d};
 use crate::orbit::sgp4::{Gravity, Sgp4};
 use crate::tiles::{Tiles, CUBE_THESIS};
 use crate::time::{Calendar, Epoch, Utc};
-use crate::two_node::TwoNodeLoop;
 
 use super::realistic::{Realism, TruthLevel};
 use super::{run, Disturbances, Sample, SensorNoise, SimConfig, SimError, Simulator};
