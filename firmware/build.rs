@@ -1,5 +1,6 @@
 //! Chooses the memory map: the top-level `memory.x` (MSP430FG439) or, with feature `fg4619-map`,
-//! `memory-fg4619.x` (MSP430FG4619 / F2619), with feature `large-map` `memory-large.x`, or with
+//! `memory-fg4619.x` (MSP430FG4619 / F2619; with `fg4619-map` but without `pil`, the flight
+//! build, `memory-fg4619-node.x`, which keeps the element store's two segments free), with feature `large-map` `memory-large.x`, or with
 //! feature `size-map` the measurement-only `memory-size.x`; copies it to OUT_DIR as `memory.x`,
 //! where `link.x` includes it.
 use std::{env, fs, path::PathBuf};
@@ -10,7 +11,11 @@ fn main() {
     let map = if env::var_os("CARGO_FEATURE_SIZE_MAP").is_some() {
         manifest.join("memory-size.x")
     } else if env::var_os("CARGO_FEATURE_FG4619_MAP").is_some() {
-        manifest.join("memory-fg4619.x")
+        if env::var_os("CARGO_FEATURE_PIL").is_some() {
+            manifest.join("memory-fg4619.x")
+        } else {
+            manifest.join("memory-fg4619-node.x")
+        }
     } else if env::var_os("CARGO_FEATURE_LARGE_MAP").is_some() {
         manifest.join("memory-large.x")
     } else {
@@ -26,5 +31,6 @@ fn main() {
     println!("cargo:rerun-if-changed=memory-large.x");
     println!("cargo:rerun-if-changed=memory-size.x");
     println!("cargo:rerun-if-changed=memory-fg4619.x");
+    println!("cargo:rerun-if-changed=memory-fg4619-node.x");
     println!("cargo:rerun-if-changed=../memory.x");
 }

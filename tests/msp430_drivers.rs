@@ -884,3 +884,319 @@ fn the_store_refuses_bad_segments_and_keeps_a_real_element_set() {
     assert!(Sgp4::from_words(&back).is_ok());
     no_violations(&h);
 }
+
+// ---- the flight node images' adapters: the UART as the link's byte stream, the receive
+// ring, the attitude node's tile bus ------------------------------------------------------------
+
+use acs::hal::link::{ByteStream, FramedLink, NodeLink};
+use acs::hal::msp430::tile_bus::{self, AttitudeBus};
+use acs::hal::msp430::usci_uart::{RxRing, RX_RING_BYTES};
+
+/// Sends `packet` over a FramedLink on the modelled USCI_A0 and returns the bytes on the line.
+fn framed_line(packet: &[u8]) -> Vec<u8> {
+    let h = Handle::new();
+    let mut link: FramedLink<UsciUart<Handle>, 128> =
+        FramedLink::new(UsciUart::new(h.clone(), UartConfig::FLIGHT));
+    link.send(packet).unwrap();
+    for _ in 0..10 {
+        ByteStream::write(link.stream_mut(), &[]).unwrap();
+        h.mcu().uart.tick();
+    }
+    no_violations(&h);
+    let line = std::mem::take(&mut h.mcu().uart.tx_line);
+    line
+}
+
+#[test]
+fn the_uart_carries_framed_packets_both_ways() {
+    // a packet with zeros in it: on the line 0x00, its COBS encoding (the `cobs` crate's, an
+    // independent implementation), 0x00
+    let packet: Vec<u8> = (0..113u8).map(|i| if i % 7 == 0 { 0 } else { i }).collect();
+    let line = framed_line(&packet);
+    let mut expected = vec![0u8];
+    expected.extend(cobs::encode_vec(&packet));
+    expected.push(0);
+    assert_eq!(line, expected);
+
+    // the same line into the receiver, one byte per byte time, polled after each
+    let h = Handle::new();
+    let mut link: FramedLink<UsciUart<Handle>, 128> =
+        FramedLink::new(UsciUart::new(h.clone(), UartConfig::FLIGHT));
+    h.mcu()
+        .uart
+        .rx_line
+        .extend(line.iter().map(|b| (*b, false)));
+    let mut buf = [0u8; 128];
+    let mut got = Vec::new();
+    while h.mcu().uart.deliver() {
+        if let Some(n) = link.receive(&mut buf).unwrap() {
+            got.push(buf[..n].to_vec());
+        }
+    }
+    assert_eq!(got, vec![packet]);
+    no_violations(&h);
+}
+
+#[test]
+fn a_byte_stream_write_fails_when_the_transmitter_stops() {
+    let h = Handle::new();
+    let mut uart = UsciUart::new(h.clone(), UartConfig::FLIGHT);
+    h.mcu().uart.tx_stuck = true;
+    // two bytes go (shift register, buffer), the third cannot: the write fails, bounded
+    let before = h.mcu().accesses;
+    assert_eq!(
+        ByteStream::write(&mut uart, &[1, 2, 3, 4]),
+        Err(UartError::Timeout)
+    );
+    assert!(h.mcu().accesses - before <= 2 * 200 + 10);
+    assert_eq!(
+        acs::hal::link::Error::kind(&UartError::Overrun),
+        acs::hal::link::ErrorKind::Transport
+    );
+    no_violations(&h);
+}
+
+/// The receive ring and its handler as the firmware's USCIAB0RX handler runs it: the byte at
+/// `count mod 128`, then `count + 1`.
+struct Ring {
+    bytes: [u8; RX_RING_BYTES as usize],
+    count: u16,
+}
+
+impl Ring {
+    fn new(count: u16) -> Self {
+        Self {
+            bytes: [0; RX_RING_BYTES as usize],
+            count,
+        }
+    }
+
+    fn handler(&mut self, byte: u8) {
+        self.bytes[usize::from(self.count % RX_RING_BYTES)] = byte;
+        self.count = self.count.wrapping_add(1);
+    }
+
+    fn read(&self, reader: &mut RxRing, buf: &mut [u8]) -> Result<usize, UartError> {
+        reader.read(|| self.count, |i| self.bytes[i], buf)
+    }
+}
+
+#[test]
+fn the_receive_ring_gives_the_bytes_in_order_across_the_count_wrap() {
+    // the count near its wrap: the reader follows it through
+    let mut ring = Ring::new(65_500);
+    let mut reader = RxRing::new();
+    reader.resync(ring.count);
+    let mut buf = [0u8; 16];
+    assert_eq!(ring.read(&mut reader, &mut buf), Ok(0));
+    let mut got = Vec::new();
+    for k in 0..300u32 {
+        ring.handler(k as u8);
+        if k % 50 == 49 {
+            // taken in pieces of at most 16 bytes
+            loop {
+                let n = ring.read(&mut reader, &mut buf).unwrap();
+                if n == 0 {
+                    break;
+                }
+                got.extend_from_slice(&buf[..n]);
+            }
+        }
+    }
+    assert_eq!(got, (0..300u32).map(|k| k as u8).collect::<Vec<_>>());
+    assert!(ring.count < 65_500, "the count wrapped");
+}
+
+#[test]
+fn a_lapped_receive_ring_is_an_overrun_and_the_reader_resumes() {
+    let mut ring = Ring::new(0);
+    let mut reader = RxRing::new();
+    let mut buf = [0u8; 256];
+    // exactly a ring's worth pending: all of it
+    for k in 0..RX_RING_BYTES {
+        ring.handler(k as u8);
+    }
+    assert_eq!(ring.read(&mut reader, &mut buf), Ok(128));
+    // one byte more than the ring holds: dropped, reported
+    for k in 0..=RX_RING_BYTES {
+        ring.handler(k as u8);
+    }
+    assert_eq!(ring.read(&mut reader, &mut buf), Err(UartError::Overrun));
+    assert_eq!(ring.read(&mut reader, &mut buf), Ok(0));
+    ring.handler(42);
+    assert_eq!(ring.read(&mut reader, &mut buf), Ok(1));
+    assert_eq!(buf[0], 42);
+    // the handler laps the reader while it copies: the copy is not trusted
+    ring.handler(1);
+    ring.handler(2);
+    let mut counts = [ring.count, ring.count.wrapping_add(200)].into_iter();
+    let bytes = ring.bytes;
+    assert_eq!(
+        reader.read(|| counts.next().unwrap_or(0), |i| bytes[i], &mut buf),
+        Err(UartError::Overrun)
+    );
+}
+
+#[test]
+fn the_tile_address_map_is_distinct_and_legal() {
+    let mut all = Vec::new();
+    for base in [
+        tile_bus::SUN_SENSOR_BASE,
+        tile_bus::MAGNETOMETER_BASE,
+        tile_bus::GYRO_BASE,
+        tile_bus::WHEEL_BASE,
+    ] {
+        for tile in 0..acs::flight::TILES {
+            all.push(tile_bus::address(base, tile).unwrap());
+        }
+        assert_eq!(tile_bus::address(base, 8), None);
+    }
+    assert_eq!(all.len(), 24);
+    let mut sorted = all.clone();
+    sorted.sort();
+    sorted.dedup();
+    assert_eq!(sorted.len(), 24, "an address used twice: {all:?}");
+    // UM10204 reserves 0000 xxx and 1111 xxx
+    assert!(all.iter().all(|a| *a >= 0x08 && 0x78 > *a), "{all:?}");
+    assert_eq!(tile_bus::address(tile_bus::SUN_SENSOR_BASE, 5), Some(0x25));
+    assert_eq!(tile_bus::address(tile_bus::WHEEL_BASE, 1), Some(0x39));
+}
+
+/// A part with the flight cube's devices at the map's addresses: tiles 1–5 each with a sun
+/// sensor, magnetometer, gyro and wheel controller whose words tell their tile; tile 0 (the
+/// telecom tile) with none.
+fn flight_part() -> (Handle, AttitudeBus<Handle>) {
+    let h = Handle::new();
+    {
+        let mut mcu = h.mcu();
+        for t in 1..6u8 {
+            let k = i16::from(t);
+            mcu.i2c.slaves.push(
+                Slave::new(tile_bus::SUN_SENSOR_BASE + t)
+                    .with_words(tile_bus::SUN_SENSOR_REGISTER, &[1, 100 * k, -100 * k]),
+            );
+            mcu.i2c.slaves.push(
+                Slave::new(tile_bus::MAGNETOMETER_BASE + t)
+                    .with_words(tile_bus::MAGNETOMETER_REGISTER, &[1000 + k, -1000 - k]),
+            );
+            mcu.i2c.slaves.push(
+                Slave::new(tile_bus::GYRO_BASE + t).with_words(tile_bus::GYRO_REGISTER, &[-7 * k]),
+            );
+            mcu.i2c.slaves.push(Slave::new(tile_bus::WHEEL_BASE + t));
+        }
+    }
+    let bus = tile_bus::attitude_bus(h.clone(), I2cConfig::FLIGHT, PwmConfig::FLIGHT);
+    (h, bus)
+}
+
+#[test]
+fn the_attitude_tile_bus_follows_its_address_map() {
+    let (h, mut bus) = flight_part();
+    for t in 1..6usize {
+        let k = t as i16;
+        assert_eq!(bus.read_sun(t), Ok(Some([100 * k, -100 * k])), "tile {t}");
+        assert_eq!(
+            bus.read_magnetometer(t),
+            Ok([1000 + k, -1000 - k]),
+            "tile {t}"
+        );
+        assert_eq!(bus.read_gyro(t), Ok(-7 * k), "tile {t}");
+    }
+    // the telecom tile's addresses answer nothing: its devices are absent
+    assert_eq!(bus.read_sun(0), Err(ErrorKind::DeviceAbsent));
+    assert_eq!(bus.read_gyro(0), Err(ErrorKind::DeviceAbsent));
+    assert_eq!(bus.read_gyro(6), Err(ErrorKind::DeviceAbsent));
+
+    // wheels: the set-point (of 10 000 = 1e-3 N·m·s) and the direction at their registers
+    let wheel = |h: &Handle, t: u8| {
+        let mcu = h.mcu();
+        let s = mcu
+            .i2c
+            .slaves
+            .iter()
+            .find(|s| s.address == tile_bus::WHEEL_BASE + t)
+            .unwrap();
+        let r = usize::from(tile_bus::WHEEL_SETPOINT_REGISTER);
+        (
+            u16::from_be_bytes([s.registers[r], s.registers[r + 1]]),
+            s.registers[usize::from(tile_bus::WHEEL_DIRECTION_REGISTER)],
+        )
+    };
+    assert_eq!(bus.set_wheel_momentum(2, 2.5e-4), Ok(()));
+    assert_eq!(wheel(&h, 2), (2_500, 1));
+    assert_eq!(bus.set_wheel_momentum(3, -1.0e-3), Ok(()));
+    assert_eq!(wheel(&h, 3), (10_000, 0));
+    // beyond the limit: refused, and the wheel's set-point to zero
+    assert_eq!(
+        bus.set_wheel_momentum(3, 1.5e-3),
+        Err(ErrorKind::OutOfRange)
+    );
+    assert_eq!(wheel(&h, 3).0, 0);
+    // a controller that does not answer: the command is reported failed
+    assert!(bus.set_wheel_momentum(0, 1.0e-4).is_err());
+
+    // coils: Timer_B channels 3–5, direction pins P5.0–P5.2
+    assert_eq!(bus.set_dipole(0, 0.1), Ok(()));
+    assert_eq!(bus.set_dipole(1, -0.2), Ok(()));
+    assert_eq!(bus.set_dipole(2, 0.05), Ok(()));
+    {
+        let mut mcu = h.mcu();
+        assert_eq!(mcu.timer_b.duty(3), Some(0.5));
+        assert_eq!(mcu.timer_b.duty(4), Some(1.0));
+        assert_eq!(mcu.timer_b.duty(5), Some(0.25));
+        assert_eq!(mcu.ports[usize::from(P5.output)] & 0b111, 0b101);
+    }
+    // the fault handler's safe state: every coil channel low, without the bus
+    tile_bus::coils_off(&mut h.clone());
+    {
+        let mut mcu = h.mcu();
+        for ch in 3..6 {
+            assert_eq!(mcu.timer_b.duty(ch), Some(0.0), "TB{ch}");
+        }
+    }
+    no_violations(&h);
+}
+
+#[test]
+fn the_element_set_at_reset_is_the_newest_valid_record_else_the_fallback() {
+    let sgp4 = |l1: &str, l2: &str| {
+        let tle = acs::tle::Tle::parse(l1, l2).unwrap();
+        Sgp4::new(&tle, Gravity::Wgs72).unwrap().to_words()
+    };
+    // the image's set (the flight orbit) and an uplinked one (Vallado's satellite 00005)
+    let image = sgp4(
+        "1 90101U 25001A   25079.50000000  .00000000  00000-0  00000-0 0  9997",
+        "2 90101  97.4000  90.0000 0001000   0.0000   0.0000 15.21936487    10",
+    );
+    let uplinked = sgp4(
+        "1 00005U 58002B   00179.78495062  .00000023  00000-0  28098-4 0  4753",
+        "2 00005  34.2682 348.7242 1859667 331.7664  19.3264 10.82419157413667",
+    );
+    let h = Handle::new();
+    let words = |o: Option<Sgp4>| o.map(|o| o.to_words());
+    // nothing stored: the image's set
+    let (orbit, seq) = store(&h).orbit_or(&image);
+    assert_eq!((words(orbit), seq), (Some(image), None));
+    // an uplinked set stored: it, at reset
+    store(&h).store(&uplinked).unwrap();
+    let (orbit, seq) = store(&h).orbit_or(&image);
+    assert_eq!((words(orbit), seq), (Some(uplinked), Some(0)));
+    // a newer record whose words do not initialise SGP4 (a valid CRC over bad words): the
+    // image's set, not the older record (the store's newest is what the ground last sent)
+    store(&h).store(&elements(7)).unwrap();
+    assert!(Sgp4::from_words(&elements(7)).is_err());
+    let (orbit, seq) = store(&h).orbit_or(&image);
+    assert_eq!((words(orbit), seq), (Some(image), None));
+    // that record corrupted: the older valid one, the uplinked set
+    let w = h.mcu().flash.word(0x2400 + 40);
+    h.mcu().flash.set_word(0x2400 + 40, w ^ 0x0100);
+    let (orbit, seq) = store(&h).orbit_or(&image);
+    assert_eq!((words(orbit), seq), (Some(uplinked), Some(0)));
+    // neither set checks out: none
+    let mut bad = image;
+    bad[0] ^= 0xFFFF;
+    assert!(Sgp4::from_words(&bad).is_err());
+    store(&h).store(&elements(8)).unwrap();
+    assert_eq!(words(store(&h).orbit_or(&bad).0), None);
+    no_violations(&h);
+}

@@ -7,6 +7,10 @@
 //! - [`flight`]: the flight loop's set-up, the ground uplink and the published step results.
 //! - [`mmio`]: volatile register access for the MSP430 peripheral drivers of
 //!   [`acs::hal::msp430`], and the LPM3 sleep of the control period.
+//! - [`periph`]: the part's clocks, control period (Timer_A, LPM3) and inter-node link (USCI_A0)
+//!   of the flight node images (feature `pil` off), and their interrupt vectors.
+//! - [`element_flash`]: the reference node's uplinked element set kept in two flash segments
+//!   (flight build).
 //! - [`safe_state`]: the hook that puts every actuator in its safe state; unexpected interrupts
 //!   call it and then halt, and the watchdog resets the part ([`kick_watchdog`]).
 //!
@@ -16,11 +20,13 @@
 #![feature(asm_experimental_arch)]
 #![feature(optimize_attribute)]
 
+pub mod element_flash;
 pub mod elements;
 pub mod flight;
 pub mod flight_elements;
 pub mod node_link;
 pub mod mmio;
+pub mod periph;
 pub mod rt;
 pub mod tiles;
 
@@ -33,10 +39,13 @@ use msp430_eabi as _;
 ///
 /// This is the hook the unexpected-interrupt handler calls before halting. It must not fail and
 /// must not depend on any state that a fault may have corrupted: it writes constant commands
-/// straight to the coil drivers ([`tiles::coils_off`]).
+/// straight to the coil drivers ([`tiles::coils_off`]; in the flight build, feature `pil` off,
+/// also Timer_B's coil channels off, [`acs::hal::msp430::tile_bus::coils_off`]).
 #[inline(never)]
 pub fn safe_state() {
     tiles::coils_off();
+    #[cfg(not(feature = "pil"))]
+    acs::hal::msp430::tile_bus::coils_off(&mut mmio::Mmio);
 }
 
 /// The start of a control period: on the part, where the loop waits for the period timer; the

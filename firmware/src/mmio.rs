@@ -2,8 +2,11 @@
 //! stores of the addresses they name; and the two pieces of assembly of the low-power period
 //! ([`sleep_lpm3`], the Timer_A0 handler `TIMERA0_ISR`).
 //!
-//! Nothing in the flight image uses these yet (it reads its tiles from RAM mailboxes,
-//! [`crate::tiles`]); `src/bin/drivers.rs` links every driver over [`Mmio`] to measure them.
+//! The flight node images (feature `pil` off) run their peripherals' drivers over [`Mmio`]
+//! ([`crate::periph`], `acs::hal::msp430::tile_bus`); `src/bin/drivers.rs` links every driver
+//! over it to measure them. The flight images' Timer_A0 handler is `TIMERA0_VECTOR`
+//! ([`crate::periph`], the same two instructions as `TIMERA0_ISR` below, which no image links:
+//! the linker drops it).
 
 use acs::hal::msp430::Registers;
 
@@ -62,9 +65,9 @@ pub fn sleep_lpm3() {
 
 // The Timer_A CCR0 handler (vector 0xFFEC, SLAS508K interrupt vector table): clears CPUOFF,
 // OSCOFF, SCG0 and SCG1 in the status register saved on the stack, so `reti` returns to the
-// loop awake (the interrupt's acceptance has cleared TACCR0 CCIFG). Not in the vector table
-// yet: `crate::rt`'s table routes every vector but reset to `DefaultHandler`; to use it, make
-// the seventh of its sixteen entries (0xFFEC) `.word TIMERA0_ISR`.
+// loop awake (the interrupt's acceptance has cleared TACCR0 CCIFG). Not in a vector table: the
+// flight node images define `TIMERA0_VECTOR` (`crate::periph::flight_vectors!`), which
+// `crate::rt`'s table names at 0xFFEC.
 core::arch::global_asm!(
     r#"
     .section .text.TIMERA0_ISR,"ax",@progbits

@@ -2,7 +2,7 @@
 //! packet each way per period, the CCSDS space packet of the message with its CRC
 //! ([`acs::link::messages`]). The PIL host moves each node's `LINK_TX` packet into the other's
 //! `LINK_RX`; on the satellite a UART driver carries the same packets, COBS-framed
-//! ([`acs::hal::link::FramedLink`]).
+//! ([`acs::hal::link::FramedLink`]; the flight build, feature `pil` off: [`crate::periph`]).
 //!
 //! | symbol | type | meaning |
 //! |---|---|---|

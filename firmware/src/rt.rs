@@ -13,7 +13,11 @@
 //! 6. `main` (the binary's `#[no_mangle] extern "C" fn main() -> !`) is called.
 //!
 //! Every other vector goes to `DefaultHandler` → [`crate::fw_unexpected_interrupt`]: safe state,
-//! then halt.
+//! then halt. Two entries name a handler an image may define (`link.x` makes it
+//! `DefaultHandler` otherwise): `TIMERA0_VECTOR` (0xFFEC, Timer_A CCR0, the control period)
+//! and `USCIAB0RX_VECTOR` (0xFFF2, USCI_A0/B0 receive, the link's bytes); SLAS508K interrupt
+//! vector table. The flight node images define both ([`crate::periph`]); the PIL, benchmark
+//! and driver images neither (their tables are as before).
 
 /// The 16-bit pattern the reset handler writes over the whole free stack area.
 pub const STACK_PAINT: u16 = 0xA55A;
@@ -65,7 +69,14 @@ DefaultHandler:
     br #fw_unexpected_interrupt
 
     .section .vector_table,"a",@progbits
-    .rept 15
+    .rept 6
+    .word DefaultHandler
+    .endr
+    .word TIMERA0_VECTOR
+    .word DefaultHandler
+    .word DefaultHandler
+    .word USCIAB0RX_VECTOR
+    .rept 5
     .word DefaultHandler
     .endr
     .word Reset

@@ -23,8 +23,8 @@
 //!
 //! The host simulator and the MSP430 firmware implement [`TileBus`] directly (the
 //! [module docs](super), "Who implements `TileBus` how"); this adapter is the path of a board
-//! whose devices have drivers. Nothing here is instantiated by the flight image, so it costs it
-//! no flash.
+//! whose devices have drivers: the attitude node's flight image flies one
+//! ([`super::msp430::tile_bus`]).
 //!
 //! ```
 //! use acs::hal::bus::{DeviceBus, NoDevice, TileDevices};

@@ -23,12 +23,13 @@
 //!   its simulated devices are computed per tile index from the truth state, with faults
 //!   injected at the bus (a failed tile, a stuck reading), so it does not go through
 //!   per-device drivers.
-//! - **The MSP430 firmware** (`firmware/src/tiles.rs`, `MailboxBus`) implements [`TileBus`]
-//!   directly over RAM mailboxes that the processor-in-the-loop host writes: its image links no
-//!   device driver (and its flash is full). The drivers of the MSP430FG4619's peripherals are
-//!   in [`msp430`] (a node's image builds its [`bus::DeviceBus`] from them: `drivers` over
-//!   [`msp430::usci_i2c::UsciI2c`], [`msp430::pwm::PwmChannel`] and [`msp430::gpio::OutputPin`]),
-//!   tested on the host against register models and measured on the part's instruction set.
+//! - **The MSP430 firmware**: the attitude node's flight image (feature `pil` off) flies
+//!   [`msp430::tile_bus::AttitudeBus`], a [`bus::DeviceBus`] of [`drivers`] over
+//!   [`msp430::usci_i2c::UsciI2c`] (the tiles' sensors and wheel controllers at the I²C address
+//!   map of [`msp430::tile_bus`]), [`msp430::pwm::PwmChannel`] and [`msp430::gpio::OutputPin`]
+//!   (the coils), tested on the host against register models. Its processor-in-the-loop image
+//!   (feature `pil`) implements [`TileBus`] directly over RAM mailboxes that the PIL host
+//!   writes (`firmware/src/tiles.rs`, `MailboxBus`).
 //!
 //! All three feed the same loop through the same trait and the same raw formats below, so a
 //! board that works over [`bus::DeviceBus`] runs the loop the simulator and the processor in the

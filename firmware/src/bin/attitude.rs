@@ -3,7 +3,16 @@
 //! take the ground's command (sun-safe, the tiles: [`acs::uplink::apply_attitude`]), take the
 //! REF packet the reference node sent for this step (none, or one for another step or without a
 //! valid clock: the step runs without reference, reported), step, send STATUS, publish.
+//!
+//! Two builds (`firmware/Cargo.toml`): with feature `pil` the tiles, the link and the period
+//! are the RAM mailboxes the processor-in-the-loop host drives ([`tiles::MailboxBus`],
+//! [`node_link`]); without it (the flight build) the part's peripherals: the clocks and the
+//! one-second Timer_A period with LPM3 between periods, the link over USCI_A0
+//! ([`acs_firmware::periph`]), and the tile bus of [`acs::hal::msp430::tile_bus`] (the tiles'
+//! sensors and wheel controllers on USCI_B0 I²C at its address map, the coils on Timer_B PWM
+//! with direction pins). The uplink is the RAM mailbox in both ([`flight`]).
 #![no_std]
+#![cfg_attr(not(feature = "pil"), feature(asm_experimental_arch))]
 #![no_main]
 
 use acs::acs_loop::StepReport;
@@ -11,8 +20,15 @@ use acs::attitude_node::AttitudeNode;
 use acs::flight::{CONFIG, CONTROL_PERIOD_S, TILES};
 use acs::link::messages::Reference;
 use acs::link::sequence::SequenceCounter;
-use acs_firmware::node_link::{self, LINK_BYTES};
+use acs_firmware::node_link::LINK_BYTES;
 use acs_firmware::{flight, tiles};
+#[cfg(feature = "pil")]
+use acs_firmware::node_link;
+#[cfg(not(feature = "pil"))]
+use acs_firmware::periph;
+
+#[cfg(not(feature = "pil"))]
+acs_firmware::flight_vectors!();
 
 /// Entry point, called by the reset handler (`acs_firmware::rt`): coils off, then the node.
 #[no_mangle]
@@ -23,6 +39,7 @@ pub extern "C" fn main() -> ! {
 
 /// The node over the flight configuration and the tile mailboxes; coils off and a halt, which
 /// the watchdog turns into a reset, if the configuration is invalid.
+#[cfg(feature = "pil")]
 #[inline(never)]
 fn run() -> ! {
     let Ok(mut node) = AttitudeNode::<TILES>::new(&CONFIG) else {
@@ -49,6 +66,44 @@ fn run() -> ! {
             &mut report,
         );
         node_link::send(&status.to_packet(count.next_count()));
+        flight::publish_codes(report.mode.code(), report.faults.bits());
+        acs_firmware::kick_watchdog();
+    }
+}
+
+/// The node over the flight configuration and the part's peripherals (see the module docs);
+/// coils off and a halt, which the watchdog turns into a reset, if the configuration is
+/// invalid.
+#[cfg(not(feature = "pil"))]
+#[inline(never)]
+fn run() -> ! {
+    use acs::hal::msp430::pwm::PwmConfig;
+    use acs::hal::msp430::tile_bus;
+    use acs::hal::msp430::usci_i2c::I2cConfig;
+    use acs_firmware::mmio::Mmio;
+
+    periph::init_clocks();
+    let mut bus = tile_bus::attitude_bus(Mmio, I2cConfig::FLIGHT, PwmConfig::FLIGHT);
+    let mut link = periph::link();
+    let Ok(mut node) = AttitudeNode::<TILES>::new(&CONFIG) else {
+        acs_firmware::safe_state();
+        acs_firmware::fw_halt()
+    };
+    let mut report = StepReport::empty(node.mode());
+    let mut count = SequenceCounter::new();
+    let mut packet = [0u8; LINK_BYTES];
+    loop {
+        periph::wait_period();
+        acs_firmware::fw_period_start();
+        acs_firmware::kick_watchdog();
+        flight::take_node_uplink(|kind, args| {
+            acs::uplink::status(&acs::uplink::apply_attitude(kind, args, &mut node))
+        });
+        let reference = periph::receive_last(&mut link, &mut packet, |p| {
+            Reference::from_packet(p).ok().map(|(r, _)| r)
+        });
+        let status = node.step_into(&mut bus, reference.as_ref(), CONTROL_PERIOD_S, &mut report);
+        periph::send(&mut link, &status.to_packet(count.next_count()));
         flight::publish_codes(report.mode.code(), report.faults.bits());
         acs_firmware::kick_watchdog();
     }

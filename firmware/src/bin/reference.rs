@@ -4,15 +4,41 @@
 //! take the STATUS packet the attitude node sent, answer with the REF for its next step, and
 //! publish. Its clock is not valid until the ground sets it or a STATUS brings the attitude
 //! node's copy back (after a reset: [`acs::reference_node`]).
+//!
+//! Two builds (`firmware/Cargo.toml`): with feature `pil` the link and the period are the RAM
+//! mailboxes the processor-in-the-loop host drives ([`node_link`]) and the element set at reset
+//! is the image's; without it (the flight build) the part's peripherals: the clocks and the
+//! one-second Timer_A period with LPM3 between periods, the link over USCI_A0
+//! ([`acs_firmware::periph`]), and the element set kept in two flash segments
+//! ([`acs_firmware::element_flash`]: the newer valid record at reset, the image's words the
+//! fall-back; each accepted ELEMENTS uplink stored). The uplink is the RAM mailbox in both
+//! ([`flight`]).
+//!
+//! In the flight build the node is paced by the attitude node: it answers each STATUS as soon
+//! as its frame has arrived (the receive handler wakes it on the frame's delimiter,
+//! [`periph::Events`]), so the REF reaches the attitude node some 80 ms after that node's
+//! step, well before its next, whatever the phase between the two nodes' crystals. Its own
+//! Timer_A period takes the uplink once a second, and when no STATUS has come for two
+//! periods sends a REF each period with the step counted on (an attitude node whose STATUS
+//! frames are lost still gets its references). The order within an exchange (STATUS in, REF
+//! for its next step out) is the PIL build's.
 #![no_std]
 #![no_main]
+#![cfg_attr(not(feature = "pil"), feature(asm_experimental_arch))]
 
 use acs::flight::{CONFIG, FIELD_COEFFS, TILES};
 use acs::link::messages::{Reference, Status};
 use acs::link::sequence::SequenceCounter;
 use acs::reference_node::ReferenceNode;
-use acs_firmware::node_link::{self, LINK_BYTES};
 use acs_firmware::flight;
+#[cfg(feature = "pil")]
+use acs_firmware::node_link;
+use acs_firmware::node_link::LINK_BYTES;
+#[cfg(not(feature = "pil"))]
+use acs_firmware::{element_flash::ElementFlash, periph};
+
+#[cfg(not(feature = "pil"))]
+acs_firmware::flight_vectors!();
 
 /// Entry point, called by the reset handler (`acs_firmware::rt`).
 #[no_mangle]
@@ -22,6 +48,7 @@ pub extern "C" fn main() -> ! {
 
 /// The node over the flight configuration and the element set at reset; a halt, which the
 /// watchdog turns into a reset, if the configuration is invalid.
+#[cfg(feature = "pil")]
 #[inline(never)]
 fn run() -> ! {
     let Ok(mut node) = ReferenceNode::<TILES, FIELD_COEFFS>::new(&CONFIG, flight::flight_orbit())
@@ -50,6 +77,59 @@ fn run() -> ! {
     }
 }
 
+/// The node over the flight configuration and the part's peripherals (see the module docs);
+/// a halt, which the watchdog turns into a reset, if the configuration is invalid.
+#[cfg(not(feature = "pil"))]
+#[inline(never)]
+fn run() -> ! {
+    periph::init_clocks();
+    let mut elements = ElementFlash::open();
+    let Ok(mut node) =
+        ReferenceNode::<TILES, FIELD_COEFFS>::new(&CONFIG, elements.orbit_at_reset())
+    else {
+        acs_firmware::fw_halt()
+    };
+    let mut link = Link {
+        count: SequenceCounter::new(),
+        status: None,
+        step: 0,
+        uart: periph::link(),
+    };
+    let mut events = periph::Events::now();
+    // periods since the last STATUS
+    let mut quiet: u8 = 0;
+    loop {
+        let (tick, frame) = events.wait();
+        acs_firmware::fw_period_start();
+        acs_firmware::kick_watchdog();
+        if tick {
+            let attitude = link.status.and_then(|s| s.attitude);
+            flight::take_node_uplink(|kind, args| {
+                let outcome =
+                    acs::uplink::apply_reference(kind, args, &mut node, attitude.as_ref());
+                if kind == acs::uplink::kind::ELEMENTS && outcome.is_ok() {
+                    elements.keep(args);
+                }
+                acs::uplink::status(&outcome)
+            });
+            quiet = quiet.saturating_add(1);
+        }
+        // a STATUS is answered at once; without one for two periods, a REF each period
+        let status = if frame {
+            receive_status(&mut link.uart)
+        } else {
+            None
+        };
+        if status.is_some() {
+            quiet = 0;
+            link.answer(&mut node, status);
+        } else if tick && quiet >= 2 {
+            link.answer(&mut node, None);
+        }
+        acs_firmware::kick_watchdog();
+    }
+}
+
 /// The node's side of the link between periods.
 struct Link {
     count: SequenceCounter,
@@ -57,12 +137,16 @@ struct Link {
     status: Option<Status>,
     /// The step the next REF is for: the last STATUS's next, counted on without one.
     step: u32,
+    /// The link over USCI_A0 (flight build).
+    #[cfg(not(feature = "pil"))]
+    uart: periph::Link,
 }
 
 impl Link {
     /// Takes the STATUS packet, answers with the REF for the attitude node's next step, and
     /// publishes its faults. Out of line, and so are the packets' own steps: the packets live
     /// in their frames only, neither under the uplink's frame nor under the models'.
+    #[cfg(feature = "pil")]
     #[inline(never)]
     fn exchange(&mut self, node: &mut ReferenceNode<'static, TILES, FIELD_COEFFS>) {
         self.status = receive_status();
@@ -74,9 +158,30 @@ impl Link {
         flight::publish_codes(0, reference.faults);
         self.step = self.step.wrapping_add(1);
     }
+
+    /// Answers `status` (the STATUS just received; `None`: none came for two periods, the
+    /// step counted on) with the REF for the attitude node's next step, and publishes its
+    /// faults (the flight build's [`Link::exchange`]).
+    #[cfg(not(feature = "pil"))]
+    #[inline(never)]
+    fn answer(
+        &mut self,
+        node: &mut ReferenceNode<'static, TILES, FIELD_COEFFS>,
+        status: Option<Status>,
+    ) {
+        self.status = status;
+        if let Some(s) = &self.status {
+            self.step = s.step.wrapping_add(1);
+        }
+        let reference = node.reference(self.step, self.status.as_ref());
+        send_reference(&mut self.uart, &reference, self.count.next_count());
+        flight::publish_codes(0, reference.faults);
+        self.step = self.step.wrapping_add(1);
+    }
 }
 
 /// The STATUS in `LINK_RX`, if a valid one came.
+#[cfg(feature = "pil")]
 #[inline(never)]
 fn receive_status() -> Option<Status> {
     let mut packet = [0u8; LINK_BYTES];
@@ -86,7 +191,25 @@ fn receive_status() -> Option<Status> {
         .map(|(s, _)| s)
 }
 
+/// The last valid STATUS that arrived over the link since the last call.
+#[cfg(not(feature = "pil"))]
+#[inline(never)]
+fn receive_status(uart: &mut periph::Link) -> Option<Status> {
+    let mut packet = [0u8; LINK_BYTES];
+    periph::receive_last(uart, &mut packet, |p| {
+        Status::from_packet(p).ok().map(|(s, _)| s)
+    })
+}
+
+/// Sends `reference` as its packet with sequence count `count` over the link.
+#[cfg(not(feature = "pil"))]
+#[inline(never)]
+fn send_reference(uart: &mut periph::Link, reference: &Reference, count: u16) {
+    periph::send(uart, &reference.to_packet(count));
+}
+
 /// Sends `reference` as its packet with sequence count `count`.
+#[cfg(feature = "pil")]
 #[inline(never)]
 fn send_reference(reference: &Reference, count: u16) {
     node_link::send(&reference.to_packet(count));

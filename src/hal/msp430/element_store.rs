@@ -41,7 +41,7 @@ use core::fmt;
 
 use super::flash::{FlashController, FlashError, SEGMENT_BYTES};
 use super::Registers;
-use crate::orbit::sgp4::ELEMENT_WORDS;
+use crate::orbit::sgp4::{Sgp4, ELEMENT_WORDS};
 
 /// The first word of a complete record.
 pub const RECORD_MAGIC: u16 = 0x5E1E;
@@ -174,6 +174,20 @@ impl<R: Registers> ElementStore<R> {
             offset += 4;
         }
         Some(seq)
+    }
+
+    /// The element set at reset: SGP4 of the newest valid record's words if they check out
+    /// (`Sgp4::from_words`), with the record's sequence number; else SGP4 of `fallback` (the
+    /// image's words) and no sequence number (`None` for the set too if those do not check
+    /// out either). The words' 232 B live in this call's frame only.
+    pub fn orbit_or(&mut self, fallback: &[u32; ELEMENT_WORDS]) -> (Option<Sgp4>, Option<u16>) {
+        let mut words = [0u32; ELEMENT_WORDS];
+        if let Some(seq) = self.load(&mut words) {
+            if let Ok(orbit) = Sgp4::from_words(&words) {
+                return (Some(orbit), Some(seq));
+            }
+        }
+        (Sgp4::from_words(fallback).ok(), None)
     }
 
     /// Stores `words` as the newest record (in the segment not holding the newest valid one),

@@ -15,6 +15,7 @@
 //! | [`gpio`] | ports P1–P10 | the bridges' direction pins | `embedded_hal::digital::OutputPin` |
 //! | [`flash`] | flash controller | segment erase, word write | — |
 //! | [`element_store`] | two main-flash segments | the uplinked SGP4 element set, kept across resets | — |
+//! | [`tile_bus`] | USCI_B0 + Timer_B + P5 | the attitude node's tile bus: the drivers at the tiles' I²C address map, the coils | `TileBus` (a `DeviceBus`) |
 //!
 //! So the reference drivers of [`super::drivers`] (`I2cMagnetometer`, `I2cGyro`,
 //! `I2cSunSensor`, `PwmMagnetorquer`, `PwmReactionWheel`) and [`super::bus::DeviceBus`] run on
@@ -91,6 +92,7 @@ pub mod element_store;
 pub mod flash;
 pub mod gpio;
 pub mod pwm;
+pub mod tile_bus;
 pub mod timer_a;
 pub mod usci_i2c;
 pub mod usci_uart;

@@ -18,8 +18,8 @@
 //! TACCR0 interrupt (vector 0xFFEC, SLAS508K interrupt vector table) is accepted, which clears
 //! CCIFG; its handler clears the low-power bits of the status register saved on the stack
 //! (`bic #0x00F0, 0(SP)`; `reti`), so the CPU returns to the loop awake and runs the next step.
-//! `firmware/src/mmio.rs` has both pieces of assembly; the flight image's vector table does not
-//! route 0xFFEC yet (the image still paces itself on the processor-in-the-loop host). Without
+//! The flight node images do this (`firmware/src/periph.rs`: the handler as `TIMERA0_VECTOR` in
+//! their vector table; their processor-in-the-loop build paces itself on the PIL host). Without
 //! interrupts the loop calls [`PeriodTimer::wait_period`] instead, polling CCIFG (the CPU stays
 //! in active mode).
 //!

@@ -33,10 +33,27 @@
 //!   first (a read that has good bytes returns them and leaves the bad one for the next call);
 //!   the bad byte is discarded. The hardware buffers one byte: the link must read at least once
 //!   per byte time (87 µs) while a frame arrives, or the overrun is reported.
+//!
+//! `UsciUart` is a [`ByteStream`] (the link's, [`crate::hal::link`]): `write` takes a whole
+//! packet piece or fails ([`UartError::Timeout`] once a byte could not go within the poll
+//! limit), `read` is [`UsciUart::read_bytes`]; its errors are of kind
+//! [`LinkErrorKind::Transport`]. So `FramedLink<UsciUart<R>, N>` is a node link over polled
+//! USCI_A0.
+//!
+//! # Receiving while the CPU computes or sleeps: [`RxRing`]
+//! A node cannot poll the receiver through its 74 ms step or its LPM3 sleep. The flight images
+//! therefore take each received byte in the USCIAB0RX interrupt (UCA0RXIE, vector 0xFFF2,
+//! SLAS508K interrupt vector table): the handler (`firmware/src/uart_link.rs`, a few
+//! instructions of assembly) stores UCA0RXBUF at index `count mod` [`RX_RING_BYTES`] of a RAM
+//! ring and increments a free-running 16-bit `count`; the loop takes the bytes with
+//! [`RxRing::read`], which detects a ring the handler lapped (more than [`RX_RING_BYTES`] bytes
+//! not taken) and reports it as [`UartError::Overrun`] (the bytes in it are dropped; the
+//! framing above loses that frame only).
 
 use core::fmt;
 
 use super::{Registers, IFG2};
+use crate::hal::link::{ByteStream, Error as LinkError, ErrorKind as LinkErrorKind, ErrorType};
 
 /// USCI_A0 control register 0.
 pub const UCA0CTL0: u16 = 0x0060;
@@ -259,5 +276,93 @@ impl<R: Registers> UsciUart<R> {
             *slot = self.regs.read8(UCA0RXBUF);
         }
         Ok(buf.len())
+    }
+}
+
+impl LinkError for UartError {
+    /// Every UART failure is the link's transport failing.
+    fn kind(&self) -> LinkErrorKind {
+        LinkErrorKind::Transport
+    }
+}
+
+impl<R: Registers> ErrorType for UsciUart<R> {
+    type Error = UartError;
+}
+
+impl<R: Registers> ByteStream for UsciUart<R> {
+    /// All of `bytes`, each waiting at most the poll limit ([`UsciUart::write_bytes`]);
+    /// [`UartError::Timeout`] as soon as one cannot go (the bytes before it are on the line).
+    fn write(&mut self, bytes: &[u8]) -> Result<(), UartError> {
+        let mut rest = bytes;
+        while !rest.is_empty() {
+            let n = self.write_bytes(rest)?;
+            // `write_bytes` wrote at least one byte (else it returned the timeout)
+            rest = rest.get(n.max(1)..).unwrap_or(&[]);
+        }
+        Ok(())
+    }
+
+    /// [`UsciUart::read_bytes`].
+    fn read(&mut self, buf: &mut [u8]) -> Result<usize, UartError> {
+        self.read_bytes(buf)
+    }
+}
+
+/// Bytes of the receive ring of the flight images ([`RxRing`]): a power of two, more than a
+/// whole frame of the link (the longest packet, 113 B, COBS-framed: 116 B).
+pub const RX_RING_BYTES: u16 = 128;
+
+/// The loop's side of the receive ring the USCIAB0RX handler fills (see the
+/// [module docs](self), "Receiving while the CPU computes or sleeps"): how far it has read.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+pub struct RxRing {
+    /// The handler's count at the last byte taken (free-running, wrapping).
+    taken: u16,
+}
+
+impl RxRing {
+    /// A reader that has taken nothing: it must start with the handler's count at 0 (both
+    /// start at reset), or be [`RxRing::resync`]ed.
+    pub const fn new() -> Self {
+        Self { taken: 0 }
+    }
+
+    /// Drops every byte not taken: the next read starts at the handler's count `count`.
+    pub fn resync(&mut self, count: u16) {
+        self.taken = count;
+    }
+
+    /// Moves the bytes received and not yet taken (at most `buf.len()`) into `buf`, and returns
+    /// how many. `count` reads the handler's free-running count (a single word read: atomic on
+    /// the MSP430), `byte(i)` the ring's byte at index `i` (below [`RX_RING_BYTES`]). If the
+    /// handler lapped the reader (more than [`RX_RING_BYTES`] bytes pending, before or while the
+    /// bytes are copied), every pending byte is dropped and [`UartError::Overrun`] returned.
+    pub fn read(
+        &mut self,
+        mut count: impl FnMut() -> u16,
+        mut byte: impl FnMut(usize) -> u8,
+        buf: &mut [u8],
+    ) -> Result<usize, UartError> {
+        let head = count();
+        let pending = head.wrapping_sub(self.taken);
+        if pending > RX_RING_BYTES {
+            self.taken = head;
+            return Err(UartError::Overrun);
+        }
+        let start = self.taken;
+        let mut n = 0;
+        for slot in buf.iter_mut().take(usize::from(pending)) {
+            *slot = byte(usize::from(self.taken % RX_RING_BYTES));
+            self.taken = self.taken.wrapping_add(1);
+            n += 1;
+        }
+        // the handler may have written over the slots just copied
+        let now = count();
+        if now.wrapping_sub(start) > RX_RING_BYTES {
+            self.taken = now;
+            return Err(UartError::Overrun);
+        }
+        Ok(n)
     }
 }
