@@ -47,6 +47,22 @@ w(f"| the one-image composition (`acs-firmware`, measurement map; fits no part) 
 if "flash_bytes" in ob:
     w(f"| one image with SGP4 initialised on board (`onboard-init`, measurement map) | {n(ob['flash_bytes'])} B | | |")
 w("")
+for node in ("reference", "attitude"):
+    led = nodes[node].get("ledger")
+    if not led:
+        continue
+    w(f"### Ledger of the {node} node's flight image")
+    w("")
+    w("| code and constants by module (`tools/code_by_module.py`) | bytes |")
+    w("|---|---:|")
+    for b, name in led["flash_by_module"]:
+        w(f"| `{name}` | {n(b)} |")
+    w("")
+    w("| RAM by item | bytes |")
+    w("|---|---:|")
+    for b, name in led["ram_by_item"]:
+        w(f"| `{name}` | {n(b)} |")
+    w("")
 w("## The ACS step as one call, both nodes' work (`AcsLoop::step_into`, group `step`)")
 w("")
 w("| mode | cycles | with the hardware multiplier |")

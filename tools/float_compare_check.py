@@ -105,6 +105,7 @@ FLIGHT = [
     "src/hal/msp430/timer_a.rs",
     "src/hal/msp430/usci_i2c.rs",
     "src/hal/msp430/usci_uart.rs",
+    "src/hal/msp430/tile_bus.rs",
     "src/linalg/mod.rs",
     "src/linalg/lsq.rs",
     "src/linalg/pseudoinverse.rs",

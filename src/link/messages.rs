@@ -75,6 +75,7 @@ impl fmt::Display for LinkError {
 }
 
 /// The packet of `message` on `apid` with `sequence_count` (14 bits: wrapped), into `out`.
+#[cfg_attr(target_arch = "msp430", optimize(size))]
 fn to_packet<const P: usize>(apid: Apid, sequence_count: u16, message: &[u8]) -> [u8; P] {
     let mut out = [0u8; P];
     let header = PacketHeader {
@@ -313,11 +314,13 @@ impl Status {
     pub const BYTES: usize = 56;
 
     /// Its packet (APID [`STATUS_APID`]) with sequence count `sequence_count`.
+    #[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
     pub fn to_packet(&self, sequence_count: u16) -> [u8; STATUS_PACKET_BYTES] {
         to_packet(STATUS_APID, sequence_count, &self.to_bytes())
     }
 
     /// The message of a STATUS packet and the packet's sequence count.
+    #[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
     pub fn from_packet(bytes: &[u8]) -> Result<(Self, u16), LinkError> {
         let (header, data) = space_packet::decode(bytes, STATUS_APID).map_err(LinkError::Packet)?;
         let message = Self::from_bytes(data).map_err(LinkError::Message)?;
@@ -325,6 +328,7 @@ impl Status {
     }
 
     /// The message's bytes.
+    #[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
     pub fn to_bytes(&self) -> [u8; Self::BYTES] {
         let mut out = [0u8; Self::BYTES];
         let mut w = Writer {
@@ -344,6 +348,7 @@ impl Status {
     }
 
     /// The message from its bytes.
+    #[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
     pub fn from_bytes(bytes: &[u8]) -> Result<Self, MessageError> {
         if bytes.len() != Self::BYTES {
             return Err(MessageError::Length);
@@ -389,11 +394,13 @@ impl Reference {
     pub const BYTES: usize = 105;
 
     /// Its packet (APID [`REFERENCE_APID`]) with sequence count `sequence_count`.
+    #[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
     pub fn to_packet(&self, sequence_count: u16) -> [u8; REFERENCE_PACKET_BYTES] {
         to_packet(REFERENCE_APID, sequence_count, &self.to_bytes())
     }
 
     /// The message of a REF packet and the packet's sequence count.
+    #[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
     pub fn from_packet(bytes: &[u8]) -> Result<(Self, u16), LinkError> {
         let (header, data) =
             space_packet::decode(bytes, REFERENCE_APID).map_err(LinkError::Packet)?;
@@ -402,6 +409,7 @@ impl Reference {
     }
 
     /// The message's bytes.
+    #[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
     pub fn to_bytes(&self) -> [u8; Self::BYTES] {
         let mut out = [0u8; Self::BYTES];
         let mut w = Writer {
@@ -445,6 +453,7 @@ impl Reference {
     }
 
     /// The message from its bytes.
+    #[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
     pub fn from_bytes(bytes: &[u8]) -> Result<Self, MessageError> {
         if bytes.len() != Self::BYTES {
             return Err(MessageError::Length);

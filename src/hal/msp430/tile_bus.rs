@@ -159,7 +159,7 @@ impl<I: I2c> SetDutyCycle for WheelSetpoint<I> {
 
     /// Writes `duty` (at most [`WHEEL_FULL_SCALE`]) to the set-point register.
     fn set_duty_cycle(&mut self, duty: u16) -> Result<(), WheelWriteError> {
-        let [hi, lo] = duty.min(WHEEL_FULL_SCALE).to_be_bytes();
+        let [hi, lo] = core::cmp::min(duty, WHEEL_FULL_SCALE).to_be_bytes();
         self.i2c
             .write(self.address, &[WHEEL_SETPOINT_REGISTER, hi, lo])
             .map_err(|_| WheelWriteError)

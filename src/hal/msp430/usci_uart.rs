@@ -298,7 +298,7 @@ impl<R: Registers> ByteStream for UsciUart<R> {
         while !rest.is_empty() {
             let n = self.write_bytes(rest)?;
             // `write_bytes` wrote at least one byte (else it returned the timeout)
-            rest = rest.get(n.max(1)..).unwrap_or(&[]);
+            rest = rest.get(core::cmp::max(n, 1)..).unwrap_or(&[]);
         }
         Ok(())
     }
