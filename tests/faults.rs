@@ -790,16 +790,8 @@ fn sun_sensors_dark() {
     recovered("dark", back);
 }
 
-/// All tiles dark in a real umbra: the `sun-safe` scenario's noon-midnight orbit (seed 3),
-/// holding an inertial attitude from rest through its first eclipse; the ground commands
-/// `TRACK` again 60 s after the umbra ends.
-#[test]
-fn umbra() {
-    let mut sc = scenarios::sun_safe().unwrap();
-    let target = scenario().target.unwrap();
-    sc.target = Some(target);
-    sc.initial = (target, nalgebra::Vector3::zeros());
-    // the umbra's times, from the truth alone
+/// The first umbra's entry and exit of `sc`, s, from the truth alone.
+fn umbra_times(sc: &Scenario) -> (f64, f64) {
     let mut probe = sc.simulator().unwrap();
     let (mut entry, mut exit) = (None, None);
     while probe.truth().t_s < sc.duration_s && exit.is_none() {
@@ -813,7 +805,19 @@ fn umbra() {
         }
         probe.advance(sc.dt_s).unwrap();
     }
-    let (entry, exit) = (entry.unwrap(), exit.unwrap());
+    (entry.unwrap(), exit.unwrap())
+}
+
+/// All tiles dark in a real umbra: the `sun-safe` scenario's noon-midnight orbit (seed 3),
+/// holding an inertial attitude from rest through its first eclipse; the ground commands
+/// `TRACK` again 60 s after the umbra ends.
+#[test]
+fn umbra() {
+    let mut sc = scenarios::sun_safe().unwrap();
+    let target = scenario().target.unwrap();
+    sc.target = Some(target);
+    sc.initial = (target, nalgebra::Vector3::zeros());
+    let (entry, exit) = umbra_times(&sc);
     let end = exit + 900.0;
     let run = fly_on(&sc, &[], &[(exit + 60.0, Ground::Track)], end);
     println!(
@@ -1253,20 +1257,7 @@ fn link_down_in_umbra() {
     let target = scenario().target.unwrap();
     sc.target = Some(target);
     sc.initial = (target, nalgebra::Vector3::zeros());
-    let mut probe = sc.simulator().unwrap();
-    let (mut entry, mut exit) = (None, None);
-    while probe.truth().t_s < sc.duration_s && exit.is_none() {
-        let t = probe.truth().t_s;
-        let dark = probe.env().sun_fraction < 1e-9;
-        if dark && entry.is_none() {
-            entry = Some(t);
-        }
-        if !dark && entry.is_some() {
-            exit = Some(t);
-        }
-        probe.advance(sc.dt_s).unwrap();
-    }
-    let (entry, exit) = (entry.unwrap(), exit.unwrap());
+    let (entry, exit) = umbra_times(&sc);
     let (down, up, end) = (entry - 30.0, exit + 30.0, exit + 900.0);
     let run = fly_on(&sc, &[], &[(down, Ground::Link(LinkFault::Down, up))], end);
     let back = back_under(&run, up, end, BOUND_DEG);

@@ -89,6 +89,17 @@ fn to_packet<const P: usize>(apid: Apid, sequence_count: u16, message: &[u8]) ->
     out
 }
 
+/// The message of a packet on `apid` (decoded by `message`) and the packet's sequence count.
+fn from_packet<M>(
+    bytes: &[u8],
+    apid: Apid,
+    message: fn(&[u8]) -> Result<M, MessageError>,
+) -> Result<(M, u16), LinkError> {
+    let (header, data) = space_packet::decode(bytes, apid).map_err(LinkError::Packet)?;
+    let m = message(data).map_err(LinkError::Message)?;
+    Ok((m, header.sequence_count))
+}
+
 /// Why a message's bytes were refused.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -322,9 +333,7 @@ impl Status {
     /// The message of a STATUS packet and the packet's sequence count.
     #[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
     pub fn from_packet(bytes: &[u8]) -> Result<(Self, u16), LinkError> {
-        let (header, data) = space_packet::decode(bytes, STATUS_APID).map_err(LinkError::Packet)?;
-        let message = Self::from_bytes(data).map_err(LinkError::Message)?;
-        Ok((message, header.sequence_count))
+        from_packet(bytes, STATUS_APID, Self::from_bytes)
     }
 
     /// The message's bytes.
@@ -402,10 +411,7 @@ impl Reference {
     /// The message of a REF packet and the packet's sequence count.
     #[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
     pub fn from_packet(bytes: &[u8]) -> Result<(Self, u16), LinkError> {
-        let (header, data) =
-            space_packet::decode(bytes, REFERENCE_APID).map_err(LinkError::Packet)?;
-        let message = Self::from_bytes(data).map_err(LinkError::Message)?;
-        Ok((message, header.sequence_count))
+        from_packet(bytes, REFERENCE_APID, Self::from_bytes)
     }
 
     /// The message's bytes.

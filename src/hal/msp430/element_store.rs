@@ -56,28 +56,13 @@ pub const FLIGHT_SEGMENTS: [u16; 2] = [0x2200, 0x2400];
 const CRC_OFFSET: u16 = 2 * (RECORD_WORDS as u16 - 1);
 
 /// CRC-16/CCITT (polynomial 0x1021, initial value 0xFFFF, no reflection, no final XOR; the
-/// "CCITT-FALSE" of the CRC catalogues: check value 0x29B1 for `b"123456789"`).
-pub fn crc16_ccitt(bytes: &[u8]) -> u16 {
-    bytes.iter().fold(0xFFFF, |crc, &b| crc16_update(crc, b))
-}
-
-/// One byte into the CRC, bit by bit (no table: 16 bytes of code instead of 512 of table).
-fn crc16_update(crc: u16, byte: u8) -> u16 {
-    let mut crc = crc ^ (u16::from(byte) << 8);
-    for _ in 0..8 {
-        crc = if crc & 0x8000 != 0 {
-            (crc << 1) ^ 0x1021
-        } else {
-            crc << 1
-        };
-    }
-    crc
-}
+/// "CCITT-FALSE" of the CRC catalogues: check value 0x29B1 for `b"123456789"`): the link's
+/// packet error control, [`crate::link::crc16`].
+pub use crate::link::crc16::crc16 as crc16_ccitt;
 
 /// One little-endian word into the CRC.
 fn crc16_word(crc: u16, word: u16) -> u16 {
-    let [lo, hi] = word.to_le_bytes();
-    crc16_update(crc16_update(crc, lo), hi)
+    crate::link::crc16::crc16_update(crc, &word.to_le_bytes())
 }
 
 /// `b` is newer than `a` in serial-number arithmetic.
