@@ -1,7 +1,14 @@
-//! The on-board ACS loop: one [`AcsLoop::step`] per control period reads the tiles, propagates
+//! The ACS loop in one image: one [`AcsLoop::step`] per control period reads the tiles, propagates
 //! the orbit, evaluates the Sun and field models, determines attitude and rate, runs the active
 //! mode's law and commands the actuators (issue #8; the thesis's synchronous call sequence of
 //! note 000 §1.5, closed).
+//!
+//! Since issue #29 the ACS flies as two nodes ([`crate::reference_node`],
+//! [`crate::attitude_node`], composed on the host by [`crate::two_node::TwoNodeLoop`]), which
+//! command bit for bit what this loop commands (`tests/two_node.rs`). This one-image form stays
+//! for the benchmark's one-call step (its cycles bound each node's step without the hardware
+//! multiplier) and the one-image size that CI reports; the two share their modes, faults and
+//! constants (the attitude node's). It goes when the benchmark measures the nodes' steps apart.
 //!
 //! Attitudes follow [`crate::attitude`]: `v_body = A · v_ref` with the reference frame TEME of
 //! date; quaternions scalar-first.

@@ -8,7 +8,8 @@
 //! at the step's UTC, the attitude node runs the step with it and answers STATUS. The API is
 //! [`crate::acs_loop::AcsLoop`]'s, and so are the commands: `tests/two_node.rs` flies the
 //! closed-loop scenarios through both and finds every step's report bit for bit the same. The
-//! simulator still flies [`crate::acs_loop::AcsLoop`]; the processor-in-the-loop run flies the
+//! simulator, the `acs` tool, the campaigns and the tests fly this composition
+//! ([`crate::flight::FlightLoop`]); the processor-in-the-loop run flies the
 //! two node images (`acs-reference`, `acs-attitude`) against this composition
 //! ([`TwoNodeLoop::step_over_link`]: the link's packets as the images exchange them, damaged
 //! or lost as the harness damages theirs, and a reset of the reference node,
