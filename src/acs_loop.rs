@@ -394,12 +394,6 @@ impl fmt::Display for AcsError {
     }
 }
 
-/// Seconds from `earlier` to `later` in f32 (a control period: exact enough).
-fn span_s(later: &Epoch<Utc>, earlier: &Epoch<Utc>) -> f32 {
-    let (whole, frac) = later.span_since(earlier).split_seconds();
-    whole + frac
-}
-
 /// Allocates `l_body` with the cached allocator, rebuilding it first if the working set of
 /// `actuators` changed (a failure) or there is none yet.
 fn cached_allocation<const N: usize>(
@@ -909,7 +903,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
             }
             _ => None,
         };
-        let elapsed = self.last_time.map(|t| span_s(now, &t));
+        let elapsed = self.last_time.map(|t| now.seconds_since_f32(&t));
         self.last_time = Some(*now);
         // A step is one control period: a gap of any other size or sign (a clock correction, a
         // reset) must not be integrated into the wheels (a +60 s correction once kicked a
@@ -1113,7 +1107,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
     /// plan is done.
     fn slew_momentum(&self, p: &SlewProgress, now: &Epoch<Utc>) -> Option<Vec3> {
         // half a period of margin: boundaries fall on ticks
-        let t = span_s(now, &p.started) + 0.5 * self.config.control_period_s;
+        let t = now.seconds_since_f32(&p.started) + 0.5 * self.config.control_period_s;
         let mut t0 = 0.0f32;
         for (duration_s, h_body) in p.steps.iter() {
             if t0 + duration_s > t {

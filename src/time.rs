@@ -411,6 +411,13 @@ impl<S: TimeScale> Epoch<S> {
         (whole + fraction) / 36_525.0
     }
 
+    /// Seconds from `earlier` to `self` in f32, whole and fractional parts added (exact enough
+    /// for a control period or a slew's progress: 1 ms at 4.6 hours).
+    pub fn seconds_since_f32(&self, earlier: &Self) -> f32 {
+        let (whole, frac) = self.span_since(earlier).split_seconds();
+        whole + frac
+    }
+
     /// The span from `earlier` to `self` (negative if `earlier` is later). UTC days count 86 400 s.
     /// Saturates at the ends of [`TimeSpan`] (±68 years).
     pub fn span_since(&self, earlier: &Self) -> TimeSpan {
@@ -535,6 +542,12 @@ impl TimeSpan {
     /// A span of whole seconds (a control period, a clock step).
     pub const fn from_whole_seconds(seconds: i32) -> Self {
         Self { seconds, nano: 0 }
+    }
+
+    /// A span of `seconds` given in f32 (a control period), to the nanosecond f32 holds: exact
+    /// for whole seconds; NaN gives zero, the ends saturate.
+    pub fn from_seconds_f32(seconds: f32) -> Self {
+        Self::new(0, (seconds * 1e9) as i64)
     }
 
     /// A span of whole seconds and nanoseconds (nanoseconds may be any value; they are carried).

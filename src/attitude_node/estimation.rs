@@ -15,7 +15,6 @@ use crate::determination::{wahba_svd, Observation};
 use crate::env::eclipse::Shadow;
 use crate::linalg::{dot, Vec3};
 use crate::link::messages::Reference;
-use crate::time::{Epoch, Utc};
 
 /// The largest relative difference between the magnitude of the field the magnetometers give
 /// and the model's that the loop accepts (a field further off is no measurement, reported as
@@ -24,29 +23,12 @@ use crate::time::{Epoch, Utc};
 /// scale, the spacecraft's fields, the degree-8 model flown then); a coil left on at 0.2 A·m²
 /// reaches 168 %.
 pub const FIELD_MAGNITUDE_TOLERANCE: f32 = 0.1;
-const FIELD_SQUARED_LOW: f32 =
-    (1.0 - FIELD_MAGNITUDE_TOLERANCE) * (1.0 - FIELD_MAGNITUDE_TOLERANCE);
-const FIELD_SQUARED_HIGH: f32 =
-    (1.0 + FIELD_MAGNITUDE_TOLERANCE) * (1.0 + FIELD_MAGNITUDE_TOLERANCE);
-
-/// Seconds from `earlier` to `later` in f32 (a control period: exact enough).
-fn span_s(later: &Epoch<Utc>, earlier: &Epoch<Utc>) -> f32 {
-    let (whole, frac) = later.span_since(earlier).split_seconds();
-    whole + frac
-}
 
 /// How fast the field's magnitude may change along the orbit, as a fraction a second: without a
 /// REF the magnitude check widens from [`FIELD_MAGNITUDE_TOLERANCE`] by this much a second since
 /// the last REF (a quarter of a low orbit, ≈ 1 400 s, halves or doubles `|B|`: 0.07 %/s on
 /// average; a coil left on, +168 %, is still refused for the first 26 minutes).
 pub const FIELD_MAGNITUDE_DRIFT_PER_S: f32 = 1.0e-3;
-
-/// True if `|b|²` is within `(1 ± FIELD_MAGNITUDE_TOLERANCE)²` of `|m|²` (false for a NaN).
-#[cfg_attr(target_arch = "msp430", inline(never))]
-fn magnitude_agrees(b: &Vec3, m: &Vec3) -> bool {
-    let (measured, model) = (dot(b, b), dot(m, m));
-    measured >= FIELD_SQUARED_LOW * model && FIELD_SQUARED_HIGH * model >= measured
-}
 
 /// True if `|b|²` is within `(1 ± tolerance)²` of `model_nt2` (false for a NaN).
 #[cfg_attr(target_arch = "msp430", inline(never))]
@@ -71,23 +53,23 @@ impl<const N: usize> AttitudeNode<'_, N> {
         report: &mut StepReport,
     ) -> f32 {
         let mut b_body_nt = self.field_body(readings);
-        let model = reference.and_then(|r| r.b_teme_nt);
-        if let (Some(b), Some(m)) = (&b_body_nt, &model) {
-            if !magnitude_agrees(b, m) {
-                b_body_nt = None;
-            }
+        // the model's |B|² and the tolerance: the REF's; without a REF the last one's, the
+        // tolerance widening with the time since
+        if let Some(r) = reference {
+            self.last_field_nt2 = r.b_teme_nt.map(|m| dot(&m, &m));
+            self.last_umbra = r.illumination.is_some_and(|i| i.shadow == Shadow::Umbra);
         }
-        // without a REF: the last one's magnitude, the tolerance widening with the time since
-        if let (Some(b), None, Some(m2)) = (&b_body_nt, reference, self.last_field_nt2) {
-            let since_s = f32::from(self.without_reference) * self.config.control_period_s;
-            let tolerance = FIELD_MAGNITUDE_TOLERANCE + FIELD_MAGNITUDE_DRIFT_PER_S * since_s;
+        let tolerance = match reference {
+            Some(_) => FIELD_MAGNITUDE_TOLERANCE,
+            None => {
+                let since_s = f32::from(self.without_reference) * self.config.control_period_s;
+                FIELD_MAGNITUDE_TOLERANCE + FIELD_MAGNITUDE_DRIFT_PER_S * since_s
+            }
+        };
+        if let (Some(b), Some(m2)) = (&b_body_nt, self.last_field_nt2) {
             if !magnitude_within(b, m2, tolerance) {
                 b_body_nt = None;
             }
-        }
-        if let Some(r) = reference {
-            self.last_field_nt2 = model.map(|m| dot(&m, &m));
-            self.last_umbra = r.illumination.is_some_and(|i| i.shadow == Shadow::Umbra);
         }
         let omega = self.rate_body(readings);
         faults.field = b_body_nt.is_none();
@@ -107,7 +89,7 @@ impl<const N: usize> AttitudeNode<'_, N> {
         // the node's copy of the clock: the REF's UTC, or one period on without a REF (a
         // REF after a gap of the link then follows by one period, no clock fault)
         let elapsed = match reference {
-            Some(r) => self.clock.map(|t| span_s(&r.utc, &t)),
+            Some(r) => self.clock.map(|t| r.utc.seconds_since_f32(&t)),
             None => None,
         };
         self.clock = match reference {

@@ -132,7 +132,7 @@ impl<'c, const N: usize> AttitudeNode<'c, N> {
             invalid_steps: 0,
             bus_answered: true,
             clock: None,
-            period: period_span(config.control_period_s),
+            period: TimeSpan::from_seconds_f32(config.control_period_s),
             step: 0,
             boot_count: 0,
             guidance_id: 0,
@@ -337,9 +337,4 @@ impl<'c, const N: usize> AttitudeNode<'c, N> {
         let readings = self.read_tiles(bus, faults);
         self.determine(&readings, reference, dt_s, faults, report)
     }
-}
-
-/// The control period as a time span (nanoseconds rounded from f32: exact for whole seconds).
-fn period_span(period_s: f32) -> TimeSpan {
-    TimeSpan::new(0, (period_s * 1e9) as i64)
 }

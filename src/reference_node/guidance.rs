@@ -23,12 +23,6 @@ pub(super) struct SlewProgress {
     started: Epoch<Utc>,
 }
 
-/// Seconds from `earlier` to `later` in f32 (a control period: exact enough).
-fn span_s(later: &Epoch<Utc>, earlier: &Epoch<Utc>) -> f32 {
-    let (whole, frac) = later.span_since(earlier).split_seconds();
-    whole + frac
-}
-
 impl<const N: usize, const F: usize> ReferenceNode<'_, N, F> {
     /// The ground's track command: track `target` (reference → body) from the next REF on.
     pub fn track(&mut self, target: Quaternion) {
@@ -114,7 +108,7 @@ impl<const N: usize, const F: usize> ReferenceNode<'_, N, F> {
     /// when the plan is done.
     fn slew_momentum(&self, p: &SlewProgress, now: &Epoch<Utc>) -> Option<Vec3> {
         // half a period of margin: boundaries fall on ticks
-        let t = span_s(now, &p.started) + 0.5 * self.config.control_period_s;
+        let t = now.seconds_since_f32(&p.started) + 0.5 * self.config.control_period_s;
         let mut t0 = 0.0f32;
         for (duration_s, h_body) in p.steps.iter() {
             if t0 + duration_s > t {

@@ -66,7 +66,7 @@ impl<'c, const N: usize, const F: usize> ReferenceNode<'c, N, F> {
             config,
             orbit: orbit.into(),
             clock: None,
-            period: TimeSpan::new(0, (config.control_period_s * 1e9) as i64),
+            period: TimeSpan::from_seconds_f32(config.control_period_s),
             guidance: Guidance::NONE,
             slew: None,
             accepted_id: 0,
