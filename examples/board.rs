@@ -34,6 +34,7 @@ use acs::hal::drivers::{
 };
 use acs::linalg::Vec3;
 use acs::time::TimeSpan;
+use embedded_hal::delay::DelayNs;
 use embedded_hal::digital::{self, OutputPin};
 use embedded_hal::i2c::{self, I2c, NoAcknowledgeSource, Operation};
 use embedded_hal::pwm::{self, SetDutyCycle};
@@ -136,6 +137,17 @@ impl OutputPin for StandInPin {
     }
 }
 
+/// A timer: a board's HAL would wait on a hardware timer; this one adds up the waits, ns (the
+/// attitude node waits 5 ms each step between switching the coils off and reading).
+#[derive(Default)]
+struct StandInTimer(u64);
+
+impl DelayNs for StandInTimer {
+    fn delay_ns(&mut self, ns: u32) {
+        self.0 += u64::from(ns);
+    }
+}
+
 /// The board's peripherals: the tiles' I²C bus, a PWM channel and a direction pin per wheel
 /// (one per tile) and per coil.
 struct Peripherals {
@@ -170,6 +182,7 @@ type Bus = DeviceBus<
     I2cGyro<StandInI2c>,
     PwmReactionWheel<StandInPwm, StandInPin>,
     PwmMagnetorquer<StandInPwm, StandInPin>,
+    StandInTimer,
     TILES,
     COILS,
 >;
@@ -204,7 +217,7 @@ fn tile_bus(p: &Peripherals) -> Bus {
         let (pwm, dir) = p.coils[c].clone();
         Some(PwmMagnetorquer::new(pwm, dir, CONFIG.coils[c].limit))
     });
-    DeviceBus::new(tiles, coils)
+    DeviceBus::new(tiles, coils, StandInTimer::default())
 }
 
 fn main() {

@@ -794,6 +794,7 @@ impl acs::hal::TileBus for WheelRecorder {
     fn set_dipole(&mut self, _: usize, _: f32) -> Result<(), acs::hal::ErrorKind> {
         Ok(())
     }
+    fn delay_us(&mut self, _: u32) {}
 }
 
 /// With every wheel failed the allocation has nothing to work with: every wheel-equipped tile
@@ -934,6 +935,7 @@ impl acs::hal::TileBus for ConstantBus {
         self.coils[tile] = Some(m);
         Ok(())
     }
+    fn delay_us(&mut self, _: u32) {}
 }
 
 /// Issue 19: a law that refuses its input is reported, not turned into a zero command: a

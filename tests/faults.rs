@@ -54,6 +54,9 @@ impl TileBus for Recorder<'_> {
         self.coils.push((coil, m_am2));
         self.sim.set_dipole(coil, m_am2)
     }
+    fn delay_us(&mut self, us: u32) {
+        self.sim.delay_us(us);
+    }
 }
 
 /// A ground action at a time (s from the start).

@@ -8,6 +8,7 @@
 //! their `ErrorKind` (a spy between the loop and the adapter records what the loop received).
 
 use acs::acs_loop::{StepReport, FAILURES_TO_MARK_FAILED};
+use acs::attitude_node::COIL_DECAY_US;
 use acs::flight::{FlightLoop, CONFIG, TILES};
 use acs::hal::bus::{DeviceBus, TileDevices};
 use acs::hal::drivers::{
@@ -17,6 +18,7 @@ use acs::hal::{ErrorKind, TileBus};
 use acs::orbit::sgp4::Sgp4;
 use acs::tiles::TileState;
 use acs::time::{Epoch, TimeSpan, Utc};
+use embedded_hal::delay::DelayNs;
 use embedded_hal::i2c::{ErrorKind as I2cErrorKind, NoAcknowledgeSource};
 
 mod common;
@@ -160,6 +162,7 @@ impl TileBus for Reference<'_> {
             .fault(Device::Coil(coil))
             .map_or(Ok(()), |f| Err(f.kind()))
     }
+    fn delay_us(&mut self, _: u32) {}
 }
 
 /// A bus between the loop and another, recording every call and its result.
@@ -194,6 +197,9 @@ impl<B: TileBus> TileBus for Spy<B> {
         self.calls.push(Call::Coil(coil, m, r));
         r
     }
+    fn delay_us(&mut self, us: u32) {
+        self.bus.delay_us(us);
+    }
 }
 
 type Wheel = PwmReactionWheel<PwmMock, PinMock>;
@@ -204,9 +210,20 @@ type Bus = DeviceBus<
     I2cGyro<I2cMock>,
     Wheel,
     Coil,
+    Timer,
     TILES,
     COILS,
 >;
+
+/// The board's timer: adds up the waits it is asked, ns.
+#[derive(Default)]
+struct Timer(u64);
+
+impl DelayNs for Timer {
+    fn delay_ns(&mut self, ns: u32) {
+        self.0 += u64::from(ns);
+    }
+}
 
 /// The mocked devices (clones of the mocks inside the drivers: they share the expectations).
 struct Mocks {
@@ -250,7 +267,7 @@ fn board() -> (Bus, Mocks) {
         mocks.coil_dir.push(dir.clone());
         Some(PwmMagnetorquer::new(pwm, dir, CONFIG.coils[c].limit))
     });
-    (DeviceBus::new(tiles, coils), mocks)
+    (DeviceBus::new(tiles, coils, Timer::default()), mocks)
 }
 
 fn bytes(words: &[i16]) -> Vec<u8> {
@@ -411,6 +428,10 @@ fn fly(sky: &Sky, steps: i32) -> (Vec<Flown>, FlightLoop) {
         });
     }
     done(&mut mocks);
+    // the board's timer waited the attitude node's coil decay once a step
+    let (_, _, timer) = spy.bus.release();
+    let steps = u64::try_from(steps).unwrap_or(0);
+    assert_eq!(timer.0, steps * u64::from(COIL_DECAY_US) * 1_000);
     (flown, under_test)
 }
 

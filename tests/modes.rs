@@ -54,6 +54,7 @@ impl acs::hal::TileBus for Scripted {
     fn set_dipole(&mut self, _: usize, _: f32) -> Result<(), acs::hal::ErrorKind> {
         Ok(())
     }
+    fn delay_us(&mut self, _: u32) {}
 }
 
 /// What happens in a row.

@@ -21,6 +21,7 @@ use acs::orbit::sgp4::{Gravity, Sgp4, ELEMENT_WORDS};
 use embedded_hal::digital::OutputPin as _;
 use embedded_hal::i2c::{self, I2c, NoAcknowledgeSource, Operation};
 use embedded_hal::pwm::SetDutyCycle;
+use embedded_hal_mock::eh1::delay::NoopDelay;
 use msp430::{Event, Handle, Slave};
 
 const MAG: u8 = 0x1E;
@@ -459,8 +460,8 @@ fn device_bus_runs_on_the_msp430_drivers() {
         coil(TbOutput::TB4, 1),
         coil(TbOutput::TB5, 2),
     ];
-    let mut dbus: DeviceBus<_, _, _, acs::hal::bus::NoDevice, _, 2, 3> =
-        DeviceBus::new([tile, TileDevices::none()], coils);
+    let mut dbus: DeviceBus<_, _, _, acs::hal::bus::NoDevice, _, _, 2, 3> =
+        DeviceBus::new([tile, TileDevices::none()], coils, NoopDelay::new());
     assert_eq!(dbus.read_magnetometer(0), Ok([1603, -467]));
     assert_eq!(dbus.read_gyro(0), Ok(-312));
     assert_eq!(dbus.read_sun(0), Ok(Some([2500, -1200])));
@@ -1065,7 +1066,7 @@ fn the_tile_address_map_is_distinct_and_legal() {
 /// A part with the flight cube's devices at the map's addresses: tiles 1–5 each with a sun
 /// sensor, magnetometer, gyro and wheel controller whose words tell their tile; tile 0 (the
 /// telecom tile) with none.
-fn flight_part() -> (Handle, AttitudeBus<Handle>) {
+fn flight_part() -> (Handle, AttitudeBus<Handle, NoopDelay>) {
     let h = Handle::new();
     {
         let mut mcu = h.mcu();
@@ -1085,7 +1086,12 @@ fn flight_part() -> (Handle, AttitudeBus<Handle>) {
             mcu.i2c.slaves.push(Slave::new(tile_bus::WHEEL_BASE + t));
         }
     }
-    let bus = tile_bus::attitude_bus(h.clone(), I2cConfig::FLIGHT, PwmConfig::FLIGHT);
+    let bus = tile_bus::attitude_bus(
+        h.clone(),
+        I2cConfig::FLIGHT,
+        PwmConfig::FLIGHT,
+        NoopDelay::new(),
+    );
     (h, bus)
 }
 

@@ -148,6 +148,7 @@ impl TileBus for RandomBus {
         self.commands += 1;
         self.error().map_or(Ok(()), Err)
     }
+    fn delay_us(&mut self, _: u32) {}
 }
 
 /// What a soak saw.

@@ -11,6 +11,8 @@
 //!   of the flight node images (feature `pil` off), and their interrupt vectors.
 //! - [`element_flash`]: the reference node's uplinked element set kept in two flash segments
 //!   (flight build).
+//! - [`CycleDelay`]: the busy wait of [`acs::hal::TileBus::delay_us`] (the coils' decay before
+//!   the attitude node reads its tiles).
 //! - [`safe_state`]: the hook that puts every actuator in its safe state; unexpected interrupts
 //!   call it and then halt, and the watchdog resets the part ([`kick_watchdog`]).
 //!
@@ -24,8 +26,8 @@ pub mod element_flash;
 pub mod elements;
 pub mod flight;
 pub mod flight_elements;
-pub mod node_link;
 pub mod mmio;
+pub mod node_link;
 pub mod periph;
 pub mod rt;
 pub mod tiles;
@@ -56,6 +58,54 @@ pub fn safe_state() {
 pub extern "C" fn fw_period_start() {
     // SAFETY: `nop` has no effect; it keeps the function's body (and its symbol) in the image.
     unsafe { core::arch::asm!("nop") };
+}
+
+/// The images' timer for short waits ([`acs::hal::TileBus::delay_us`]: the attitude node's wait
+/// between switching the coils off and reading the tiles): a busy loop of 4 MCLK cycles an
+/// iteration, 2 iterations a microsecond, so 8 cycles a µs, 1.00058 µs at MCLK = 7 995 392 Hz
+/// (the FLL+ locked to the crystal, [`periph`]): never shorter than asked. The 5 ms wait is
+/// 10 000 iterations, 40 000 cycles on the part (SLAU056 "Instruction Cycles and Lengths":
+/// `sub #1, Rn` and `nop`, constant-generator sources to a register, 1 cycle each; a jump 2).
+/// mspdebug's simulator counts 6 cycles an iteration (60 002 for the call, 30 001 instructions:
+/// it charges the constant generator's `#1` and `nop` 2 cycles each), so the processor-in-the-
+/// loop periods overstate the wait by 20 000 cycles. If the FLL+ did not lock (`CLOCK_STATUS`
+/// bit 1) MCLK may be anywhere in the DCO's range and so may the wait. The same loop runs in
+/// the processor-in-the-loop image.
+pub struct CycleDelay;
+
+impl CycleDelay {
+    /// Busy-waits `n` iterations of 4 cycles.
+    #[inline(never)]
+    fn spin(mut n: u32) {
+        while n > 0 {
+            let chunk = n.min(0xFFFF) as u16;
+            n -= u32::from(chunk);
+            // SAFETY: register arithmetic and a branch on the operand register only:
+            // `sub #1` (1 cycle, the constant generator), `nop` (1), `jnz` (2).
+            unsafe {
+                core::arch::asm!(
+                    "2:",
+                    "sub #1, {0}",
+                    "nop",
+                    "jnz 2b",
+                    inout(reg) chunk => _,
+                    options(nomem, nostack)
+                )
+            };
+        }
+    }
+}
+
+impl embedded_hal::delay::DelayNs for CycleDelay {
+    /// At least `ns`: 500 ns an iteration, `ns / 256 + 1` of them (so up to twice `ns`; the
+    /// images ask microseconds).
+    fn delay_ns(&mut self, ns: u32) {
+        Self::spin((ns >> 8) + 1);
+    }
+
+    fn delay_us(&mut self, us: u32) {
+        Self::spin(us.saturating_mul(2));
+    }
 }
 
 /// Stops the core: interrupts off, then an endless loop without kicking the watchdog, which

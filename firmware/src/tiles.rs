@@ -130,6 +130,10 @@ impl TileBus for MailboxBus {
         }
         set_element(&raw mut CMD_DIPOLE_AM2, coil, m_am2)
     }
+    /// The part's busy wait ([`crate::CycleDelay`]): the simulator counts its cycles.
+    fn delay_us(&mut self, us: u32) {
+        embedded_hal::delay::DelayNs::delay_us(&mut crate::CycleDelay, us);
+    }
 }
 
 /// Switches every magnetorquer off. The wheels keep the momentum they were last commanded

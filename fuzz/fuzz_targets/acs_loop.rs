@@ -87,6 +87,7 @@ impl TileBus for FuzzBus<'_> {
         assert!(within(m_am2, COIL_LIMIT_AM2), "coil {coil}: {m_am2} A·m²");
         self.outcome()
     }
+    fn delay_us(&mut self, _: u32) {}
 }
 
 fuzz_target!(|data: &[u8]| {

@@ -219,6 +219,7 @@ mod tests {
             fn set_dipole(&mut self, _: usize, _: f32) -> Result<(), ErrorKind> {
                 Ok(())
             }
+            fn delay_us(&mut self, _: u32) {}
         }
         let config = &crate::flight::CONFIG;
         let limit = config.wheel_limit_nms;

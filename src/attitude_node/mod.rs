@@ -8,7 +8,8 @@
 //! date; quaternions scalar-first.
 //!
 //! # One step ([`AttitudeNode::step_into`])
-//! 1. Magnetorquers off (the magnetometers must not see them, note 002 §8.5).
+//! 1. Magnetorquers off (the magnetometers must not see them, note 002 §8.5), then a wait of
+//!    [`COIL_DECAY_US`] on the bus's timer ([`TileBus::delay_us`]) for their field to decay.
 //! 2. The REF: used if it was made for this step and its clock is valid
 //!    ([`crate::link::messages::Reference::usable_at`]); otherwise the step runs without
 //!    reference (no Wahba attitude: the filter propagates with the gyros; detumble and
@@ -50,6 +51,14 @@ pub use modes::{Mode, INVALID_STEPS_TO_SAFE};
 pub use sensing::FAILURES_TO_MARK_FAILED;
 
 use modes::{next_mode, Event, ModeState};
+
+/// The wait between switching the coils off and reading the tiles, µs: 5 ms, 12.8 time
+/// constants of the flight coil (τ = L/R = 0.39 ms, seed 002 §6.4's coil; the simulator's
+/// `CoilModel::CLASS`), so a coil's field at the magnetometers (up to 140 000 nT at its own
+/// tile's, `docs/simulator.md`) has decayed by e^−12.8 to at most 0.4 nT, below the
+/// magnetometers' 10 nT word. The one-image loop needed none: its 55 ms of models ran between
+/// the two. Issue #29, item 4; `tests/two_node.rs` checks the order on the bus.
+pub const COIL_DECAY_US: u32 = 5_000;
 
 /// The attitude node's state: mode, estimator memories, commands in force, device health; for
 /// at most `N` ≤ 32 tiles. It borrows its configuration (`'c`: on the MSP430 a `static` in
@@ -286,6 +295,7 @@ impl<'c, const N: usize> AttitudeNode<'c, N> {
         report: &mut StepReport,
     ) -> Status {
         let mut faults = self.safe(bus);
+        bus.delay_us(COIL_DECAY_US);
         let reference = reference.filter(|r| r.usable_at(self.step));
         match reference {
             Some(r) => {

@@ -12,6 +12,7 @@
 //! | `read_gyro(i)` | tile `i`'s [`Gyro::read_rate_raw`] | as above |
 //! | `set_wheel_momentum(i, h)` | tile `i`'s [`ReactionWheel::set_momentum`] | as above |
 //! | `set_dipole(c, m)` | coil `c`'s [`Magnetorquer::set_dipole`] | as above (no such coil) |
+//! | `delay_us(t)` | the board's timer, `embedded_hal::delay::DelayNs::delay_us` | none |
 //!
 //! The devices are any types implementing the device traits: the drivers of
 //! [`super::drivers`], a board's own, or `&mut` borrows of either (the traits forward through
@@ -30,6 +31,8 @@
 //! use acs::hal::bus::{DeviceBus, NoDevice, TileDevices};
 //! use acs::hal::{CoilIndex, ErrorKind, ErrorType, Magnetometer, TileBus, TileIndex};
 //!
+//! use embedded_hal::delay::DelayNs;
+//!
 //! /// A magnetometer that always reads the same words (a board's driver in real life).
 //! struct Fixed([i16; 2]);
 //! impl ErrorType for Fixed {
@@ -41,19 +44,29 @@
 //!     }
 //! }
 //!
+//! /// The board's timer (a HAL's `DelayNs` in real life; this one only counts).
+//! struct Timer(u64);
+//! impl DelayNs for Timer {
+//!     fn delay_ns(&mut self, ns: u32) {
+//!         self.0 += u64::from(ns);
+//!     }
+//! }
+//!
 //! // two tiles: the first without devices, the second with a magnetometer; no coil
 //! let tiles = [
 //!     TileDevices::none(),
 //!     TileDevices::none().with_magnetometer(Fixed([1603, -467])),
 //! ];
-//! let mut bus: DeviceBus<NoDevice, Fixed, NoDevice, NoDevice, NoDevice, 2, 0> =
-//!     DeviceBus::new(tiles, []);
+//! let mut bus: DeviceBus<NoDevice, Fixed, NoDevice, NoDevice, NoDevice, Timer, 2, 0> =
+//!     DeviceBus::new(tiles, [], Timer(0));
 //! assert_eq!(bus.read_magnetometer(1), Ok([1603, -467]));
 //! assert_eq!(bus.read_magnetometer(0), Err(ErrorKind::DeviceAbsent));
 //! assert_eq!(bus.set_dipole(0, 0.1), Err(ErrorKind::DeviceAbsent));
 //! assert!(bus.tile(TileIndex(1)).is_some_and(|t| t.magnetometer.is_some()));
 //! assert!(bus.coil(CoilIndex(0)).is_none());
 //! ```
+
+use embedded_hal::delay::DelayNs;
 
 use super::{
     CoilIndex, Error, ErrorKind, ErrorType, Gyro, Magnetometer, Magnetorquer, ReactionWheel,
@@ -178,11 +191,13 @@ impl<S, M, G, W> Default for TileDevices<S, M, G, W> {
 
 /// The satellite's [`TileBus`] over per-device drivers: `N` tiles (in the configuration's tile
 /// order) with sun sensors `S`, magnetometers `M`, gyros `G` and wheels `W`, and `K`
-/// magnetorquer coils `C` (in the order of `AcsConfig::coils`). See the [module docs](self).
+/// magnetorquer coils `C` (in the order of `AcsConfig::coils`), and the board's timer `D`
+/// ([`TileBus::delay_us`]). See the [module docs](self).
 #[derive(Clone, Debug)]
-pub struct DeviceBus<S, M, G, W, C, const N: usize, const K: usize> {
+pub struct DeviceBus<S, M, G, W, C, D, const N: usize, const K: usize> {
     tiles: [TileDevices<S, M, G, W>; N],
     coils: [Option<C>; K],
+    delay: D,
 }
 
 /// A device's error as the bus reports it.
@@ -190,11 +205,16 @@ fn kind<E: Error>(e: E) -> ErrorKind {
     e.kind()
 }
 
-impl<S, M, G, W, C, const N: usize, const K: usize> DeviceBus<S, M, G, W, C, N, K> {
+impl<S, M, G, W, C, D, const N: usize, const K: usize> DeviceBus<S, M, G, W, C, D, N, K> {
     /// The bus over `tiles` (tile `i` = [`TileIndex`]`(i)`) and `coils` (coil `c` =
-    /// [`CoilIndex`]`(c)`; `None`: a coil the satellite lacks or that is not fitted).
-    pub fn new(tiles: [TileDevices<S, M, G, W>; N], coils: [Option<C>; K]) -> Self {
-        Self { tiles, coils }
+    /// [`CoilIndex`]`(c)`; `None`: a coil the satellite lacks or that is not fitted), waiting
+    /// on `delay` (the board's timer: it must wait at least what it is asked).
+    pub fn new(tiles: [TileDevices<S, M, G, W>; N], coils: [Option<C>; K], delay: D) -> Self {
+        Self {
+            tiles,
+            coils,
+            delay,
+        }
     }
 
     /// The devices of tile `tile`, if it exists.
@@ -217,25 +237,25 @@ impl<S, M, G, W, C, const N: usize, const K: usize> DeviceBus<S, M, G, W, C, N, 
         self.coils.get_mut(coil.0).and_then(Option::as_mut)
     }
 
-    /// Gives the devices back: the tiles' and the coils'.
-    #[allow(clippy::type_complexity, reason = "the two arrays `new` takes")]
-    pub fn release(self) -> ([TileDevices<S, M, G, W>; N], [Option<C>; K]) {
-        (self.tiles, self.coils)
+    /// Gives the devices back: the tiles', the coils' and the timer.
+    #[allow(clippy::type_complexity, reason = "what `new` takes")]
+    pub fn release(self) -> ([TileDevices<S, M, G, W>; N], [Option<C>; K], D) {
+        (self.tiles, self.coils, self.delay)
     }
 
     /// Tile `tile`'s device picked by `pick`, or [`ErrorKind::DeviceAbsent`].
-    fn device<D>(
+    fn device<T>(
         &mut self,
         tile: TileIndex,
-        pick: impl FnOnce(&mut TileDevices<S, M, G, W>) -> Option<&mut D>,
-    ) -> Result<&mut D, ErrorKind> {
+        pick: impl FnOnce(&mut TileDevices<S, M, G, W>) -> Option<&mut T>,
+    ) -> Result<&mut T, ErrorKind> {
         self.tile_mut(tile)
             .and_then(pick)
             .ok_or(ErrorKind::DeviceAbsent)
     }
 }
 
-impl<S, M, G, W, C, const N: usize, const K: usize> DeviceBus<S, M, G, W, C, N, K>
+impl<S, M, G, W, C, D, const N: usize, const K: usize> DeviceBus<S, M, G, W, C, D, N, K>
 where
     W: ReactionWheel,
     C: Magnetorquer,
@@ -267,13 +287,14 @@ where
     }
 }
 
-impl<S, M, G, W, C, const N: usize, const K: usize> TileBus for DeviceBus<S, M, G, W, C, N, K>
+impl<S, M, G, W, C, D, const N: usize, const K: usize> TileBus for DeviceBus<S, M, G, W, C, D, N, K>
 where
     S: SunSensor,
     M: Magnetometer,
     G: Gyro,
     W: ReactionWheel,
     C: Magnetorquer,
+    D: DelayNs,
 {
     fn read_sun(&mut self, tile: usize) -> Result<Option<[i16; 2]>, ErrorKind> {
         self.device(TileIndex(tile), |t| t.sun_sensor.as_mut())?
@@ -304,6 +325,10 @@ where
             .ok_or(ErrorKind::DeviceAbsent)?
             .set_dipole(m_am2)
             .map_err(kind)
+    }
+
+    fn delay_us(&mut self, us: u32) {
+        self.delay.delay_us(us);
     }
 }
 
@@ -342,7 +367,17 @@ mod tests {
         }
     }
 
-    type Bus = DeviceBus<Fake, NoDevice, NoDevice, Fake, Fake, 2, 3>;
+    /// A timer that adds up what it is asked to wait, ns.
+    #[derive(Debug, Default)]
+    struct Waited(u64);
+
+    impl DelayNs for Waited {
+        fn delay_ns(&mut self, ns: u32) {
+            self.0 += u64::from(ns);
+        }
+    }
+
+    type Bus = DeviceBus<Fake, NoDevice, NoDevice, Fake, Fake, Waited, 2, 3>;
 
     fn bus() -> Bus {
         let failing = Fake {
@@ -355,6 +390,7 @@ mod tests {
                 TileDevices::none().with_wheel(Fake::default()),
             ],
             [Some(Fake::default()), None, Some(failing)],
+            Waited::default(),
         )
     }
 
@@ -383,6 +419,9 @@ mod tests {
         // the failing coil was tried by coils_off too
         let coil = bus.coil(CoilIndex(2)).map(|c| c.commands.as_slice());
         assert_eq!(coil, Some(&[0.1, 0.0][..]));
+        // the bus waits on its timer
+        bus.delay_us(5_000);
+        assert_eq!(bus.release().2 .0, 5_000_000);
     }
 
     #[test]
@@ -396,11 +435,13 @@ mod tests {
                 NoDevice,
                 NoDevice,
                 &mut dyn Magnetorquer<Error = ErrorKind>,
+                Waited,
                 1,
                 1,
             > = DeviceBus::new(
                 [TileDevices::none().with_sun_sensor(&mut sun)],
                 [Some(&mut coil)],
+                Waited::default(),
             );
             assert_eq!(bus.read_sun(0), Ok(Some([1, 2])));
             assert_eq!(bus.set_dipole(0, -0.05), Ok(()));
@@ -425,8 +466,12 @@ mod tests {
             }
         }
         let mut brake = Brake(false);
-        let mut bus: DeviceBus<NoDevice, NoDevice, NoDevice, &mut Brake, NoDevice, 1, 0> =
-            DeviceBus::new([TileDevices::none().with_wheel(&mut brake)], []);
+        let mut bus: DeviceBus<NoDevice, NoDevice, NoDevice, &mut Brake, NoDevice, Waited, 1, 0> =
+            DeviceBus::new(
+                [TileDevices::none().with_wheel(&mut brake)],
+                [],
+                Waited::default(),
+            );
         assert_eq!(bus.stop_wheels(), Ok(()));
         assert!(brake.0);
         assert_eq!(

@@ -264,6 +264,12 @@ pub trait TileBus {
     /// Commands the dipole of magnetorquer coil `coil` (an index into `AcsConfig::coils`,
     /// not a tile index), A·m² along the coil's axis.
     fn set_dipole(&mut self, coil: usize, m_am2: f32) -> Result<(), ErrorKind>;
+    /// Waits at least `us` microseconds before returning. The attitude node calls it once a
+    /// step, between switching the coils off and reading the tiles
+    /// ([`crate::attitude_node::COIL_DECAY_US`]): a board waits on its timer (the flight
+    /// image: [`bus::DeviceBus`] over an `embedded_hal::delay::DelayNs`); a simulator, whose
+    /// truth places the reads in time itself, may return at once.
+    fn delay_us(&mut self, us: u32);
 }
 
 impl<T: TileBus + ?Sized> TileBus for &mut T {
@@ -281,5 +287,8 @@ impl<T: TileBus + ?Sized> TileBus for &mut T {
     }
     fn set_dipole(&mut self, coil: usize, m_am2: f32) -> Result<(), ErrorKind> {
         T::set_dipole(self, coil, m_am2)
+    }
+    fn delay_us(&mut self, us: u32) {
+        T::delay_us(self, us)
     }
 }

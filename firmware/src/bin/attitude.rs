@@ -83,7 +83,12 @@ fn run() -> ! {
     use acs_firmware::mmio::Mmio;
 
     periph::init_clocks();
-    let mut bus = tile_bus::attitude_bus(Mmio, I2cConfig::FLIGHT, PwmConfig::FLIGHT);
+    let mut bus = tile_bus::attitude_bus(
+        Mmio,
+        I2cConfig::FLIGHT,
+        PwmConfig::FLIGHT,
+        acs_firmware::CycleDelay,
+    );
     let mut link = periph::link();
     let Ok(mut node) = AttitudeNode::<TILES>::new(&CONFIG) else {
         acs_firmware::safe_state();

@@ -195,13 +195,14 @@ pub type Coil<R> = PwmMagnetorquer<PwmChannel<R>, OutputPin<R>>;
 pub type Tile<R> =
     TileDevices<I2cSunSensor<Bus<R>>, I2cMagnetometer<Bus<R>>, I2cGyro<Bus<R>>, Wheel<R>>;
 
-/// The attitude node's tile bus (see the [module docs](self)).
-pub type AttitudeBus<R> = DeviceBus<
+/// The attitude node's tile bus (see the [module docs](self)), waiting on the timer `D`.
+pub type AttitudeBus<R, D> = DeviceBus<
     I2cSunSensor<Bus<R>>,
     I2cMagnetometer<Bus<R>>,
     I2cGyro<Bus<R>>,
     Wheel<R>,
     Coil<R>,
+    D,
     TILES,
     COILS,
 >;
@@ -224,13 +225,15 @@ fn tile_devices<R: Registers + Clone>(regs: &R, config: I2cConfig, tile: u8) -> 
 
 /// Sets up USCI_B0 as the tile bus's I²C master (`i2c`), starts Timer_B's PWM period (`pwm`),
 /// the coils' channels and direction pins (all off, low), and returns the tile bus over them:
-/// every tile's devices at the map's addresses. Touches no device: the first bus traffic is
-/// the loop's first read.
-pub fn attitude_bus<R: Registers + Clone>(
+/// every tile's devices at the map's addresses, and `delay`, the image's timer for the wait
+/// before the reads ([`crate::hal::TileBus::delay_us`]). Touches no device: the first bus traffic
+/// is the loop's first read.
+pub fn attitude_bus<R: Registers + Clone, D>(
     regs: R,
     i2c: I2cConfig,
     pwm: PwmConfig,
-) -> AttitudeBus<R> {
+    delay: D,
+) -> AttitudeBus<R, D> {
     drop(UsciI2c::new(regs.clone(), i2c));
     let timer = TimerBPwm::start(regs.clone(), pwm);
     let coils = COIL_OUTPUTS.map(|(out, pin)| {
@@ -241,7 +244,7 @@ pub fn attitude_bus<R: Registers + Clone>(
         ))
     });
     let tiles = [0u8, 1, 2, 3, 4, 5].map(|t| tile_devices(&regs, i2c, t));
-    DeviceBus::new(tiles, coils)
+    DeviceBus::new(tiles, coils, delay)
 }
 
 /// The flight coils' safe state without the bus (a fault handler's): the coils' Timer_B

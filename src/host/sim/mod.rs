@@ -1325,6 +1325,10 @@ impl TileBus for Simulator {
         self.real_command(None, Some((coil, m)));
         Ok(())
     }
+
+    /// Returns at once: the truth places the reads and the commands in the step itself
+    /// ([`realistic::StepTiming`], which includes this wait for the two nodes).
+    fn delay_us(&mut self, _: u32) {}
 }
 
 /// One logged sample of a run.

@@ -301,6 +301,10 @@ impl<B: TileBus> TileBus for Recorder<'_, B> {
         }
         r
     }
+
+    fn delay_us(&mut self, us: u32) {
+        self.bus.delay_us(us);
+    }
 }
 
 #[cfg(test)]
@@ -345,6 +349,7 @@ mod tests {
                 Ok(())
             }
         }
+        fn delay_us(&mut self, _: u32) {}
     }
 
     #[test]

@@ -366,20 +366,19 @@ impl CoilModel {
 }
 
 /// When, within a control step, the tiles are read and the actuators commanded, measured from
-/// the step's start (the loop switches the coils off first, computes its models, reads the
-/// tiles, then determines, runs its law and commands the actuators: [`crate::acs_loop`]).
+/// the step's start: the attitude node's (issue #29), which switches the coils off first, waits
+/// [`crate::attitude_node::COIL_DECAY_US`] for their field to decay, reads the tiles, then
+/// determines, runs its law and commands the actuators ([`crate::attitude_node`]); the models
+/// ran on the reference node before the step (its REF arrived in the previous period).
 ///
 /// | instant | value | source |
 /// |---|---|---|
-/// | tiles read | 55 ms | the MSP430 cycle table (`docs/msp430.md`) at 8 MHz: SGP4 121 845 + Sun 47 377 + eclipse 45 675 + GMST 8 650 + IGRF degree 8 with its coefficients 217 440 ≈ 441 000 cycles before the reads |
-/// | actuators commanded | 83 ms | the full step, ≈ 667 000 cycles |
+/// | tiles read | 5 ms | the node's wait (40 000 cycles of `acs_firmware::CycleDelay` at 8 MHz), which the coils-off commands before it and the REF's acceptance after it lengthen by a few hundred cycles: the earliest, so the coils' field is at its largest |
+/// | actuators commanded | 43 ms | the attitude node's worst period in the two-node PIL, 341 895 cycles with the multiplier at 7 995 392 Hz (`firmware/pil`, `target/msp430/pil.json`; mspdebug counts the wait as 60 002 cycles, the part 40 000) |
 ///
-/// These are the single-node image's with the degree-8 field model it flew until issue #29.
-/// At degree 13 on one node the field and its coefficients cost 457 504 cycles (393 987 +
-/// 63 517, `docs/msp430.md`), 233 652 (29 ms) more than degree 8's, before the reads, and the
-/// whole step 935 638 cycles at worst (was 696 624); the two-node split (degree 13 on its
-/// reference node) changes the step's timing, so the instants are left as they are until that
-/// split's step is measured.
+/// The one-image loop flew 55 ms and 83 ms until issue #29 (its models before the reads, its
+/// whole step). The I²C time of the reads and commands (about 10 ms and 4 ms at 100 kHz,
+/// `firmware/src/periph.rs`) is not in either figure, as it was not before.
 ///
 /// Before the commands the coils are off and the wheels hold the previous set-points. A
 /// scenario whose period is shorter than these is refused by the simulator.
@@ -392,10 +391,10 @@ pub struct StepTiming {
 }
 
 impl StepTiming {
-    /// The flight image's (table above).
+    /// The flight attitude node's (table above).
     pub const FLIGHT: Self = Self {
-        read_s: 0.055,
-        actuate_s: 0.083,
+        read_s: 0.005,
+        actuate_s: 0.043,
     };
 }
 
