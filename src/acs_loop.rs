@@ -82,7 +82,7 @@ use crate::determination::least_squares::{
 use crate::determination::sun_sensor::sun_direction_body;
 use crate::determination::{wahba_svd, Observation};
 use crate::env::eclipse::{cylindrical_illumination, Illumination, Shadow};
-use crate::env::igrf::{coefficient_count, Degree, Igrf, IgrfError, Model, FULL_COEFFS};
+use crate::env::igrf::{coefficient_count, Degree, Igrf, IgrfError, ModelId, FULL_COEFFS};
 use crate::env::sun::{schlyter, Sun};
 use crate::hal::TileBus;
 use crate::linalg::{dot, Vec2, Vec3};
@@ -144,8 +144,8 @@ pub struct AcsConfig<const N: usize = MAX_TILES> {
     pub detumble_enter_radps: f32,
     /// Rate below which detumbling ends, rad/s.
     pub detumble_exit_radps: f32,
-    /// Geomagnetic model and degree used on board.
-    pub igrf_model: &'static Model,
+    /// Geomagnetic model used on board (its tables by name: [`ModelId`]).
+    pub igrf_model: ModelId,
     /// Degree of the on-board field model.
     pub igrf_degree: Degree,
     /// Weights of the Sun and field observations in Wahba's loss (`σ⁻²`, rad⁻²).
@@ -1182,7 +1182,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         let mut slot: Option<Igrf<F>> = None;
         let field = Igrf::emplace_epoch(
             &mut slot,
-            self.config.igrf_model,
+            self.config.igrf_model.model(),
             now,
             self.config.igrf_degree,
         )?;

@@ -58,7 +58,7 @@ use crate::control::slew::SlewLimits;
 use crate::control::sun_safe::SunSafeGains;
 use crate::control::tracking::TrackingGains;
 use crate::control::wheels::Wheel;
-use crate::env::igrf::{coefficient_count, Degree, FLIGHT};
+use crate::env::igrf::{coefficient_count, Degree, ModelId, FLIGHT};
 use crate::linalg::{Mat3, Vec3};
 use crate::two_node::TwoNodeLoop;
 
@@ -174,7 +174,7 @@ pub static CONFIG: AcsConfig<TILES> = {
         dumping_gain_per_s: 1e-3,
         detumble_enter_radps: 0.5,
         detumble_exit_radps: 0.008_7,
-        igrf_model: &FLIGHT,
+        igrf_model: ModelId::Flight,
         igrf_degree: IGRF_DEGREE,
         weights: (SUN_WEIGHT, FIELD_WEIGHT),
         filter_gain: 0.1,

@@ -387,11 +387,11 @@ fn tracking_with_wheels_and_noisy_tiles() {
         let met = settled_at.is_some_and(|t| t < orbit_s()) && tail < REQUIREMENT_DEG;
         if truth == TruthLevel::Ideal {
             let (model_nt, model_deg) =
-                field_model_error(&scenario, CONFIG.igrf_model, CONFIG.igrf_degree);
+                field_model_error(&scenario, CONFIG.igrf_model.model(), CONFIG.igrf_degree);
             // the flight configuration at degree 8, as it flew before issue #29
             let eight = Degree::new(8).unwrap();
             let (truncation_nt, truncation_deg) =
-                field_model_error(&scenario, CONFIG.igrf_model, eight);
+                field_model_error(&scenario, CONFIG.igrf_model.model(), eight);
             let degree_8 = AcsConfig {
                 igrf_degree: eight,
                 ..CONFIG.clone()

@@ -161,7 +161,7 @@ fn truth_field_differs_from_the_models_by_its_stated_rms() {
             .unwrap()
             .cast::<f64>();
         let b_flight =
-            Igrf::<FIELD_COEFFS>::from_epoch(CONFIG.igrf_model, epoch, CONFIG.igrf_degree)
+            Igrf::<FIELD_COEFFS>::from_epoch(CONFIG.igrf_model.model(), epoch, CONFIG.igrf_degree)
                 .unwrap()
                 .teme(&r32, gmst)
                 .unwrap()

@@ -147,6 +147,31 @@ use crate::time::{Epoch, TimeScale};
 use tables::{BONNET, N_COEFFS, N_MAX};
 pub use tables::{FLIGHT, FULL, RECENT};
 
+/// The tables a configuration's field model uses (`AcsConfig::igrf_model`), by name: an image
+/// links a model's tables only where it evaluates the field ([`ModelId::model`]), so the
+/// attitude node's flight image, which holds the configuration but takes the field from the
+/// reference node, carries none (1 560 B of [`FLIGHT`]; a reference would keep them).
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub enum ModelId {
+    /// [`FLIGHT`]: the flight configuration's.
+    Flight,
+    /// [`FULL`]: the thesis scenarios' (host builds only, so that the flight images' one
+    /// evaluation of the field links only [`FLIGHT`]).
+    #[cfg(feature = "host")]
+    Full,
+}
+
+impl ModelId {
+    /// The model's tables.
+    pub fn model(self) -> &'static Model {
+        match self {
+            Self::Flight => &FLIGHT,
+            #[cfg(feature = "host")]
+            Self::Full => &FULL,
+        }
+    }
+}
+
 /// Reference radius R of the IGRF expansion, km.
 pub const REFERENCE_RADIUS_KM: f32 = 6371.2;
 

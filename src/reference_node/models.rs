@@ -68,7 +68,7 @@ impl<const N: usize, const F: usize> ReferenceNode<'_, N, F> {
         let mut slot: Option<Igrf<F>> = None;
         let field = Igrf::emplace_epoch(
             &mut slot,
-            self.config.igrf_model,
+            self.config.igrf_model.model(),
             now,
             self.config.igrf_degree,
         )?;

@@ -230,7 +230,7 @@ pub fn field_scale(
     let state = orbit.propagate(now.span_since(&orbit.epoch())).ok()?;
     let gmst = acs::time::gmst_rad(&now.to_ut1(None).ok()?);
     let igrf = acs::env::igrf::Igrf::<FIELD_COEFFS>::from_epoch(
-        CONFIG.igrf_model,
+        CONFIG.igrf_model.model(),
         now,
         CONFIG.igrf_degree,
     )

@@ -62,7 +62,7 @@ use crate::control::principal_axes::principal_axes;
 use crate::control::slew::SlewLimits;
 use crate::control::sun_safe::SunSafeGains;
 use crate::control::tracking::TrackingGains;
-use crate::env::igrf::{Degree, FULL, FULL_COEFFS};
+use crate::env::igrf::{Degree, ModelId, FULL_COEFFS};
 use crate::flight::{FlightLoop, CONFIG, TILES};
 use crate::linalg::{Mat3, Mat3d, Vec3, Vec3d};
 use crate::orbit::sgp4::{Gravity, Sgp4};
@@ -361,7 +361,7 @@ pub fn thesis_config() -> Result<AcsConfig<TILES>, SimError> {
         dumping_gain_per_s: 0.0,
         detumble_enter_radps: 3.0,
         detumble_exit_radps: 0.01,
-        igrf_model: &FULL,
+        igrf_model: ModelId::Full,
         igrf_degree: Degree::FULL,
         weights: (1.0, 1.0),
         filter_gain: 0.1,
