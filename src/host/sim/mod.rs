@@ -766,6 +766,10 @@ impl Simulator {
         let Some(mut real) = self.real.take() else {
             return Ok(());
         };
+        // the step ends at t + dt: the substeps of its two segments (before and after the
+        // actuation instant) sum to dt only to rounding, which after a few hundred steps put
+        // the step times just under the whole seconds (299.999 999 999 9 s)
+        let t_end = self.truth.t_s + dt_s;
         let (axes, wheel_ok) = self.wheel_axes();
         let rho = self.density_500km();
         let pending = real.devices.wheels.iter().any(|w| w.pending_nms.is_some())
@@ -851,6 +855,7 @@ impl Simulator {
         real.step += 1;
         real.phase = Phase::Start;
         self.real = Some(real);
+        self.truth.t_s = t_end;
         self.env = self.environment(self.truth.t_s)?;
         Ok(())
     }
