@@ -30,5 +30,8 @@ fn flight_loop_builds() {
     assert_eq!(acs::flight::IGRF_DEGREE.get(), 13);
     assert_eq!(acs::flight::FIELD_COEFFS, 195);
     assert_eq!(CONFIG.igrf_degree, acs::flight::IGRF_DEGREE);
-    assert!(core::ptr::eq(CONFIG.igrf_model.model(), &acs::env::igrf::FLIGHT));
+    assert!(core::ptr::eq(
+        CONFIG.igrf_model.model(),
+        &acs::env::igrf::FLIGHT
+    ));
 }
