@@ -63,7 +63,8 @@ pub extern "C" fn fw_period_start() {
 /// The images' timer for short waits ([`acs::hal::TileBus::delay_us`]: the attitude node's wait
 /// between switching the coils off and reading the tiles): a busy loop of 4 MCLK cycles an
 /// iteration, 2 iterations a microsecond, so 8 cycles a µs, 1.00058 µs at MCLK = 7 995 392 Hz
-/// (the FLL+ locked to the crystal, [`periph`]): never shorter than asked. The 5 ms wait is
+/// (the FLL+ locked to the crystal, [`periph`]): never shorter than asked (up to 2³¹ µs, 36
+/// minutes; a longer wait saturates there). The 5 ms wait is
 /// 10 000 iterations, 40 000 cycles on the part (SLAU056 "Instruction Cycles and Lengths":
 /// `sub #1, Rn` and `nop`, constant-generator sources to a register, 1 cycle each; a jump 2).
 /// mspdebug's simulator counts 6 cycles an iteration (60 002 for the call, 30 001 instructions:

@@ -40,12 +40,12 @@
 //!   the PIL image in `mspdebug -n sim` with the clock set, a steady step), plus the REF frame
 //!   out, 118 bytes polled, 10.2 ms, and 80 received bytes in the handler, 0.4 ms: 78.6 ms,
 //!   a duty cycle of 7.9 %, LPM3 92 % of the time;
-//! - attitude node: its step, bounded by the one-image ACS step (592 476 cycles, 74.1 ms; the
-//!   PIL image without readings or reference measures 85 338 cycles, 10.7 ms), plus the tile
-//!   bus (15 sensor reads of 2–6 bytes, about 9.9 ms at 100 kHz; 5 wheel set-points and
-//!   directions, 4.0 ms), the STATUS frame out (68 bytes, 5.9 ms) and 120 received bytes
-//!   (0.6 ms): at most 94.5 ms, 9.5 % (about 31 ms, 3.1 %, for the measured step); LPM3 the
-//!   rest.
+//! - attitude node: its step, at most 342 800 cycles, 42.9 ms (measured: the PIL image's worst
+//!   period, `firmware/pil`; it includes the 5 ms busy wait for the coils' decay, which
+//!   mspdebug counts as 60 002 cycles and the part runs in 40 000), plus the tile bus (15
+//!   sensor reads of 2–6 bytes, about 9.9 ms at 100 kHz; 5 wheel set-points and directions,
+//!   4.0 ms), the STATUS frame out (68 bytes, 5.9 ms) and 120 received bytes (0.6 ms): at
+//!   most 63.3 ms, a duty cycle of 6.3 %; LPM3 the rest.
 //!
 //! # The link ([`Link`], [`link`], [`send`], [`receive_last`])
 //! [`acs::hal::link::FramedLink`] (COBS frames) over [`UartStream`]: USCI_A0 at 115 200 Bd

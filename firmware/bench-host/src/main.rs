@@ -78,7 +78,7 @@ fn step_mag() -> [[i16; 2]; 6] {
         .expect("flight orbit");
     let gmst = acs::time::gmst_rad(&now.to_ut1(None).expect("UT1"));
     let igrf = acs::env::igrf::Igrf::<FIELD_COEFFS>::from_epoch(
-        CONFIG.igrf_model,
+        CONFIG.igrf_model.model(),
         &now,
         CONFIG.igrf_degree,
     )

@@ -84,9 +84,10 @@
 //! 115 200 Bd); the period timer's 44 cycles a poll (a 1 s wait is about 182 000 polls).
 //!
 //! With the flight image's I²C traffic (6 tiles × 3 sensors, a register read of 2–6 bytes
-//! each) the bus takes about 18 × 0.6 ms ≈ 11 ms of each 1 s period, and the ACS step
-//! (592 476 cycles with the multiplier, 74.1 ms at [`SMCLK_HZ`]) most of the rest of the active
-//! time: the CPU is in LPM3 for about 91 % of each period ([`timer_a`], "Duty cycle").
+//! each) the bus takes about 18 × 0.6 ms ≈ 11 ms of each 1 s period, and the attitude node's
+//! step (342 800 cycles at most with the multiplier, 42.9 ms at [`SMCLK_HZ`], `firmware/pil`)
+//! most of the rest of the active time: the CPU is in LPM3 for about 94 % of each period
+//! ([`timer_a`], "Duty cycle").
 
 pub mod element_store;
 pub mod flash;

@@ -31,9 +31,9 @@
 //! With the step taking N_step MCLK cycles and the sensors' bus t_bus each period T, the CPU is
 //! active for the fraction d = (N_step / f_MCLK + t_bus) / T of the time and in LPM3 for the
 //! rest; the mean supply current is Ī = d · I_AM + (1 − d) · I_LPM3 (I_AM at f_MCLK and I_LPM3 in
-//! SLAS508K §5.4, "Supply Current Into AVCC + DVCC"). For the flight step (592 476 cycles with
-//! the multiplier, 74.1 ms at 7 995 392 Hz), 18 sensor reads of about 0.7 ms and T = 1 s:
-//! d ≈ 8.7 %.
+//! SLAS508K §5.4, "Supply Current Into AVCC + DVCC"). For the attitude node's step (342 800
+//! cycles at most with the multiplier, 42.9 ms at 7 995 392 Hz, `firmware/pil`), 18 sensor reads
+//! of about 0.7 ms and T = 1 s: d ≈ 5.5 %.
 
 use core::fmt;
 
