@@ -60,6 +60,33 @@ pub extern "C" fn fw_period_start() {
     unsafe { core::arch::asm!("nop") };
 }
 
+/// The resets since power-on: the count and its complement, in RAM that the reset handler
+/// neither loads nor zeroes nor paints (`.noinit`, `link.x`), so that it survives a watchdog or
+/// software reset (the RAM keeps its contents through a PUC) and not a power-on reset (RAM
+/// undefined: a pair that is not a count and its complement, which leaves 1 chance in 65 536 of
+/// taking noise for a count).
+#[link_section = ".noinit"]
+static mut BOOTS: core::mem::MaybeUninit<[u16; 2]> = core::mem::MaybeUninit::uninit();
+
+/// Counts this start: 0 after a power-on reset, one more than the last start's after any other
+/// reset ([`BOOTS`]); the attitude node reports it in STATUS
+/// (`acs::attitude_node::AttitudeNode::set_boot_count`).
+#[inline(never)]
+pub fn boot_count() -> u16 {
+    let boots = (&raw mut BOOTS).cast::<[u16; 2]>();
+    // SAFETY: `BOOTS` is this function's alone, aligned, 4 bytes of RAM; volatile, so that its
+    // contents are read as the RAM holds them (any bit pattern is a valid `[u16; 2]`).
+    let [count, check] = unsafe { core::ptr::read_volatile(boots) };
+    let now = if check == !count {
+        count.wrapping_add(1)
+    } else {
+        0
+    };
+    // SAFETY: as above.
+    unsafe { core::ptr::write_volatile(boots, [now, !now]) };
+    now
+}
+
 /// The images' timer for short waits ([`acs::hal::TileBus::delay_us`]: the attitude node's wait
 /// between switching the coils off and reading the tiles): a busy loop of 4 MCLK cycles an
 /// iteration, 2 iterations a microsecond, so 8 cycles a µs, 1.00058 µs at MCLK = 7 995 392 Hz

@@ -2,7 +2,8 @@
 //! management, laws, allocation; the only node that commands actuators. Each control period:
 //! take the ground's command (sun-safe, the tiles: [`acs::uplink::apply_attitude`]), take the
 //! REF packet the reference node sent for this step (none, or one for another step or without a
-//! valid clock: the step runs without reference, reported), step, send STATUS, publish.
+//! valid clock: the step runs without reference, reported), step, send STATUS, publish. STATUS
+//! carries the resets since power-on ([`acs_firmware::boot_count`]).
 //!
 //! Two builds (`firmware/Cargo.toml`): with feature `pil` the tiles, the link and the period
 //! are the RAM mailboxes the processor-in-the-loop host drives ([`tiles::MailboxBus`],
@@ -46,6 +47,7 @@ fn run() -> ! {
         acs_firmware::safe_state();
         acs_firmware::fw_halt()
     };
+    node.set_boot_count(acs_firmware::boot_count());
     let mut bus = tiles::MailboxBus;
     let mut report = StepReport::empty(node.mode());
     let mut count = SequenceCounter::new();
@@ -94,6 +96,7 @@ fn run() -> ! {
         acs_firmware::safe_state();
         acs_firmware::fw_halt()
     };
+    node.set_boot_count(acs_firmware::boot_count());
     let mut report = StepReport::empty(node.mode());
     let mut count = SequenceCounter::new();
     let mut packet = [0u8; LINK_BYTES];
