@@ -65,6 +65,7 @@ pub extern "C" fn fw_period_start() {
 /// software reset (the RAM keeps its contents through a PUC) and not a power-on reset (RAM
 /// undefined: a pair that is not a count and its complement, which leaves 1 chance in 65 536 of
 /// taking noise for a count).
+#[no_mangle]
 #[link_section = ".noinit"]
 static mut BOOTS: core::mem::MaybeUninit<[u16; 2]> = core::mem::MaybeUninit::uninit();
 

@@ -237,6 +237,9 @@ pub struct ImageMap {
     stack: Option<(u32, u32)>,
     /// `__sdata` (or `__sbss`) and `_stack_top`: the RAM a power-on reset clears.
     ram: Option<(u32, u32)>,
+    /// The resets count (`BOOTS`, `acs_firmware::boot_count`: a count and its complement), if
+    /// the image keeps one (the attitude image).
+    boots: Option<u32>,
     /// Flash bytes of the image.
     pub flash_bytes: u32,
 }
@@ -295,6 +298,7 @@ impl ImageMap {
             take_uplink: take_uplink.addr,
             stack,
             ram,
+            boots: elf.symbol("BOOTS").map(|s| s.addr),
             flash_bytes: elf.flash_bytes(),
         })
     }
@@ -829,7 +833,9 @@ impl Target {
     /// kicks set the device as the image runs it, [`WDT_KICK`]), sends the image to `fw_halt`
     /// (interrupts off, no more steps, no more kicks) and runs it: the watchdog must reset it
     /// (the reset handler entered within [`WATCHDOG_CYCLES`]) and the image start again, up to
-    /// its first period start. The MCLK cycles from the halt to that period start.
+    /// its first period start. The MCLK cycles from the halt to that period start. An image that
+    /// counts its resets (`BOOTS`) must count this one: one more than before the halt, with its
+    /// complement.
     pub fn halt_and_recover(&mut self) -> Result<u64, PilError> {
         let reset = self
             .map
@@ -837,6 +843,7 @@ impl Target {
             .ok_or_else(|| PilError::Input("the image has no `Reset` handler symbol".into()))?;
         self.dbg.command("simio add wdt w")?;
         self.run_to_period_start("with the watchdog device")?;
+        let boots_before = self.boots()?;
         self.dbg.delete_break(self.halt_break)?;
         let reset_break = self.dbg.set_break(reset)?;
         let mut regs = self.dbg.registers()?;
@@ -856,6 +863,17 @@ impl Target {
             )));
         }
         self.run_to_period_start("after the watchdog's reset")?;
+        if let Some((count, check)) = boots_before {
+            let after = self.boots()?;
+            let next = count.wrapping_add(1);
+            if check != !count || after != Some((next, !next)) {
+                return Err(PilError::Image(format!(
+                    "{}: resets counted ({count}, {check:#06x}) before the watchdog's reset, \
+                     {after:?} after it",
+                    self.map.node.name()
+                )));
+            }
+        }
         self.dbg.command("simio del w")?;
         Ok(self.cycles.saturating_sub(halted))
     }
@@ -868,6 +886,18 @@ impl Target {
         self.dbg
             .write(self.addr("UPLINK_KIND")?, &kind.to_le_bytes())?;
         Ok(())
+    }
+
+    /// The image's resets count and its complement (`BOOTS`), if it keeps one.
+    fn boots(&mut self) -> Result<Option<(u16, u16)>, PilError> {
+        let Some(addr) = self.map.boots else {
+            return Ok(None);
+        };
+        let b = self.dbg.read(addr, 4)?;
+        Ok(Some((
+            u16::from_le_bytes([b[0], b[1]]),
+            u16::from_le_bytes([b[2], b[3]]),
+        )))
     }
 
     fn read_u16(&mut self, name: &str) -> Result<u16, PilError> {
