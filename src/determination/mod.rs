@@ -5,6 +5,7 @@
 //! | module | what | source |
 //! |---|---|---|
 //! | [`complementary`] | gyro-aided complementary filter of the loop's attitude | note 000 §5 kinematics |
+//! | [`mekf`] | multiplicative extended Kalman filter: attitude, gyro bias, magnetometer bias (the flight estimator) | Lefferts, Markley and Shuster 1982; Markley and Crassidis 2014 §6.2.4 |
 //! | [`least_squares`] | body magnetic field from two-axis magnetometers, body rate from one-axis gyros | seed 000 §8.2–8.3, eqs. 8.14–8.25 |
 //! | [`sun_sensor`] | Sun direction in the body frame from the lit tiles' sensor angles | note 000 §7 item 1 |
 //! | [`pseudoinverse`] | attitude by pseudoinverse, `Aᵀ = G⁺F`: the thesis's generalised solver (with its Sun-sensor equation) | seed 000 §8.4, eqs. 8.1–8.2, 8.27–8.31 |
@@ -20,6 +21,7 @@
 
 pub mod complementary;
 pub mod least_squares;
+pub mod mekf;
 pub mod pseudoinverse;
 pub mod quest;
 pub mod sun_sensor;
