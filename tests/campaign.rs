@@ -110,7 +110,7 @@ fn a_run_replays_alone() {
 #[test]
 fn worst_from_1200s_is_written_and_is_the_replayed_runs() {
     const KEY: &str = "worst_from_1200s_deg";
-    for name in ["tracking", "failed-tile"] {
+    for name in ["tracking", "failed-tile", "tracking-eclipse"] {
         let c = Campaign {
             scenario: name.into(),
             ..small()
