@@ -104,6 +104,67 @@ fn a_run_replays_alone() {
     assert_eq!(values, all[k].values);
 }
 
+/// `worst_from_1200s_deg` (issue #30): a column of `runs.csv` and a metric of `summary.json` and
+/// `summary.md` for `tracking`, and each run's value is the worst pointing error from 1 200 s on
+/// of that run's samples, replayed alone (`--run K`).
+#[test]
+fn worst_from_1200s_is_written_and_is_the_replayed_runs() {
+    const KEY: &str = "worst_from_1200s_deg";
+    for name in ["tracking", "failed-tile", "tracking-eclipse"] {
+        let c = Campaign {
+            scenario: name.into(),
+            ..small()
+        };
+        assert!(c.metrics().iter().any(|m| m.key == KEY), "{name}");
+    }
+    let c = Campaign {
+        scenario: "tracking".into(),
+        truth: TruthLevel::Realistic,
+        seed: 7,
+        runs: 3,
+    };
+    let results = c.run_range(0..c.runs, None, &|_| {}).unwrap();
+    let d = temp("worst-from-1200s");
+    campaign::write_campaign(&d, &c, &results).unwrap();
+    let runs = std::fs::read_to_string(d.join("runs.csv")).unwrap();
+    let mut lines = runs.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let column = header
+        .iter()
+        .position(|h| *h == KEY)
+        .expect("the column is in runs.csv");
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), c.runs);
+    for k in [0, 2] {
+        let (_, samples) = c.replay(k).unwrap();
+        let direct = samples
+            .iter()
+            .filter(|s| s.t_s >= 1200.0)
+            .map(|s| s.pointing_error_deg.unwrap())
+            .fold(f64::NEG_INFINITY, f64::max);
+        assert!(direct.is_finite() && direct > 0.0, "{direct}");
+        let written: f64 = rows[k][column].parse().unwrap();
+        assert_eq!(written, direct, "run {k}");
+    }
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("summary.json")).unwrap()).unwrap();
+    let metric = summary["metrics"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|m| m["key"] == KEY)
+        .expect("the metric is in summary.json");
+    assert!(metric["requirement"].is_null(), "reported, not required");
+    let max = results
+        .iter()
+        .map(|r| r.values[header.iter().position(|h| *h == KEY).unwrap() - 3])
+        .fold(f64::NEG_INFINITY, f64::max);
+    assert_eq!(metric["max"].as_f64().unwrap(), max);
+    let md = std::fs::read_to_string(d.join("summary.md")).unwrap();
+    assert!(md.contains(&format!("(`{KEY}`)")), "{md}");
+    let _ = std::fs::remove_dir_all(&d);
+}
+
 /// Every scenario's dispersions draw within their declared distributions, and change the
 /// truth, not the loop's configuration.
 #[test]

@@ -237,6 +237,30 @@ def simulator_closed_loop(f, bench, pil):
                 f"{f(k + 'run_end_deg', '.3f' if t == 'ideal' else '.2f')}° at the end")
 
     rows.append(f"| `slew` (no requirement) | plan within 300 s, then < 0.5° | {flight_slew('ideal')} | {flight_slew('realistic')} |")
+
+    def numbers(key):
+        return ", ".join(fmt(float(x), "n") for x in f(key).split(", "))
+
+    def eclipse(t):
+        k = c + "tracking-eclipse." + t + "."
+        if f(k + "fallbacks") == "0":
+            fallback = "no fall-back to SunSafe"
+        else:
+            fallback = (f"falls back to SunSafe at {numbers(k + 'fallbacks_at_s')} s, {f(k + 'first_umbra_tracking_s', 'n')} s "
+                        f"into the first umbra ({f(k + 'first_umbra_tracking_worst_deg', '.2f')}° at worst until then)")
+        return cell("tracking-eclipse", t,
+                    f"{fallback}; after the first orbit {f(k + 'after_orbit_sun_safe_steps', 'n')} of "
+                    f"{f(k + 'after_orbit_steps', 'n')} steps in SunSafe; umbra {sig(f.num(k + 'after_orbit_umbra_worst_deg'))}° worst, "
+                    f"{sig(f.num(k + 'after_orbit_umbra_p99_deg'))}° p99; sunlight ({f(k + 'after_orbit_sunlit_fraction', '.3f')} of the "
+                    f"steps) {sig(f.num(k + 'after_orbit_sunlit_worst_deg'))}° worst, {sig(f.num(k + 'after_orbit_sunlit_p99_deg'))}° p99")
+
+    e = c + "tracking-eclipse."
+    rows.append(
+        f"| `tracking-eclipse` (goals of #30, not requirements): β {f(e + 'beta_min_deg', '.3f')}° to "
+        f"{f(e + 'beta_max_deg', '.3f')}°, umbras of {numbers(e + 'ideal.umbra_passes_s')} s | after the first orbit ≤ 0.5° worst and "
+        f"≤ 0.4° p99 in the umbra and in sunlight (ideal), ≤ 3° worst in the umbra (realistic); no fall-back to SunSafe | "
+        f"{eclipse('ideal')} | {eclipse('realistic')} |"
+    )
     return rows
 
 

@@ -235,6 +235,6 @@ pub fn run(_args: &Args) -> Result<(), CliError> {
             get(key)
         );
     }
-    println!("\nMore scenarios: `acs sim detumble|thesis-slew|thesis-slew-noisy|sun-safe|tracking|failed-tile|slew --out DIR`.");
+    println!("\nMore scenarios: `acs sim detumble|thesis-slew|thesis-slew-noisy|sun-safe|tracking|failed-tile|slew|tracking-eclipse --out DIR`.");
     Ok(())
 }

@@ -32,7 +32,7 @@ impl From<Truth> for TruthLevel {
 #[derive(clap::Args, Debug)]
 pub struct Args {
     /// Built-in scenario: detumble, thesis-slew, thesis-slew-noisy, sun-safe, tracking,
-    /// failed-tile, slew; or a scenario file (JSON, [`scenario_file`]); or plan-flight / plan-flight-wheels (a ground plan flown open loop,
+    /// failed-tile, slew, tracking-eclipse; or a scenario file (JSON, [`scenario_file`]); or plan-flight / plan-flight-wheels (a ground plan flown open loop,
     /// [`plan_flight`]: seed 001's manoeuvre with magnetorquers alone, or with three wheels).
     scenario: String,
     /// Output folder for CSV and SVG files (default: `acs-sim-<scenario>`, with `--pil`

@@ -1,5 +1,6 @@
 //! Built-in closed-loop scenarios: detumbling, sun-safe acquisition through a whole eclipse,
-//! tracking with wheels, a failed tile, a slew (all flying the flight configuration), and the
+//! tracking with wheels (on a dawn-dusk orbit, and through the longest eclipses), a failed tile,
+//! a slew (all flying the flight configuration), and the
 //! thesis slew of seed 000 ch. 12 (the thesis's own satellite).
 //!
 //! Each scenario is plain data: the satellite the loop flies, the truth configuration, the
@@ -12,13 +13,14 @@
 //! configuration (the pieces another way of running the loop, e.g. on the target, reuses).
 //!
 //! # What flies
-//! `detumble`, `sun-safe`, `tracking`, `failed-tile` and `slew` fly [`crate::flight::CONFIG`] through
+//! `detumble`, `sun-safe`, `tracking`, `tracking-eclipse`, `failed-tile` and `slew` fly
+//! [`crate::flight::CONFIG`] through
 //! [`FlightLoop`], the two flight images' nodes composed ([`Satellite::Flight`]): the nodes borrow the
 //! constant itself, not a copy, and the truth's spacecraft (inertia, tile geometry and
 //! equipment, coils and their limits, wheel momentum limit) is built from the same constant
 //! ([`spacecraft`]), so what `acs sim` flies cannot diverge from what flies.
 //!
-//! What the constant does not carry comes from elsewhere and is the same for these five:
+//! What the constant does not carry comes from elsewhere and is the same for these six:
 //!
 //! | truth item | value | source |
 //! |---|---|---|
@@ -569,6 +571,45 @@ pub fn tracking(failed_tile: Option<usize>) -> Result<Scenario, SimError> {
     })
 }
 
+/// The right ascension of the ascending node of `tracking-eclipse`, degrees: β = 0 at its start.
+///
+/// The Sun at 2025-03-20 12:00 UTC (TEME, [`crate::env::sun::precise`]; `acs sun --frame teme`)
+/// is at right ascension α = 0.1128°, declination δ = 0.0490° (the equinox was at 09:01 UTC). An
+/// orbit of inclination `i` and node Ω has the normal (sin i sin Ω, −sin i cos Ω, cos i), so
+/// sin β = sin i cos δ sin(Ω − α) + cos i sin δ, which vanishes at Ω = α − asin(tan δ / tan i) =
+/// 0.1128° + 0.0064° for i = 97.4°. The orbit is sun-synchronous: the node follows the Sun and β
+/// stays within 0.01° over the three orbits (`tests/closed_loop.rs`, `tracking_eclipse`, measures
+/// it from the truth's orbit and Sun).
+pub const ECLIPSE_RAAN_DEG: f64 = 0.1192;
+
+/// `tracking` on a noon-midnight orbit: the same satellite, sensors, initial error, command and
+/// inertial target as [`tracking`]`(None)` (the Sun is where it is there in the body: the target
+/// is inertial and the date the same), on a 500 km, 97.4° sun-synchronous orbit whose plane holds
+/// the Sun (β ≈ 0, [`ECLIPSE_RAAN_DEG`]): the longest umbra a 500 km orbit has, about 35.7 min of
+/// its 94.6 (cylindrical shadow: the fraction acos(√(h² + 2R⊕h)/r)/π = 0.378 of the orbit). It
+/// starts at the ascending node, under the Sun (noon), and flies three orbits and a minute: the
+/// first orbit (the acquisition, one umbra), then two full orbits, each with a whole umbra (issue
+/// #30: the attitude through eclipse).
+pub fn tracking_eclipse() -> Result<Scenario, SimError> {
+    let base = tracking(None)?;
+    let tle = make_tle(
+        90103,
+        (25, 79.5),
+        97.4,
+        ECLIPSE_RAAN_DEG,
+        0.0,
+        0.0,
+        mean_motion_rev_per_day(500.0),
+    );
+    Ok(Scenario {
+        name: "tracking-eclipse",
+        description: "flight configuration tracking an inertial attitude with wheels and noisy tiles, noon-midnight orbit (β ≈ 0, the longest umbra), three orbits",
+        sim: SimConfig { tle, ..base.sim },
+        duration_s: 3.0 * 94.6 * 60.0 + 60.0,
+        ..base
+    })
+}
+
 /// A slew with the flight configuration on the `tracking` orbit and sensors: hold the
 /// `tracking` target from rest, at 120 s slew 90° about the body x axis by the thesis's
 /// open-loop plan within 300 s, then track the new attitude; 1 200 control periods.
@@ -641,6 +682,7 @@ pub fn by_name(name: &str) -> Option<Result<Scenario, SimError>> {
         "thesis-slew-noisy" => thesis_slew(true),
         "detumble" => detumble(),
         "tracking" => tracking(None),
+        "tracking-eclipse" => tracking_eclipse(),
         "failed-tile" => tracking(Some(2)),
         "slew" => slew(),
         "sun-safe" => sun_safe(),
@@ -649,7 +691,7 @@ pub fn by_name(name: &str) -> Option<Result<Scenario, SimError>> {
 }
 
 /// Names of the built-in scenarios.
-pub const NAMES: [&str; 7] = [
+pub const NAMES: [&str; 8] = [
     "detumble",
     "thesis-slew",
     "thesis-slew-noisy",
@@ -657,4 +699,5 @@ pub const NAMES: [&str; 7] = [
     "tracking",
     "failed-tile",
     "slew",
+    "tracking-eclipse",
 ];
