@@ -33,9 +33,10 @@
 //!    tiles; a field whose magnitude is more than [`FIELD_MAGNITUDE_TOLERANCE`] from the model's
 //!    is refused, [`Faults::field`]: a coil left on, a magnetometer gone wrong); Sun direction
 //!    averaged over the lit tiles (only outside the umbra); attitude by
-//!    Wahba's SVD (two-vector closed form) from the Sun and field pairs, filtered with the gyros
-//!    ([`crate::determination::complementary`], which also bridges short gaps, e.g. eclipse
-//!    entry, for at most `max_propagation_s`).
+//!    TRIAD (the Sun exact, [`crate::determination::triad::pair_quaternion`]) from the Sun and
+//!    field pairs, which starts the
+//!    attitude filter ([`crate::determination::mekf`]: propagated with the gyros, updated with
+//!    the Sun and the field, its gyro and magnetometer biases estimated).
 //! 5. Mode logic (below), the mode's law, wheel momentum and coil dipole commands.
 //!
 //! # Modes and transitions
@@ -75,12 +76,13 @@ use crate::control::slew::{decompose, manoeuvre_matrix, plan, Branch, SlewLimits
 use crate::control::sun_safe::{sun_safe_torque, SunSafeGains};
 use crate::control::tracking::{tracking_torque, TrackingGains};
 use crate::control::wheels::{Allocator, Wheel, WheelAllocation, WheelError};
-use crate::determination::complementary::{self, Estimate, FilterConfig};
 use crate::determination::least_squares::{
     angular_rate_body_cached, magnetic_field_body_cached, TileSolver,
 };
-use crate::determination::sun_sensor::sun_direction_body;
-use crate::determination::{wahba_svd, Observation};
+use crate::determination::mekf::{self, Mekf, MekfConfig, StepInputs, SunObservation};
+use crate::determination::sun_sensor::{incidence_inv_cos2, sun_direction_body};
+use crate::determination::triad;
+use crate::env::albedo;
 use crate::env::eclipse::{cylindrical_illumination, Illumination, Shadow};
 use crate::env::igrf::{coefficient_count, Degree, Igrf, IgrfError, ModelId, FULL_COEFFS};
 use crate::env::sun::{schlyter, Sun};
@@ -148,13 +150,8 @@ pub struct AcsConfig<const N: usize = MAX_TILES> {
     pub igrf_model: ModelId,
     /// Degree of the on-board field model.
     pub igrf_degree: Degree,
-    /// Weights of the Sun and field observations in Wahba's loss (`σ⁻²`, rad⁻²).
-    pub weights: (f32, f32),
-    /// Gain of the attitude filter, 0 < k ≤ 1: the fraction of the measured-minus-predicted
-    /// rotation taken each step (1 = raw measurements; about 0.1 averages ten steps of noise).
-    pub filter_gain: f32,
-    /// Longest time the attitude may be propagated with the gyros alone, s.
-    pub max_propagation_s: f32,
+    /// The attitude filter's tuning ([`crate::determination::mekf`]).
+    pub filter: MekfConfig,
 }
 
 /// A ground command.
@@ -182,12 +179,18 @@ pub enum Command {
 pub struct StepReport {
     /// The mode after this step's transitions.
     pub mode: Mode,
-    /// The attitude measured this step by Wahba SVD (reference TEME → body), if any.
+    /// The attitude measured this step from the Sun and the field by TRIAD (the Sun exact:
+    /// [`crate::determination::triad::pair_quaternion`]; reference TEME → body), if any: the
+    /// filter's start.
     pub measured_attitude: Option<Quaternion>,
     /// The filtered attitude the laws used (reference TEME → body), if valid.
     pub attitude: Option<Quaternion>,
     /// Body rate from the gyros, rad/s.
     pub omega_body_radps: Option<Vec3>,
+    /// The filter's attitude 1σ about each body axis, rad (with [`Self::attitude`]).
+    pub attitude_sigma_rad: Option<Vec3>,
+    /// Scalar measurements the filter's innovation gate refused this step.
+    pub refused_measurements: u8,
     /// Body field from the magnetometers, nT.
     pub b_body_nt: Option<Vec3>,
     /// Sun direction in body axes (unit), if seen.
@@ -210,6 +213,8 @@ impl StepReport {
         self.measured_attitude = None;
         self.attitude = None;
         self.omega_body_radps = None;
+        self.attitude_sigma_rad = None;
+        self.refused_measurements = 0;
         self.b_body_nt = None;
         self.sun_body = None;
         self.sun_fraction = None;
@@ -223,10 +228,15 @@ impl StepReport {
     pub fn is_finite(&self) -> bool {
         let finite = |v: &Vec3| v.iter().all(|x| x.is_finite());
         let q_finite = |q: &Quaternion| [q.q0, q.q1, q.q2, q.q3].iter().all(|x| x.is_finite());
-        [self.omega_body_radps, self.b_body_nt, self.sun_body]
-            .iter()
-            .flatten()
-            .all(finite)
+        [
+            self.omega_body_radps,
+            self.b_body_nt,
+            self.sun_body,
+            self.attitude_sigma_rad,
+        ]
+        .iter()
+        .flatten()
+        .all(finite)
             && [self.attitude, self.measured_attitude]
                 .iter()
                 .flatten()
@@ -244,6 +254,8 @@ impl StepReport {
             measured_attitude: None,
             attitude: None,
             omega_body_radps: None,
+            attitude_sigma_rad: None,
+            refused_measurements: 0,
             b_body_nt: None,
             sun_body: None,
             sun_fraction: None,
@@ -358,7 +370,7 @@ pub struct AcsLoop<'c, const N: usize = MAX_TILES, const F: usize = FULL_COEFFS>
     bus_answered: bool,
     last_time: Option<Epoch<Utc>>,
     /// Filtered attitude and the seconds since it last saw a measurement.
-    estimate: Option<Estimate>,
+    estimate: Option<Mekf>,
     /// Commanded momentum of each tile's wheel, kg·m²/s along the tile normal.
     wheel_h: [f32; N],
     failures: [u8; N],
@@ -484,6 +496,7 @@ impl<const N: usize> Readings<N> {
 
 /// The models' outputs of one step (phase 2).
 struct Models {
+    r_teme_km: Option<Vec3>,
     sun: Option<Sun>,
     illumination: Option<Illumination>,
     b_teme_nt: Option<Vec3>,
@@ -496,9 +509,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
     /// each step until [`Self::set_orbit`] gives it one).
     #[cfg_attr(target_arch = "msp430", optimize(size))]
     pub fn new(config: &'c AcsConfig<N>, orbit: impl Into<Option<Sgp4>>) -> Result<Self, AcsError> {
-        let gain_ok = config.filter_gain > 0.0 && !(config.filter_gain > 1.0);
-        let finite = gain_ok
-            && config.max_propagation_s.is_finite()
+        let finite = config.filter.is_valid()
             && config.detumble_enter_radps.is_finite()
             && config.detumble_exit_radps.is_finite()
             && config.wheel_limit_nms.is_finite()
@@ -862,13 +873,14 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         faults.model = sun.is_none() || field_model_failed || gmst.is_none();
         let b_teme_nt = field.ok().flatten();
         Models {
+            r_teme_km: orbit.as_ref().map(|o| o.r_teme_km),
             sun,
             illumination,
             b_teme_nt,
         }
     }
 
-    /// Step phase 4: body field, rate and Sun direction from the tiles, attitude by Wahba's SVD,
+    /// Step phase 4: body field, rate and Sun direction from the tiles, attitude by TRIAD,
     /// filtered.
     #[inline(never)]
     fn determine(
@@ -897,9 +909,28 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         } else {
             self.sun_body(readings)
         };
-        let measured = match (sun_body, b_body_nt, &models.sun, models.b_teme_nt) {
-            (Some(s_b), Some(b_b), Some(s_r), Some(b_r)) => {
-                self.measure(&s_b, &s_r.direction, &b_b, &b_r)
+        // the Sun as the sensors see it, with the albedo
+        let fraction = models.illumination.map_or(1.0, |i| i.fraction);
+        // the albedo the lit sensors see at the last attitude (the reference node's, from the
+        // STATUS of the step before: [`crate::reference_node`])
+        let albedo_teme = match (&models.r_teme_km, &models.sun, &self.estimate) {
+            (Some(r), Some(s), Some(e)) => albedo::seen_by_lit_sensors(
+                self.config.tiles.as_slice(),
+                r,
+                &s.direction,
+                &e.attitude,
+                self.config.filter.sun_sensor_cos_half_fov,
+            ),
+            _ => None,
+        };
+        let albedo = self.estimate.map_or(0.0, |e| e.albedo);
+        let sun_ref = models
+            .sun
+            .as_ref()
+            .map(|s| mekf::sun_reference(&s.direction, fraction, albedo_teme.as_ref(), albedo));
+        let measured = match (sun_body, b_body_nt, &sun_ref, models.b_teme_nt) {
+            (Some(s_b), Some(b_b), Some((s_r, _)), Some(b_r)) => {
+                triad::pair_quaternion(&s_b, s_r, &b_b, &b_r)
             }
             _ => None,
         };
@@ -920,45 +951,40 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
                 period
             }
         };
-        let filter = FilterConfig {
-            gain: self.config.filter_gain,
-            max_propagation_s: self.config.max_propagation_s,
+        let sun = match (sun_body, sun_ref) {
+            (Some(body), Some((reference_teme, d_reference_d_albedo))) => Some(SunObservation {
+                body,
+                reference_teme,
+                d_reference_d_albedo,
+                variance_rad2: self.sun_variance(readings, &body),
+            }),
+            _ => None,
         };
-        self.estimate = complementary::update(&filter, self.estimate, measured, omega, dt);
-        let attitude = self.estimate.map(|e| e.attitude);
+        let inputs = StepInputs {
+            omega_body_radps: omega,
+            sun,
+            field: b_body_nt.zip(models.b_teme_nt),
+            two_vector: measured,
+            mag_tiles: self.mag_solver.as_ref().map_or(0, |s| s.tiles()),
+            gyro_tiles: self.gyro_solver.as_ref().map_or(0, |s| s.tiles()),
+            dt_s: dt,
+        };
+        let (estimate, outcome) = mekf::step(&self.config.filter, self.estimate, &inputs);
+        self.estimate = estimate;
+        let attitude = estimate.map(|e| e.attitude);
         faults.attitude = attitude.is_none();
         report.b_body_nt = b_body_nt;
+        // the gyros' own rate: a law's command must not depend on the filter's state (a REF
+        // lost changes the estimate, not the commands of a mode without attitude); the bias
+        // left in the rate (≤ 1e-4 rad/s) moves the tracking law's equilibrium by ζ·b/ω_n ≈
+        // 0.01°
         report.omega_body_radps = omega;
+        report.attitude_sigma_rad = estimate.map(|e| e.attitude_sigma_rad());
+        report.refused_measurements = outcome.refused;
         report.sun_body = sun_body;
         report.measured_attitude = measured;
         report.attitude = attitude;
         dt
-    }
-
-    /// The attitude measured by Wahba's SVD from the Sun and field pairs (body, reference TEME),
-    /// weighted as configured; out of line (its temporaries off the determination's frame).
-    #[cfg_attr(target_arch = "msp430", inline(never))]
-    fn measure(
-        &self,
-        sun_body: &Vec3,
-        sun_teme: &Vec3,
-        b_body_nt: &Vec3,
-        b_teme_nt: &Vec3,
-    ) -> Option<Quaternion> {
-        let (w_sun, w_mag) = self.config.weights;
-        let sun = Observation {
-            body: *sun_body,
-            reference: *sun_teme,
-            weight: w_sun,
-        };
-        let field = Observation {
-            body: *b_body_nt,
-            reference: *b_teme_nt,
-            weight: w_mag,
-        };
-        wahba_svd::solve_pair(&sun, &field)
-            .ok()
-            .map(|s| s.quaternion)
     }
 
     /// The body field from the magnetometers (least squares, cached operator), nT. Out of line,
@@ -986,6 +1012,16 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         let tiles = self.config.tiles.as_slice();
         let sun = readings.sun_rad();
         sun_direction_body(tiles, sun.get(..tiles.len())?).ok()
+    }
+
+    /// The Sun observation's variance per axis, rad², from the lit sensors' incidence
+    /// ([`crate::determination::mekf::sun_variance_rad2`]).
+    #[cfg_attr(target_arch = "msp430", inline(never))]
+    fn sun_variance(&self, readings: &Readings<N>, sun_body: &Vec3) -> f32 {
+        let tiles = self.config.tiles.as_slice();
+        let sun = readings.sun_rad();
+        let (sum, n) = incidence_inv_cos2(tiles, sun.get(..tiles.len()).unwrap_or(&[]), sun_body);
+        mekf::sun_variance_rad2(&self.config.filter, sum, n)
     }
 
     /// Step phase 5a: the events of the rate and of the validity of the attitude.

@@ -58,6 +58,7 @@ use crate::control::slew::SlewLimits;
 use crate::control::sun_safe::SunSafeGains;
 use crate::control::tracking::TrackingGains;
 use crate::control::wheels::Wheel;
+use crate::determination::mekf::MekfConfig;
 use crate::env::igrf::{coefficient_count, Degree, ModelId, FLIGHT};
 use crate::linalg::{Mat3, Vec3};
 use crate::two_node::TwoNodeLoop;
@@ -116,6 +117,43 @@ pub const SUN_WEIGHT: f32 = 1.0 / (SUN_SIGMA_RAD * SUN_SIGMA_RAD);
 
 /// Wahba weight of the field observation, `σ⁻²` (rad⁻²): 1.31e4.
 pub const FIELD_WEIGHT: f32 = 1.0 / (FIELD_SIGMA_RAD * FIELD_SIGMA_RAD);
+
+/// The attitude filter's tuning ([`crate::determination::mekf`]), from the sensors' classes
+/// (the figures of their data sheets, not the simulator's draws):
+///
+/// | figure | value | source |
+/// |---|---|---|
+/// | gyro angle random walk `σ_v` | 2.6e-4 rad/√s (0.015 °/√s) | ADXRS453 class (0.015 °/s/√Hz) |
+/// | gyro bias walk `σ_u` | 3.5e-6 rad/s/√s | its 16 °/h bias instability over a 1 000 s correlation time: `σ √(2/τ)` |
+/// | magnetometer bias walk `σ_m` | 0.5 nT/√s | assumption: the rotors' fields with the wheel speeds, the offsets with temperature (16 nT in 1 000 s) |
+/// | Sun noise `σ₀` | 3.5e-4 rad (0.02°) at normal incidence, × 1/cos θ | NFSS-411 class (seed 004 §2.7) |
+/// | Sun floor | 2.5e-3 rad (0.14°): calibration residual 0.1° RMS ⊕ alignment 0.1° | NFSS-411 (< 0.1° RMS); tile and sensor alignment |
+/// | field noise | 50 nT ⊕ 0.5 % of `|B|` per axis | the magnetometers' noise and 10 nT word, the field model beyond degree 13 and the spacecraft's fields (absolute); scale factors and misalignment (relative) |
+/// | initial 1σ | 0.05 rad, 2e-4 rad/s, 300 nT | a two-vector solution's error; the gyros' turn-on bias and instability; offsets and the residual dipole |
+/// | gate | χ² = 16 (4σ, one scalar in 16 000 refused by chance) | |
+/// | restart | 10 steps with a sensor's every scalar refused | |
+/// | usable while | the attitude 1σ ≤ 0.1 rad (5.7°) | |
+/// | Sun sensors' field of view | 70° half angle (cos = 0.342) | NFSS-411 class (140°) |
+/// | Earth albedo | 0.30 ± 50 % at the start, a random walk of 1e-3/√s (0.03 in 1 000 s) | the Earth's mean Bond albedo; the local albedo ranges over 0.1–0.8 (oceans to clouds and ice) |
+pub const FILTER: MekfConfig = MekfConfig {
+    gyro_arw_rad_per_sqrt_s: 2.6e-4,
+    gyro_bias_walk: 3.5e-6,
+    mag_bias_walk_nt_per_sqrt_s: 0.05,
+    sun_noise_rad: 3.5e-4,
+    sun_floor_rad: 2.5e-3,
+    field_noise_nt: 50.0,
+    field_relative: 5.0e-3,
+    initial_attitude_rad: 0.05,
+    initial_gyro_bias_radps: 2.0e-4,
+    initial_mag_bias_nt: 300.0,
+    gate_chi2: 16.0,
+    refused_steps_to_restart: 10,
+    max_attitude_sigma_rad: 0.1,
+    earth_albedo: 0.30,
+    albedo_relative_sigma: 0.5,
+    albedo_walk_per_sqrt_s: 1.0e-3,
+    sun_sensor_cos_half_fov: 0.342,
+};
 
 /// The principal axes of a diagonal inertia tensor: `E = I`, the moments in body-axis order
 /// (what [`crate::control::principal_axes::principal_axes`] returns for it; a test checks it),
@@ -176,8 +214,6 @@ pub static CONFIG: AcsConfig<TILES> = {
         detumble_exit_radps: 0.008_7,
         igrf_model: ModelId::Flight,
         igrf_degree: IGRF_DEGREE,
-        weights: (SUN_WEIGHT, FIELD_WEIGHT),
-        filter_gain: 0.1,
-        max_propagation_s: 120.0,
+        filter: FILTER,
     }
 };

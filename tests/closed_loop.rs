@@ -433,9 +433,13 @@ fn tracking_with_wheels_and_noisy_tiles() {
             let settled_at = settled_at.expect("the error falls below the limit");
             assert!(settled_at < orbit_s());
             assert!(tail < REQUIREMENT_DEG, "{tail}");
-            // degree 8: the requirement plus its truncation error
+            // degree 8: the requirement plus its truncation error, plus what the filter's
+            // magnetometer-bias state makes of a slowly varying model error (it takes part of
+            // it for a bias, which turns the estimate when the error changes: measured 0.220°
+            // with the state, 0.203° with it frozen, against 0.212° for the first two): a fifth
+            // of the truncation error at most
             assert!(settled_8.is_some_and(|t| t < orbit_s()));
-            assert!(tail_8 < REQUIREMENT_DEG + truncation_deg, "{tail_8}");
+            assert!(tail_8 < REQUIREMENT_DEG + 1.2 * truncation_deg, "{tail_8}");
         } else {
             requirement(
                 "tracking",
@@ -955,7 +959,8 @@ fn loop_state_size() {
         "ReferenceNode<6, {FIELD_COEFFS}> {reference_node} B = SGP4 elements {orbit} B + state {} B + a reference to the configuration (host, 64-bit)",
         reference_node - orbit - reference
     );
-    assert!(attitude - reference <= 512);
+    // the attitude filter's state (issue #30: a 10-state covariance, 55 × 4 B) took it past 512
+    assert!(attitude - reference <= 640);
     assert!(reference_node - orbit - reference <= 160);
     // the composition: both nodes, the last STATUS and the last two packets; the one image
     println!(

@@ -227,7 +227,9 @@ fn run_step_laws<S: Sink>(s: &mut S) {
     use acs::control::sun_safe::{sun_safe_torque, SunSafeGains};
     use acs::control::tracking::{tracking_torque, TrackingGains};
     use acs::control::wheels::{Allocator, Wheel};
-    use acs::determination::complementary::{update, Estimate, FilterConfig};
+    use acs::determination::mekf::{step, StepInputs, SunObservation};
+    use acs::env::albedo::{irradiance, FieldOfView};
+    use acs::flight::FILTER;
     use acs::linalg::{Mat3, Vec3};
 
     let out3 = |s: &mut S, v: &Vec3| {
@@ -250,17 +252,30 @@ fn run_step_laws<S: Sink>(s: &mut S) {
         q2: s.input(-0.41),
         q3: s.input(0.4),
     };
-    let filter = FilterConfig {
-        gain: 0.1,
-        max_propagation_s: 120.0,
+    // the flight filter one step: propagated, then the Sun (with the albedo's partials) and the
+    // field
+    let sun_body = Vec3::new(s.input(0.3), s.input(-0.5), s.input(0.81));
+    let observation = SunObservation {
+        body: sun_body,
+        reference_teme: Vec3::new(s.input(0.31), s.input(-0.49), s.input(0.815)),
+        d_reference_d_albedo: Vec3::new(s.input(0.02), s.input(0.01), s.input(-0.005)),
+        variance_rad2: s.input(6.4e-6),
     };
-    let estimate = Some(Estimate {
-        attitude: q,
-        age_s: 0.0,
-    });
-    s.begin("step: attitude filter (predict + correct)");
-    let e = update(&filter, estimate, Some(m), Some(w), 1.0);
-    let e = core::hint::black_box(e);
+    let b_teme = Vec3::new(s.input(20_800.0), s.input(-18_300.0), s.input(9_200.0));
+    let inputs = StepInputs {
+        omega_body_radps: Some(w),
+        sun: Some(observation),
+        field: Some((b, b_teme)),
+        two_vector: Some(m),
+        mag_tiles: 0b11_1110,
+        gyro_tiles: 0b11_1110,
+        dt_s: 1.0,
+    };
+    // started from the two-vector attitude `m` (with the step's sensor sets), one step on
+    let started = step(&FILTER, None, &inputs).0;
+    s.begin("step: attitude filter (propagate + Sun + field)");
+    let e = step(&FILTER, started, &inputs);
+    let e = core::hint::black_box(e).0;
     s.end();
     let nan = Quaternion {
         q0: f32::NAN,
@@ -268,10 +283,25 @@ fn run_step_laws<S: Sink>(s: &mut S) {
         q2: f32::NAN,
         q3: f32::NAN,
     };
-    let e = e.map_or(nan, |e| e.attitude);
-    for x in [e.q0, e.q1, e.q2, e.q3] {
+    let qe = e.map_or(nan, |e| e.attitude);
+    for x in [qe.q0, qe.q1, qe.q2, qe.q3] {
         s.out(x);
     }
+    for x in e.map_or([f32::NAN; 10], |e| e.variances()) {
+        s.out(x);
+    }
+
+    let r_teme = Vec3::new(s.input(-2_100.0), s.input(4_900.0), s.input(4_200.0));
+    let sun_teme = Vec3::new(s.input(0.92), s.input(0.3), s.input(0.25));
+    let fov = FieldOfView {
+        boresight: Vec3::new(s.input(-0.3), s.input(0.6), s.input(0.74)),
+        cos_half_angle: 0.342,
+    };
+    s.begin("step: albedo seen by one Sun sensor (32 points)");
+    let d = irradiance(&r_teme, &sun_teme, 1.0, Some(&fov));
+    let d = core::hint::black_box(d).unwrap_or(Vec3::new(f32::NAN, f32::NAN, f32::NAN));
+    s.end();
+    out3(s, &d);
 
     let gains = SunSafeGains {
         kp_nm: 2.0 * 0.05 * 0.05 * 0.014,

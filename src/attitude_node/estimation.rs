@@ -1,17 +1,18 @@
-//! Step phase 4: the body field, rate and Sun direction from the tiles, the attitude by Wahba's
-//! SVD from the Sun and field pairs (body, and TEME from the REF), filtered with the gyros
-//! ([`crate::determination::complementary`]), and the node's copy of the clock.
+//! Step phase 4: the body field, rate and Sun direction from the tiles; the attitude by TRIAD
+//! ([`crate::determination::triad::pair_quaternion`]) from the Sun and field pairs (body, and
+//! TEME from the REF), which starts the attitude filter ([`crate::determination::mekf`]: the
+//! gyros propagate it, the Sun, with the REF's albedo, and the field update it); the node's
+//! copy of the clock.
 //!
 //! Attitudes are `v_body = A(q) · v_ref`, reference TEME of date ([`crate::attitude`]).
 
 use super::sensing::Readings;
 use super::{AttitudeNode, Faults};
 use crate::acs_loop::StepReport;
-use crate::attitude::Quaternion;
-use crate::determination::complementary::{self, FilterConfig};
 use crate::determination::least_squares::{angular_rate_body_cached, magnetic_field_body_cached};
-use crate::determination::sun_sensor::sun_direction_body;
-use crate::determination::{wahba_svd, Observation};
+use crate::determination::mekf::{self, StepInputs, SunObservation};
+use crate::determination::sun_sensor::{incidence_inv_cos2, sun_direction_body};
+use crate::determination::triad;
 use crate::env::eclipse::Shadow;
 use crate::linalg::{dot, Vec3};
 use crate::link::messages::Reference;
@@ -40,7 +41,7 @@ fn magnitude_within(b: &Vec3, model_nt2: f32, tolerance: f32) -> bool {
 }
 
 impl<const N: usize> AttitudeNode<'_, N> {
-    /// Step phase 4: body field, rate and Sun direction from the tiles, attitude by Wahba's SVD
+    /// Step phase 4: body field, rate and Sun direction from the tiles, attitude by TRIAD
     /// (with the REF's Sun and field, if this step has one), filtered; returns the seconds the
     /// laws integrate.
     #[inline(never)]
@@ -81,9 +82,18 @@ impl<const N: usize> AttitudeNode<'_, N> {
         } else {
             self.sun_body(readings)
         };
-        let (sun_teme, b_teme_nt) = reference.map_or((None, None), |r| (r.sun_teme, r.b_teme_nt));
-        let measured = match (sun_body, b_body_nt, sun_teme, b_teme_nt) {
-            (Some(s_b), Some(b_b), Some(s_r), Some(b_r)) => self.measure(&s_b, &s_r, &b_b, &b_r),
+        let b_teme_nt = reference.and_then(|r| r.b_teme_nt);
+        // the Sun as the sensors see it, with the albedo
+        let sun_ref = reference.and_then(|r| {
+            let fraction = r.illumination.map_or(1.0, |i| i.fraction);
+            let albedo = self.estimate.map_or(0.0, |e| e.albedo);
+            r.sun_teme
+                .map(|s| mekf::sun_reference(&s, fraction, r.albedo_teme.as_ref(), albedo))
+        });
+        let measured = match (sun_body, b_body_nt, &sun_ref, b_teme_nt) {
+            (Some(s_b), Some(b_b), Some((s_r, _)), Some(b_r)) => {
+                triad::pair_quaternion(&s_b, s_r, &b_b, &b_r)
+            }
             _ => None,
         };
         // the node's copy of the clock: the REF's UTC, or one period on without a REF (a
@@ -111,45 +121,40 @@ impl<const N: usize> AttitudeNode<'_, N> {
                 period
             }
         };
-        let filter = FilterConfig {
-            gain: self.config.filter_gain,
-            max_propagation_s: self.config.max_propagation_s,
+        let sun = match (sun_body, sun_ref) {
+            (Some(body), Some((reference_teme, d_reference_d_albedo))) => Some(SunObservation {
+                body,
+                reference_teme,
+                d_reference_d_albedo,
+                variance_rad2: self.sun_variance(readings, &body),
+            }),
+            _ => None,
         };
-        self.estimate = complementary::update(&filter, self.estimate, measured, omega, dt);
-        let attitude = self.estimate.map(|e| e.attitude);
+        let inputs = StepInputs {
+            omega_body_radps: omega,
+            sun,
+            field: b_body_nt.zip(b_teme_nt),
+            two_vector: measured,
+            mag_tiles: self.mag_solver.as_ref().map_or(0, |s| s.tiles()),
+            gyro_tiles: self.gyro_solver.as_ref().map_or(0, |s| s.tiles()),
+            dt_s: dt,
+        };
+        let (estimate, outcome) = mekf::step(&self.config.filter, self.estimate, &inputs);
+        self.estimate = estimate;
+        let attitude = estimate.map(|e| e.attitude);
         faults.attitude = attitude.is_none();
         report.b_body_nt = b_body_nt;
+        // the gyros' own rate: a law's command must not depend on the filter's state (a REF
+        // lost changes the estimate, not the commands of a mode without attitude); the bias
+        // left in the rate (≤ 1e-4 rad/s) moves the tracking law's equilibrium by ζ·b/ω_n ≈
+        // 0.01°
         report.omega_body_radps = omega;
+        report.attitude_sigma_rad = estimate.map(|e| e.attitude_sigma_rad());
+        report.refused_measurements = outcome.refused;
         report.sun_body = sun_body;
         report.measured_attitude = measured;
         report.attitude = attitude;
         dt
-    }
-
-    /// The attitude measured by Wahba's SVD from the Sun and field pairs (body, reference TEME),
-    /// weighted as configured; out of line (its temporaries off the determination's frame).
-    #[cfg_attr(target_arch = "msp430", inline(never))]
-    fn measure(
-        &self,
-        sun_body: &Vec3,
-        sun_teme: &Vec3,
-        b_body_nt: &Vec3,
-        b_teme_nt: &Vec3,
-    ) -> Option<Quaternion> {
-        let (w_sun, w_mag) = self.config.weights;
-        let sun = Observation {
-            body: *sun_body,
-            reference: *sun_teme,
-            weight: w_sun,
-        };
-        let field = Observation {
-            body: *b_body_nt,
-            reference: *b_teme_nt,
-            weight: w_mag,
-        };
-        wahba_svd::solve_pair(&sun, &field)
-            .ok()
-            .map(|s| s.quaternion)
     }
 
     /// The body field from the magnetometers (least squares, cached operator), nT. Out of line,
@@ -177,6 +182,16 @@ impl<const N: usize> AttitudeNode<'_, N> {
         let tiles = self.config.tiles.as_slice();
         let sun = readings.sun_rad();
         sun_direction_body(tiles, sun.get(..tiles.len())?).ok()
+    }
+
+    /// The Sun observation's variance per axis, rad², from the lit sensors' incidence
+    /// ([`mekf::sun_variance_rad2`]).
+    #[cfg_attr(target_arch = "msp430", inline(never))]
+    fn sun_variance(&self, readings: &Readings<N>, sun_body: &Vec3) -> f32 {
+        let tiles = self.config.tiles.as_slice();
+        let sun = readings.sun_rad();
+        let (sum, n) = incidence_inv_cos2(tiles, sun.get(..tiles.len()).unwrap_or(&[]), sun_body);
+        mekf::sun_variance_rad2(&self.config.filter, sum, n)
     }
 }
 

@@ -12,11 +12,11 @@
 //!    [`COIL_DECAY_US`] on the bus's timer ([`TileBus::delay_us`]) for their field to decay.
 //! 2. The REF: used if it was made for this step and its clock is valid
 //!    ([`crate::link::messages::Reference::usable_at`]); otherwise the step runs without
-//!    reference (no Wahba attitude: the filter propagates with the gyros; detumble and
+//!    reference (no Sun or field reference: the filter propagates with the gyros; detumble and
 //!    sun-safe need none), reported as [`Faults::link`]. A guidance with a new id is the
 //!    ground's track or slew command.
 //! 3. Read every working tile ([`sensing`]).
-//! 4. Body field, rate, Sun; attitude by Wahba's SVD, filtered ([`estimation`]).
+//! 4. Body field, rate, Sun; the attitude filter, started by TRIAD ([`estimation`]).
 //! 5. Mode events and the mode's law ([`laws`]), wheel and coil commands ([`actuation`]).
 //!
 //! | module | what |
@@ -24,15 +24,15 @@
 //! | [`modes`] | the modes and their one transition function |
 //! | [`faults`] | the step's faults and their telemetry word |
 //! | [`sensing`] | tile reads, tiles taken out of service |
-//! | [`estimation`] | field, rate, Sun, Wahba attitude, the filter, the node's clock |
+//! | [`estimation`] | field, rate, Sun, the TRIAD start, the filter, the node's clock |
 //! | [`laws`] | mode events, B-dot, sun-safe, slew momentum, tracking |
 //! | [`actuation`] | wheel and coil allocation, saturation, dumping, the safe state |
 
 use crate::acs_loop::{AcsConfig, AcsError, StepReport};
 use crate::control::bdot::BdotState;
 use crate::control::wheels::Allocator;
-use crate::determination::complementary::Estimate;
 use crate::determination::least_squares::TileSolver;
+use crate::determination::mekf::Mekf;
 use crate::hal::TileBus;
 use crate::link::messages::{GuidanceKind, Reference, Status};
 use crate::tiles::{Tile, TileState, MAX_TILES};
@@ -95,8 +95,8 @@ pub struct AttitudeNode<'c, const N: usize = MAX_TILES> {
     last_umbra: bool,
     /// `|B|²` of the last usable REF's field, nT² (the magnitude check without a REF).
     last_field_nt2: Option<f32>,
-    /// Filtered attitude and the seconds since it last saw a measurement.
-    estimate: Option<Estimate>,
+    /// The attitude filter's state ([`crate::determination::mekf`]).
+    estimate: Option<Mekf>,
     /// Commanded momentum of each tile's wheel, kg·m²/s along the tile normal.
     wheel_h: [f32; N],
     failures: [u8; N],
@@ -113,9 +113,7 @@ impl<'c, const N: usize> AttitudeNode<'c, N> {
     /// A node in `Detumble` at step 0 for the given configuration.
     #[cfg_attr(target_arch = "msp430", optimize(size))]
     pub fn new(config: &'c AcsConfig<N>) -> Result<Self, AcsError> {
-        let gain_ok = config.filter_gain > 0.0 && !(config.filter_gain > 1.0);
-        let finite = gain_ok
-            && config.max_propagation_s.is_finite()
+        let finite = config.filter.is_valid()
             && config.detumble_enter_radps.is_finite()
             && config.detumble_exit_radps.is_finite()
             && config.wheel_limit_nms.is_finite()

@@ -51,10 +51,11 @@
 //!
 //! # Innovation gate
 //! A scalar with `ν² > γ S` (`ν` its innovation, [`MekfConfig::gate_chi2`] = `γ`, a χ² with one
-//! degree of freedom) is refused and counted; it also serves fault detection: a sensor whose
-//! every measurement is refused for [`MekfConfig::refused_steps_to_restart`] steps in a row
-//! restarts the filter from the two-vector solution (the estimate had diverged, or the sensor
-//! has).
+//! degree of freedom) is refused and counted; it also serves fault detection: a field with a
+//! component refused at each of [`MekfConfig::refused_steps_to_restart`] steps in a row has its
+//! bias forgotten (a stuck or failing magnetometer left it wrong), and a Sun refused as long, or
+//! a field twice as long, restarts the filter from the two-vector solution (the estimate had
+//! diverged, or a sensor has).
 //!
 //! # Use
 //! [`Mekf::start`] from a two-vector (Wahba) solution, then each step [`Mekf::propagate`],
@@ -68,24 +69,27 @@
 
 use crate::attitude::Quaternion;
 use crate::fmath;
-use crate::linalg::{cross, dot, finite3, mat_vec, Vec3};
+use crate::linalg::{cross, div, dot, finite3, lin2, mat_vec, sub_scaled, Vec3};
 
-/// Error states: attitude (3), gyro bias (3), magnetometer bias (3).
-pub const STATES: usize = 9;
+/// Error states: attitude (3), gyro bias (3), magnetometer bias (3), the Earth's albedo (1).
+pub const STATES: usize = 10;
 /// Entries of the packed upper triangle of `P`.
 const PACKED: usize = STATES * (STATES + 1) / 2;
 /// First index of the gyro-bias states.
 const GYRO_BIAS: usize = 3;
 /// First index of the magnetometer-bias states.
 const MAG_BIAS: usize = 6;
+/// Index of the albedo state.
+const ALBEDO: usize = 9;
 
 /// The largest difference between this f32 filter's attitude and the same equations in f64
-/// over one simulated hour of `tests/mekf.rs`, rad (measured 2.9e-6 rad; the bound 1e-5).
+/// over one simulated hour of `tests/mekf.rs`, rad (measured 7.4e-7 rad; the bound 1e-5).
 pub const F32_ATTITUDE_BOUND_RAD: f32 = 1.0e-5;
 
 /// Index of `P(i, j)` in the packed upper triangle, row by row.
+#[cfg_attr(target_arch = "msp430", inline(never))]
 const fn packed(i: usize, j: usize) -> usize {
-    let (i, j) = if i <= j { (i, j) } else { (j, i) };
+    let (i, j) = if j >= i { (i, j) } else { (j, i) };
     i * (2 * STATES + 1 - i) / 2 + (j - i)
 }
 
@@ -119,6 +123,65 @@ pub struct MekfConfig {
     pub refused_steps_to_restart: u8,
     /// The estimate is usable while the largest attitude 1σ is at most this, rad.
     pub max_attitude_sigma_rad: f32,
+    /// The Earth's albedo the Sun observation is corrected for ([`crate::env::albedo`]; 0: no
+    /// correction).
+    pub earth_albedo: f32,
+    /// The initial 1σ of the albedo, a fraction of [`Self::earth_albedo`].
+    pub albedo_relative_sigma: f32,
+    /// `σ_a`: the albedo's random walk, 1/√s.
+    pub albedo_walk_per_sqrt_s: f32,
+    /// The cosine of the Sun sensors' field of view's half angle (the albedo they see).
+    pub sun_sensor_cos_half_fov: f32,
+}
+
+impl MekfConfig {
+    /// True if every figure is a positive finite number (the gate and the limits included).
+    pub fn is_valid(&self) -> bool {
+        [
+            self.gyro_arw_rad_per_sqrt_s,
+            self.gyro_bias_walk,
+            self.mag_bias_walk_nt_per_sqrt_s,
+            self.sun_noise_rad,
+            self.sun_floor_rad,
+            self.field_noise_nt,
+            self.field_relative,
+            self.initial_attitude_rad,
+            self.initial_gyro_bias_radps,
+            self.initial_mag_bias_nt,
+            self.gate_chi2,
+            self.max_attitude_sigma_rad,
+        ]
+        .iter()
+        .all(|x| x.is_finite() && *x > 0.0)
+            && self.refused_steps_to_restart > 0
+            && self.earth_albedo >= 0.0
+            && self.albedo_relative_sigma >= 0.0
+            && self.earth_albedo.is_finite()
+            && self.albedo_relative_sigma.is_finite()
+            && self.albedo_walk_per_sqrt_s >= 0.0
+            && self.albedo_walk_per_sqrt_s.is_finite()
+    }
+}
+
+/// A Sun observation ([`Mekf::update_sun`], [`sun_reference`]).
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct SunObservation {
+    /// The sensors' averaged direction, body (unit).
+    pub body: Vec3,
+    /// The apparent Sun they are compared with, TEME (unit): the Sun and the albedo.
+    pub reference_teme: Vec3,
+    /// Its change with the albedo, TEME, per unit of albedo.
+    pub d_reference_d_albedo: Vec3,
+    /// The variance per axis, rad² ([`sun_variance_rad2`]).
+    pub variance_rad2: f32,
+}
+
+/// What a vector observation adds beyond the attitude: the magnetometer bias (one per axis,
+/// partial 1) or the albedo (one for the three axes, these partials, body).
+#[derive(Copy, Clone, Debug, PartialEq)]
+enum Extra {
+    MagBias,
+    Albedo(Vec3),
 }
 
 /// What one update did.
@@ -140,43 +203,201 @@ pub struct Mekf {
     pub gyro_bias_radps: Vec3,
     /// The magnetometer bias, body, nT (subtracted from the fused field).
     pub mag_bias_nt: Vec3,
+    /// The Earth's albedo the Sun sensors see (0 ..= 1).
+    pub albedo: f32,
     /// The packed upper triangle of the error covariance, row by row.
     p: [f32; PACKED],
-    /// Steps in a row with every Sun scalar refused, and with every field scalar refused.
+    /// Steps in a row with a Sun scalar refused, and with a field scalar refused.
     sun_refused_steps: u8,
     field_refused_steps: u8,
+    /// The tiles (bit `i`: tile `i`) whose magnetometers and gyros the bias estimates are of,
+    /// and the steps in a row each sensor has come from another set.
+    mag_tiles: u32,
+    gyro_tiles: u32,
+    mag_other_steps: u8,
+    gyro_other_steps: u8,
+    /// The last rate the gyros gave (less the bias), rad/s, and the steps in a row without one.
+    last_rate_radps: Vec3,
+    steps_without_rate: u8,
+}
+
+/// Steps in a row a sensor must come from a new set of tiles before the filter takes the set
+/// as the new one and forgets that sensor's bias ([`Mekf::forget_bias`]). A read missed for a
+/// step or two (a time-out) is not a new set: the field of another set is not used meanwhile
+/// (its bias is another), the rate is (one step of another gyro bias, ≤ 1e-4 rad/s, is
+/// far below the rate's noise).
+pub const STEPS_TO_NEW_SET: u8 = 5;
+
+/// The 1σ change of the body rate over a step the filter propagates without the gyros (the
+/// last rate held, for at most [`STEPS_TO_NEW_SET`] steps), rad/s: the tracking law's rate
+/// changes by less than 1e-4 rad/s a step (the orbit rate is 1.1e-3 rad/s); ten times that.
+pub const RATE_HELD_RADPS: f32 = 1.0e-3;
+
+/// One control step's inputs to [`step`].
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub struct StepInputs {
+    /// The gyros' fused rate, rad/s (body), if any.
+    pub omega_body_radps: Option<Vec3>,
+    /// The Sun ([`SunObservation`]).
+    pub sun: Option<SunObservation>,
+    /// The field: body (the magnetometers' fused field) and TEME (the model's), nT.
+    pub field: Option<(Vec3, Vec3)>,
+    /// This step's two-vector attitude (reference TEME → body), which starts the filter.
+    pub two_vector: Option<Quaternion>,
+    /// The tiles (bit `i`: tile `i`) whose magnetometers gave the field.
+    pub mag_tiles: u32,
+    /// The tiles whose gyros gave the rate.
+    pub gyro_tiles: u32,
+    /// Seconds since the previous step.
+    pub dt_s: f32,
+}
+
+/// One control step of the filter: started from the two-vector attitude when there is no
+/// estimate; otherwise propagated with the gyros' rate and updated with the Sun and the field.
+/// A bias whose set of sensors changed for [`STEPS_TO_NEW_SET`] steps is forgotten
+/// ([`Mekf::forget_bias`]) before its sensors are used (the field of a set not yet taken is
+/// not used); a step without a rate propagates the last one (for at most
+/// [`STEPS_TO_NEW_SET`] steps, with [`RATE_HELD_RADPS`]); a step longer without one, or whose
+/// result is unusable or has diverged ([`Mekf::diverged`]), restarts from the two-vector attitude if there is one, else leaves no
+/// estimate. Returns the estimate and what the updates did.
+#[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
+pub fn step(
+    config: &MekfConfig,
+    estimate: Option<Mekf>,
+    inputs: &StepInputs,
+) -> (Option<Mekf>, UpdateOutcome) {
+    let start = || {
+        inputs.two_vector.map(|q| {
+            let mut f = Mekf::start(config, q);
+            (f.mag_tiles, f.gyro_tiles) = (inputs.mag_tiles, inputs.gyro_tiles);
+            f
+        })
+    };
+    let mut outcome = UpdateOutcome::default();
+    let propagated = match (estimate, inputs.omega_body_radps) {
+        (Some(mut f), Some(w)) => {
+            if f.gyro_tiles == inputs.gyro_tiles {
+                f.gyro_other_steps = 0;
+            } else {
+                f.gyro_other_steps = f.gyro_other_steps.saturating_add(1);
+                if f.gyro_other_steps >= STEPS_TO_NEW_SET {
+                    f.forget_bias(config, false);
+                    (f.gyro_tiles, f.gyro_other_steps) = (inputs.gyro_tiles, 0);
+                }
+            }
+            f.steps_without_rate = 0;
+            f.last_rate_radps = f.rate_body_radps(&w);
+            f.propagate(config, &w, inputs.dt_s)
+        }
+        // a step without the gyros (a missed read): the last rate held, its change unknown
+        (Some(mut f), None) if STEPS_TO_NEW_SET > f.steps_without_rate => {
+            f.steps_without_rate += 1;
+            let w = f.last_rate_radps + f.gyro_bias_radps;
+            f.propagate(config, &w, inputs.dt_s).map(|mut f| {
+                let held = RATE_HELD_RADPS * inputs.dt_s;
+                for i in 0..GYRO_BIAS {
+                    f.set(i, i, f.at(i, i) + held * held);
+                }
+                f
+            })
+        }
+        _ => None,
+    };
+    let Some(mut f) = propagated else {
+        return (start(), outcome);
+    };
+    if let Some(sun) = &inputs.sun {
+        outcome = f.update_sun(config, sun);
+    }
+    if let Some((body, teme)) = &inputs.field {
+        let mut same = f.mag_tiles == inputs.mag_tiles;
+        if same {
+            f.mag_other_steps = 0;
+        } else {
+            f.mag_other_steps = f.mag_other_steps.saturating_add(1);
+            if f.mag_other_steps >= STEPS_TO_NEW_SET {
+                f.forget_bias(config, true);
+                (f.mag_tiles, f.mag_other_steps) = (inputs.mag_tiles, 0);
+                same = true;
+            }
+        }
+        if same {
+            let o = f.update_field(config, body, teme);
+            outcome.accepted += o.accepted;
+            outcome.refused += o.refused;
+        }
+    }
+    if f.diverged(config) || !f.is_usable(config) {
+        return (start(), outcome);
+    }
+    (Some(f), outcome)
 }
 
 /// The Sun observation's variance, rad² per axis, from the lit sensors' incidence cosines
 /// (`Σ 1/cos²θᵢ` over the `n` averaged, given as `inv_cos2_sum` and `n`; see the [module
 /// docs](self)).
 pub fn sun_variance_rad2(config: &MekfConfig, inv_cos2_sum: f32, n: u8) -> f32 {
-    let n = f32::from(n.max(1));
+    let n = f32::from(core::cmp::max(n, 1));
     let s0 = config.sun_noise_rad;
     let floor = config.sun_floor_rad;
     floor * floor + s0 * s0 * inv_cos2_sum / (n * n)
 }
 
+/// The apparent Sun the sensors' average is compared with, TEME (unit), and its change with
+/// the albedo (per unit of albedo) ([`crate::env::albedo`]): the Sun's visible `fraction` plus
+/// `albedo` × the irradiance of a unit albedo the lit sensors see (`albedo_teme`, the REF's:
+/// [`crate::env::albedo::seen_by_lit_sensors`]). With `v = f ŝ + a D₁`, `u = v/|v|`:
+/// `∂u/∂a = (D₁ − (u·D₁) u)/|v|`. Without `albedo_teme`: the Sun itself, no change.
+#[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
+pub fn sun_reference(
+    sun_teme: &Vec3,
+    fraction: f32,
+    albedo_teme: Option<&Vec3>,
+    albedo: f32,
+) -> (Vec3, Vec3) {
+    let Some(d1) = albedo_teme else {
+        return (*sun_teme, Vec3::zeros());
+    };
+    let v = lin2(sun_teme, fraction, d1, albedo);
+    let n = crate::linalg::norm(&v);
+    if !(n > 0.0 && n.is_finite()) {
+        return (*sun_teme, Vec3::zeros());
+    }
+    let u = div(&v, n);
+    (u, div(&sub_scaled(d1, &u, dot(&u, d1)), n))
+}
+
 impl Mekf {
     /// A filter at `attitude` (a two-vector solution) with the configured initial 1σ, the
     /// biases zero.
+    #[cfg_attr(target_arch = "msp430", optimize(size))]
     pub fn start(config: &MekfConfig, attitude: Quaternion) -> Self {
         let mut filter = Self {
             attitude,
             gyro_bias_radps: Vec3::zeros(),
             mag_bias_nt: Vec3::zeros(),
+            albedo: config.earth_albedo,
             p: [0.0; PACKED],
             sun_refused_steps: 0,
             field_refused_steps: 0,
+            mag_tiles: 0,
+            gyro_tiles: 0,
+            mag_other_steps: 0,
+            gyro_other_steps: 0,
+            last_rate_radps: Vec3::zeros(),
+            steps_without_rate: 0,
         };
         let a = config.initial_attitude_rad;
         let b = config.initial_gyro_bias_radps;
         let m = config.initial_mag_bias_nt;
+        let albedo = config.albedo_relative_sigma * config.earth_albedo;
         for i in 0..STATES {
             let s = match i {
                 0..GYRO_BIAS => a,
                 GYRO_BIAS..MAG_BIAS => b,
-                _ => m,
+                MAG_BIAS..ALBEDO => m,
+                // a state that never moves keeps a positive variance
+                _ => fmath::max(albedo, 1e-6),
             };
             filter.set(i, i, s * s);
         }
@@ -184,10 +405,12 @@ impl Mekf {
     }
 
     /// `P(i, j)` (0 outside the state, which no caller asks).
+    #[cfg_attr(target_arch = "msp430", inline(never))]
     fn at(&self, i: usize, j: usize) -> f32 {
         self.p.get(packed(i, j)).copied().unwrap_or(0.0)
     }
 
+    #[cfg_attr(target_arch = "msp430", inline(never))]
     fn set(&mut self, i: usize, j: usize, value: f32) {
         if let Some(e) = self.p.get_mut(packed(i, j)) {
             *e = value;
@@ -195,6 +418,7 @@ impl Mekf {
     }
 
     /// The 1σ of each attitude error axis (body), rad: `√P(k, k)`.
+    #[cfg_attr(target_arch = "msp430", optimize(size))]
     pub fn attitude_sigma_rad(&self) -> Vec3 {
         Vec3::new(
             fmath::sqrt(self.at(0, 0)),
@@ -205,6 +429,7 @@ impl Mekf {
 
     /// The covariance's diagonal: attitude (rad²), gyro bias (rad²/s²), magnetometer bias
     /// (nT²).
+    #[cfg_attr(target_arch = "msp430", optimize(size))]
     pub fn variances(&self) -> [f32; STATES] {
         let mut d = [0.0; STATES];
         for (i, v) in d.iter_mut().enumerate() {
@@ -214,6 +439,7 @@ impl Mekf {
     }
 
     /// The full covariance, for tests and the ground (`P(i, j)`).
+    #[cfg_attr(target_arch = "msp430", optimize(size))]
     pub fn covariance(&self) -> [[f32; STATES]; STATES] {
         let mut m = [[0.0; STATES]; STATES];
         for (i, row) in m.iter_mut().enumerate() {
@@ -226,6 +452,7 @@ impl Mekf {
 
     /// True while the estimate is usable: every element finite, the diagonal positive and the
     /// attitude's largest 1σ within [`MekfConfig::max_attitude_sigma_rad`].
+    #[cfg_attr(target_arch = "msp430", optimize(size))]
     pub fn is_usable(&self, config: &MekfConfig) -> bool {
         let limit = config.max_attitude_sigma_rad;
         let healthy = self.p.iter().all(|v| v.is_finite())
@@ -243,6 +470,7 @@ impl Mekf {
     /// The bias estimates of the magnetometers (`mag`) or the gyros (`!mag`) no longer apply
     /// (the set of tiles read changed): their covariance goes back to the initial 1σ and
     /// loses its correlations, so the next measurements move the bias, not the attitude.
+    #[cfg_attr(target_arch = "msp430", optimize(size))]
     pub fn forget_bias(&mut self, config: &MekfConfig, mag: bool) {
         let (first, sigma) = if mag {
             (MAG_BIAS, config.initial_mag_bias_nt)
@@ -259,7 +487,7 @@ impl Mekf {
 
     /// Propagation over `dt_s` with the gyros' rate (see the [module docs](self)); `None` if
     /// the result is not usable (a non-finite rate or state).
-    #[cfg_attr(target_arch = "msp430", inline(never))]
+    #[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
     pub fn propagate(
         mut self,
         config: &MekfConfig,
@@ -303,42 +531,46 @@ impl Mekf {
                 self.set(i, j, *e);
             }
         }
-        let (v, u, m) = (
+        let (v, u, m, a) = (
             config.gyro_arw_rad_per_sqrt_s,
             config.gyro_bias_walk,
             config.mag_bias_walk_nt_per_sqrt_s,
+            config.albedo_walk_per_sqrt_s,
         );
         let q_att = v * v * dt_s + u * u * dt_s * dt_s * dt_s / 3.0;
         for i in 0..STATES {
             let add = match i {
                 0..GYRO_BIAS => q_att,
                 GYRO_BIAS..MAG_BIAS => u * u * dt_s,
-                _ => m * m * dt_s,
+                MAG_BIAS..ALBEDO => m * m * dt_s,
+                _ => a * a * dt_s,
             };
             self.set(i, i, self.at(i, i) + add);
         }
         self.is_usable(config).then_some(self)
     }
 
-    /// The Sun's update: `sun_body` (unit, the sensors'), `sun_teme` (unit, the model's) and
-    /// the observation's variance per axis ([`sun_variance_rad2`]).
-    #[cfg_attr(target_arch = "msp430", inline(never))]
-    pub fn update_sun(
-        &mut self,
-        config: &MekfConfig,
-        sun_body: &Vec3,
-        sun_teme: &Vec3,
-        variance_rad2: f32,
-    ) -> UpdateOutcome {
-        let predicted = mat_vec(self.attitude.to_dcm().matrix(), sun_teme);
-        let outcome = self.update_vector(config, sun_body, &predicted, variance_rad2, false);
+    /// The Sun's update with `sun` ([`SunObservation`]: the sensors' direction, the apparent
+    /// Sun and its change with the albedo, the variance).
+    #[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
+    pub fn update_sun(&mut self, config: &MekfConfig, sun: &SunObservation) -> UpdateOutcome {
+        let a = self.attitude.to_dcm();
+        let predicted = mat_vec(a.matrix(), &sun.reference_teme);
+        let d_albedo = mat_vec(a.matrix(), &sun.d_reference_d_albedo);
+        let outcome = self.update_vector(
+            config,
+            &sun.body,
+            &predicted,
+            sun.variance_rad2,
+            Extra::Albedo(d_albedo),
+        );
         self.sun_refused_steps = count_refused(self.sun_refused_steps, &outcome);
         outcome
     }
 
     /// The field's update: `b_body_nt` (the magnetometers' fused field) and `b_teme_nt` (the
     /// model's), with the magnetometer bias.
-    #[cfg_attr(target_arch = "msp430", inline(never))]
+    #[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
     pub fn update_field(
         &mut self,
         config: &MekfConfig,
@@ -349,31 +581,42 @@ impl Mekf {
         let k = config.field_relative;
         let s = config.field_noise_nt;
         let variance = s * s + k * k * dot(b_teme_nt, b_teme_nt);
-        let outcome = self.update_vector(config, b_body_nt, &predicted, variance, true);
+        let outcome = self.update_vector(config, b_body_nt, &predicted, variance, Extra::MagBias);
         self.field_refused_steps = count_refused(self.field_refused_steps, &outcome);
+        // the field refused for a while: first its bias is doubted (a stuck or failing sensor
+        // leaves it wrong), then, refused as long again, the whole estimate (`diverged`)
+        if self.field_refused_steps == config.refused_steps_to_restart {
+            self.forget_bias(config, true);
+        }
         outcome
     }
 
-    /// True when a sensor's every measurement has been refused for
-    /// [`MekfConfig::refused_steps_to_restart`] steps in a row.
+    /// True when the Sun has had a measurement refused at each of
+    /// [`MekfConfig::refused_steps_to_restart`] steps in a row, or the field at each of twice as
+    /// many (its bias is forgotten at the first count: [`Self::update_field`]).
     pub fn diverged(&self, config: &MekfConfig) -> bool {
         let n = config.refused_steps_to_restart;
-        self.sun_refused_steps >= n || self.field_refused_steps >= n
+        self.sun_refused_steps >= n || self.field_refused_steps >= n.saturating_mul(2)
     }
 
-    /// Three scalar updates with `y` against `ŷ` (+ the magnetometer bias if `mag`), then
-    /// the correction applied.
+    /// Three scalar updates with `y` against `ŷ` (+ the magnetometer bias, or with the albedo's
+    /// partials), then the correction applied.
+    #[cfg_attr(target_arch = "msp430", optimize(size))]
     fn update_vector(
         &mut self,
         config: &MekfConfig,
         measured: &Vec3,
         predicted: &Vec3,
         variance: f32,
-        mag: bool,
+        extra: Extra,
     ) -> UpdateOutcome {
         let mut dx = [0.0f32; STATES];
         let mut outcome = UpdateOutcome::default();
-        let bias = if mag { self.mag_bias_nt } else { Vec3::zeros() };
+        let (bias, partials) = match extra {
+            Extra::MagBias => (self.mag_bias_nt, Vec3::new(1.0, 1.0, 1.0)),
+            Extra::Albedo(d) => (Vec3::zeros(), d),
+        };
+        let partials = [partials.x, partials.y, partials.z];
         let p = predicted;
         // rows of [ŷ×]
         let rows = [
@@ -386,8 +629,11 @@ impl Mekf {
             measured.y - p.y - bias.y,
             measured.z - p.z - bias.z,
         ];
-        for (k, (h, residual)) in rows.iter().zip(residuals).enumerate() {
-            let b = mag.then_some(MAG_BIAS + k);
+        for (k, ((h, residual), c)) in rows.iter().zip(residuals).zip(partials).enumerate() {
+            let b = match extra {
+                Extra::MagBias => (MAG_BIAS + k, c),
+                Extra::Albedo(_) => (ALBEDO, c),
+            };
             if self.scalar_update(config, &mut dx, h, b, residual, variance) {
                 outcome.accepted += 1;
             } else {
@@ -398,53 +644,64 @@ impl Mekf {
         outcome
     }
 
-    /// One scalar measurement `residual = h δθ (+ δm_b) + noise` of variance `r`: gated, then
-    /// the Joseph-form update of `P` and the correction accumulated in `dx`. False if refused.
-    #[cfg_attr(target_arch = "msp430", inline(never))]
+    /// One scalar measurement `residual = h δθ + c δx_e + noise` of variance `r` (`extra` =
+    /// `(e, c)`: a magnetometer bias with `c = 1`, or the albedo): gated, then the Joseph-form
+    /// update of `P` and the correction accumulated in `dx`. False if refused.
+    #[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
     fn scalar_update(
         &mut self,
         config: &MekfConfig,
         dx: &mut [f32; STATES],
         h: &Vec3,
-        bias: Option<usize>,
+        extra: (usize, f32),
         residual: f32,
         r: f32,
     ) -> bool {
+        let (e, c) = extra;
+        // u = P hᵀ
         let mut u = [0.0f32; STATES];
         for (i, ui) in u.iter_mut().enumerate() {
-            let x = Vec3::new(self.at(i, 0), self.at(i, 1), self.at(i, 2));
-            *ui = dot(&x, h) + bias.map_or(0.0, |b| self.at(i, b));
+            *ui = self.row_dot(i, h, e, c);
         }
-        let at = |v: &[f32; STATES], b: Option<usize>| b.and_then(|b| v.get(b)).copied();
-        let hu = h.x * u[0] + h.y * u[1] + h.z * u[2] + at(&u, bias).unwrap_or(0.0);
-        let hdx = h.x * dx[0] + h.y * dx[1] + h.z * dx[2] + at(dx, bias).unwrap_or(0.0);
-        let s = hu + r;
-        let nu = residual - hdx;
+        let s = h_dot(&u, h, e, c) + r;
+        let nu = residual - h_dot(dx, h, e, c);
         if !(s > 0.0) || !(config.gate_chi2 * s >= nu * nu) {
             return false;
         }
+        // K = u / S, accumulated; w = S K − u (the gain's rounding)
         let mut k = [0.0f32; STATES];
-        for ((ki, ui), di) in k.iter_mut().zip(u.iter()).zip(dx.iter_mut()) {
+        let mut w = [0.0f32; STATES];
+        for (((ki, wi), ui), di) in k
+            .iter_mut()
+            .zip(w.iter_mut())
+            .zip(u.iter())
+            .zip(dx.iter_mut())
+        {
             *ki = ui / s;
             *di += *ki * nu;
+            *wi = s * *ki - ui;
         }
-        // Joseph form: P + K wᵀ − u Kᵀ, w = S K − u, on the upper triangle
-        let mut w = [0.0f32; STATES];
-        for ((wi, ki), ui) in w.iter_mut().zip(k.iter()).zip(u.iter()) {
-            *wi = s * ki - ui;
-        }
-        let mut e = self.p.iter_mut();
+        // Joseph form: P + K wᵀ − u Kᵀ, on the upper triangle row by row
+        let mut p = self.p.iter_mut();
         for (i, (ki, ui)) in k.iter().zip(u.iter()).enumerate() {
             for (kj, wj) in k.iter().zip(w.iter()).skip(i) {
-                if let Some(e) = e.next() {
-                    *e += ki * wj - ui * kj;
+                if let Some(p) = p.next() {
+                    *p += ki * wj - ui * kj;
                 }
             }
         }
         true
     }
 
+    /// `Σⱼ P(i, j) hⱼ` for the row `h = (h, 0…, c at e)`.
+    #[cfg_attr(target_arch = "msp430", inline(never))]
+    fn row_dot(&self, i: usize, h: &Vec3, e: usize, c: f32) -> f32 {
+        let x = Vec3::new(self.at(i, 0), self.at(i, 1), self.at(i, 2));
+        dot(&x, h) + c * self.at(i, e)
+    }
+
     /// The accumulated correction applied to the estimate (the reset of the error state).
+    #[cfg_attr(target_arch = "msp430", optimize(size))]
     fn apply(&mut self, dx: &[f32; STATES]) {
         let dq = Quaternion {
             q0: 1.0,
@@ -458,11 +715,19 @@ impl Mekf {
         }
         self.gyro_bias_radps += Vec3::new(dx[3], dx[4], dx[5]);
         self.mag_bias_nt += Vec3::new(dx[6], dx[7], dx[8]);
+        // an albedo is within 0 ..= 1
+        self.albedo = fmath::min(fmath::max(self.albedo + dx[9], 0.0), 1.0);
     }
 }
 
-/// `x − a × x − Δt·b`: one column (or row) of `Φ P` on the attitude states, with `a = ω̂Δt`.
+/// `h · v` for the row `h = (h, 0…, c at e)`.
 #[cfg_attr(target_arch = "msp430", inline(never))]
+fn h_dot(v: &[f32; STATES], h: &Vec3, e: usize, c: f32) -> f32 {
+    dot(&Vec3::new(v[0], v[1], v[2]), h) + c * v.get(e).copied().unwrap_or(0.0)
+}
+
+/// `x − a × x − Δt·b`: one column (or row) of `Φ P` on the attitude states, with `a = ω̂Δt`.
+#[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
 fn phi(x: &Vec3, b: &Vec3, a: &Vec3, dt_s: f32) -> Vec3 {
     let c = cross(a, x);
     Vec3::new(
@@ -472,9 +737,9 @@ fn phi(x: &Vec3, b: &Vec3, a: &Vec3, dt_s: f32) -> Vec3 {
     )
 }
 
-/// Steps in a row with every scalar of a sensor refused (a step with one taken resets it).
+/// Steps in a row with a scalar of a sensor refused (a step with none refused resets it).
 fn count_refused(steps: u8, outcome: &UpdateOutcome) -> u8 {
-    if outcome.accepted == 0 && outcome.refused > 0 {
+    if outcome.refused > 0 {
         steps.saturating_add(1)
     } else {
         0

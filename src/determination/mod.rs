@@ -4,7 +4,6 @@
 //!
 //! | module | what | source |
 //! |---|---|---|
-//! | [`complementary`] | gyro-aided complementary filter of the loop's attitude | note 000 §5 kinematics |
 //! | [`mekf`] | multiplicative extended Kalman filter: attitude, gyro bias, magnetometer bias (the flight estimator) | Lefferts, Markley and Shuster 1982; Markley and Crassidis 2014 §6.2.4 |
 //! | [`least_squares`] | body magnetic field from two-axis magnetometers, body rate from one-axis gyros | seed 000 §8.2–8.3, eqs. 8.14–8.25 |
 //! | [`sun_sensor`] | Sun direction in the body frame from the lit tiles' sensor angles | note 000 §7 item 1 |
@@ -19,7 +18,6 @@
 //! the attitude. The [`pseudoinverse`] solver is kept to reproduce the thesis's tests: its Sun-sensor
 //! equation is not geometry (note 000 §0 item 6).
 
-pub mod complementary;
 pub mod least_squares;
 pub mod mekf;
 pub mod pseudoinverse;

@@ -14,7 +14,7 @@
 //! sensor noise the average reduces it by about √n.
 
 use super::DeterminationError;
-use crate::linalg::{div, lin3, norm, Vec3};
+use crate::linalg::{div, dot, lin3, norm, Vec3};
 use crate::tiles::{sun_direction_tile, SunAngles, Tile};
 
 /// The unit Sun direction in the body frame, averaged over the tiles whose reading is
@@ -57,4 +57,27 @@ pub fn sun_direction_body(
         return Err(DeterminationError::NoSunSensorLit);
     }
     Ok(div(&sum, n))
+}
+
+/// `(Σ 1/cos²θᵢ, n)` over the `n` lit, working sensors that [`sun_direction_body`] averages,
+/// `θᵢ` each one's incidence (`cos θᵢ = n̂ᵢ · ŝ`, the tile's normal and the averaged direction
+/// `sun_body`): the inputs of the filter's Sun variance
+/// ([`super::mekf::sun_variance_rad2`]; a sensor's noise grows as `1/cos θ`). A sensor at or
+/// beyond grazing incidence counts as 1/cos²θ = 100 (84°).
+pub fn incidence_inv_cos2(
+    tiles: &[Tile],
+    readings: &[Option<SunAngles>],
+    sun_body: &Vec3,
+) -> (f32, u8) {
+    let mut sum = 0.0f32;
+    let mut lit = 0u8;
+    for (tile, reading) in tiles.iter().zip(readings.iter()) {
+        if reading.is_none() || !tile.has_working_sun_sensor() {
+            continue;
+        }
+        let c = dot(&tile.normal_body(), sun_body);
+        sum += if c * c > 0.01 { 1.0 / (c * c) } else { 100.0 };
+        lit = lit.saturating_add(1);
+    }
+    (sum, lit)
 }

@@ -1,5 +1,6 @@
 //! Environment models: the Sun, eclipses and the geomagnetic field.
 
+pub mod albedo;
 pub mod dipole;
 pub mod eclipse;
 pub mod igrf;

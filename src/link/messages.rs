@@ -206,6 +206,11 @@ pub struct Reference {
     pub illumination: Option<Illumination>,
     /// Geomagnetic field, TEME, nT.
     pub b_teme_nt: Option<Vec3>,
+    /// The Earth's albedo irradiance of a unit albedo, TEME, in units of the solar irradiance,
+    /// averaged over the Sun sensors the Sun lights at the last STATUS's attitude
+    /// ([`crate::env::albedo::seen_by_lit_sensors`]); `None` without an attitude, a position or
+    /// a lit sensor.
+    pub albedo_teme: Option<Vec3>,
     /// The guidance.
     pub guidance: Guidance,
     /// The reference node's faults, as [`crate::acs_loop::Faults::bits`] (orbit, model,
@@ -407,7 +412,7 @@ fn shadow_code(s: Shadow) -> u8 {
 
 impl Reference {
     /// Bytes on the wire.
-    pub const BYTES: usize = 105;
+    pub const BYTES: usize = 117;
 
     /// Its packet (APID [`REFERENCE_APID`]) with sequence count `sequence_count`.
     #[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
@@ -438,6 +443,7 @@ impl Reference {
             self.sun_teme.is_some(),
             self.illumination.is_some(),
             self.b_teme_nt.is_some(),
+            self.albedo_teme.is_some(),
         ]
         .iter()
         .rev()
@@ -451,6 +457,7 @@ impl Reference {
         w.f32(fraction);
         w.u8(shadow);
         w.vec3(self.b_teme_nt.as_ref());
+        w.vec3(self.albedo_teme.as_ref());
         let g = &self.guidance;
         w.u16(g.id);
         w.u8(match g.kind {
@@ -486,6 +493,7 @@ impl Reference {
             _ => return Err(MessageError::Field),
         };
         let b_teme_nt = r.vec3(flag(flags, 5));
+        let albedo_teme = r.vec3(flag(flags, 6));
         let id = r.u16();
         let kind = match r.u8() {
             0 => GuidanceKind::None,
@@ -497,7 +505,7 @@ impl Reference {
         let rate_body_radps = r.vec3(true).unwrap_or_else(Vec3::zeros);
         let h_ff_body_nms = r.vec3(true).unwrap_or_else(Vec3::zeros);
         let faults = r.u16();
-        if flags > 0x3F {
+        if flags > 0x7F {
             return Err(MessageError::Field);
         }
         Ok(Self {
@@ -509,6 +517,7 @@ impl Reference {
             sun_teme,
             illumination: flag(flags, 4).then_some(Illumination { fraction, shadow }),
             b_teme_nt,
+            albedo_teme,
             guidance: Guidance {
                 id,
                 kind,

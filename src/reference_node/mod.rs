@@ -17,6 +17,7 @@
 //! Attitudes are `v_body = A · v_ref`, reference TEME of date ([`crate::attitude`]).
 
 use crate::acs_loop::{AcsConfig, AcsError, Faults};
+use crate::env::albedo;
 use crate::env::igrf::coefficient_count;
 use crate::link::messages::{Guidance, Reference, Status};
 use crate::orbit::sgp4::Sgp4;
@@ -116,6 +117,7 @@ impl<'c, const N: usize, const F: usize> ReferenceNode<'c, N, F> {
             sun_teme: None,
             illumination: None,
             b_teme_nt: None,
+            albedo_teme: None,
             guidance: self.guidance,
             faults: 0,
         };
@@ -127,6 +129,17 @@ impl<'c, const N: usize, const F: usize> ReferenceNode<'c, N, F> {
             r.sun_teme = m.sun_teme;
             r.illumination = m.illumination;
             r.b_teme_nt = m.b_teme_nt;
+            // the albedo the attitude node's lit Sun sensors see, at the last STATUS's attitude
+            r.albedo_teme = match (&m.r_teme_km, &m.sun_teme, status.and_then(|s| s.attitude)) {
+                (Some(pos), Some(sun), Some(q)) => albedo::seen_by_lit_sensors(
+                    self.config.tiles.as_slice(),
+                    pos,
+                    sun,
+                    &q,
+                    self.config.filter.sun_sensor_cos_half_fov,
+                ),
+                _ => None,
+            };
             r.guidance = self.guidance_at(&now);
             r.faults = faults.bits();
             self.clock = Some(now.add(self.period));

@@ -365,9 +365,11 @@ pub fn thesis_config() -> Result<AcsConfig<TILES>, SimError> {
         detumble_exit_radps: 0.01,
         igrf_model: ModelId::Full,
         igrf_degree: Degree::FULL,
-        weights: (1.0, 1.0),
-        filter_gain: 0.1,
-        max_propagation_s: 120.0,
+        // the thesis's test has no albedo (seed 000 ch. 12)
+        filter: crate::determination::mekf::MekfConfig {
+            earth_albedo: 0.0,
+            ..crate::flight::FILTER
+        },
     })
 }
 
