@@ -49,7 +49,8 @@
 //! From any mode: `|ω| > enter_rate` → `Detumble`; a ground command (sun-safe, track, a slew
 //! that could be planned) → its mode. In `Slew` and `Tracking`, an invalid attitude makes the
 //! step hold the wheels (no new momentum command) with the coils off, and after
-//! [`INVALID_STEPS_TO_SAFE`] steps the loop falls back to `SunSafe`. The mode carries its data
+//! [`INVALID_STEPS_TO_SAFE`] steps the loop falls back to `SunSafe`; in the umbra it waits for
+//! the Sun instead, `Tracking` damping the rate (the filter cannot start without the Sun). The mode carries its data
 //! (a slew its plan's progress and target, tracking its target) and one function makes every
 //! transition (`next_mode`, over these events; leaving `Detumble` forgets the B-dot derivative's
 //! last sample).
@@ -69,6 +70,7 @@ use core::fmt;
 use core::marker::PhantomData;
 
 use crate::attitude::{Dcm, Quaternion};
+use crate::attitude_node::laws::in_umbra;
 use crate::control::bdot::{bdot_from_rates, BdotConfig, BdotState};
 use crate::control::magnetorquer::{dipole_for_torque, dumping_dipole};
 use crate::control::principal_axes::PrincipalAxes;
@@ -969,8 +971,8 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
             gyro_tiles: self.gyro_solver.as_ref().map_or(0, |s| s.tiles()),
             dt_s: dt,
         };
-        let (estimate, outcome) = mekf::step(&self.config.filter, self.estimate, &inputs);
-        self.estimate = estimate;
+        let outcome = mekf::step(&self.config.filter, &mut self.estimate, &inputs);
+        let estimate = self.estimate.as_ref();
         let attitude = estimate.map(|e| e.attitude);
         faults.attitude = attitude.is_none();
         report.b_body_nt = b_body_nt;
@@ -1037,7 +1039,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         if matches!(self.mode(), Mode::Slew | Mode::Tracking) {
             if det.attitude.is_some() {
                 self.invalid_steps = 0;
-            } else {
+            } else if !in_umbra(det) {
                 self.invalid_steps = self.invalid_steps.saturating_add(1);
                 if self.invalid_steps >= INVALID_STEPS_TO_SAFE {
                     self.transition(Event::AttitudeLost);
@@ -1102,6 +1104,13 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         // the wheels' momentum in force, summed once for the tracking law and the integration
         let mut h_now: Option<Vec3> = None;
         if let ModeState::Tracking { target } = &self.mode {
+            // no attitude in the umbra (the filter starts with the Sun): damp the rate, wait
+            if let (None, Some(w), true) = (det.attitude.as_ref(), omega, in_umbra(det)) {
+                torque =
+                    sun_safe_torque(&self.config.sun_safe, None, &self.config.sun_axis_body, w)
+                        .ok();
+                faults.law |= torque.is_none();
+            }
             if let (Some(q), Some(w)) = (det.attitude.as_ref(), omega) {
                 let h_w = self.wheels_body();
                 h_now = Some(h_w);

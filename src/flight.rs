@@ -18,7 +18,7 @@
 //! | Sun and shadow models | the thesis's Sun (Schlyter, 46.9″) and the cylindrical shadow, in the loop ([`crate::acs_loop`]) | issue #17: flash |
 //! | control period | 1 s | seed 000 §1.5 |
 //! | tracking | `ω_n` = [`TRACKING_BANDWIDTH_RADPS`] = 0.5 rad/s, `ζ` = 0.9 | below |
-//! | Wahba weights | `σ⁻²`: Sun 1 mrad, field direction 30′ ([`SUN_WEIGHT`], [`FIELD_WEIGHT`]) | below |
+//! | attitude filter | the MEKF of [`crate::determination::mekf`], tuned from the sensors' classes ([`FILTER`]), started by TRIAD with the Sun exact | issue #30 |
 //!
 //! **Tracking bandwidth.** The PD law's steady error under a constant disturbance `τ` is
 //! `τ / (I ω_n²)` per axis ([`crate::control::tracking`]: `K_p = 2 ω_n² I`, `q_e ≈ θ/2`).
@@ -27,27 +27,16 @@
 //! 3U, 0.042 kg·m², had at 0.25 rad/s). 0.5 rad/s is still 12.6 control periods per natural
 //! period. Measured in the `tracking` scenario (ideal truth, the loop of
 //! `tests/closed_loop.rs` with the bandwidth changed; the worst pointing error from 600 s after
-//! settling, seed 5 and the mean over seeds 1–24), both with the weights below, 0.25 → 0.5
+//! settling, seed 5 and the mean over seeds 1–24), both with Wahba's weights below, 0.25 → 0.5
 //! rad/s: 0.110° → 0.087°, mean 0.139° → 0.121°; the control part (filtered attitude against
 //! the target) 0.144° → 0.103° (with the degree-8 field model flown when it was decided, before
 //! issue #29: 0.209° → 0.176°, mean 0.218° → 0.184°, control part 0.141° → 0.100°).
 //!
-//! **Wahba weights.** `σ⁻²` of each observation's direction: the Sun from the tiles' sensors,
-//! σ 1 mrad per angle (the simulated tiles; seed 004 §2.7 measured ±0.5 mrad on its pinhole
-//! sensor); the field, σ 30′ = 8.7 mrad, the accuracy of IGRF itself in declination and
-//! inclination (seed 000 §3.1), which dominates the magnetometers (100 nT in 22 000–47 000 nT,
-//! 2–5 mrad) and the degree-8 truncation the loop flew before issue #29 (≤ 105 nT, 0.13° on the
-//! `tracking` orbit). The
-//! rotation about the Sun line is fixed by the field whatever the weights; what they decide is
-//! how far a field error tilts the Sun axis, about half of it with equal weights and 1/77 of
-//! it here. The simulator's truth field is IGRF itself, so it shows little of this (`tracking`
-//! at 0.5 rad/s, equal weights → these: 0.090° → 0.087°, mean over seeds 1–24 0.123° →
-//! 0.121°; with the degree-8 model before issue #29 0.177° → 0.176°, 0.190° → 0.184°); in
-//! flight it keeps a 30′ field-model error out of the Sun-pointing axes. A side
-//! effect: the solver refuses Sun and field directions closer than ≈ 5° instead of ≈ 1.1°
-//! ([`crate::determination::wahba_svd::MIN_SINGULAR_RATIO`] on the weighted profile), where a
-//! 30′ field error would turn the attitude about the Sun line by more than 5°; the filter
-//! propagates with the gyros through such gaps.
+//! **Wahba weights** ([`SUN_WEIGHT`], [`FIELD_WEIGHT`]): `σ⁻²` of the Sun (1 mrad) and field
+//! (30′, the accuracy of IGRF itself in declination and inclination, seed 000 §3.1) directions
+//! for Wahba's problem on the ground and in the examples (`examples/determine.rs`). The loop
+//! flew them until issue #30; its filter now weighs each observation by its own noise
+//! ([`FILTER`]).
 //!
 //! Attitudes follow [`crate::attitude`]: `v_body = A · v_ref`, reference TEME of date.
 

@@ -689,7 +689,7 @@ fn coil_effects() {
 
 /// The read instant and the actuation instant of the flight step (the attitude node's,
 /// `StepTiming::FLIGHT`): readings see the attitude 5 ms after the step's start; commands given
-/// after the reads act from 43 ms on.
+/// after the reads act from 106 ms on.
 #[test]
 fn step_timing() {
     let timing = acs::host::sim::realistic::StepTiming::FLIGHT;

@@ -139,8 +139,8 @@ impl<const N: usize> AttitudeNode<'_, N> {
             gyro_tiles: self.gyro_solver.as_ref().map_or(0, |s| s.tiles()),
             dt_s: dt,
         };
-        let (estimate, outcome) = mekf::step(&self.config.filter, self.estimate, &inputs);
-        self.estimate = estimate;
+        let outcome = mekf::step(&self.config.filter, &mut self.estimate, &inputs);
+        let estimate = self.estimate.as_ref();
         let attitude = estimate.map(|e| e.attitude);
         faults.attitude = attitude.is_none();
         report.b_body_nt = b_body_nt;

@@ -13,6 +13,13 @@ use crate::control::tracking::tracking_torque;
 use crate::linalg::Vec3;
 use crate::link::messages::{Guidance, GuidanceKind};
 
+/// The step's models put the satellite in the umbra (the Sun's visible fraction 0): without an
+/// attitude, `Tracking` and `Slew` wait there (the filter starts when the Sun is seen) instead
+/// of counting towards the fall-back to `SunSafe`.
+pub(crate) fn in_umbra(det: &StepReport) -> bool {
+    det.sun_fraction.is_some_and(|f| !(f > 0.0))
+}
+
 /// A law's command, or none (zero) with the refusal reported in `faults.law`.
 pub(super) fn reported(command: Option<Vec3>, faults: &mut Faults) -> Vec3 {
     faults.law |= command.is_none();
@@ -20,6 +27,14 @@ pub(super) fn reported(command: Option<Vec3>, faults: &mut Faults) -> Vec3 {
 }
 
 impl<const N: usize> AttitudeNode<'_, N> {
+    /// The umbra by the step's REF ([`in_umbra`]), or without one by the last REF's.
+    fn umbra(&self, det: &StepReport) -> bool {
+        match det.sun_fraction {
+            Some(_) => in_umbra(det),
+            None => self.last_umbra,
+        }
+    }
+
     /// Step phase 5a: the events of the rate and of the validity of the attitude.
     pub(super) fn change_mode(&mut self, det: &StepReport) {
         let rate = det.omega_body_radps.map(|w| crate::linalg::norm(&w));
@@ -33,7 +48,7 @@ impl<const N: usize> AttitudeNode<'_, N> {
         if matches!(self.mode(), Mode::Slew | Mode::Tracking) {
             if det.attitude.is_some() {
                 self.invalid_steps = 0;
-            } else {
+            } else if !self.umbra(det) {
                 self.invalid_steps = self.invalid_steps.saturating_add(1);
                 if self.invalid_steps >= INVALID_STEPS_TO_SAFE {
                     self.transition(Event::AttitudeLost);
@@ -104,6 +119,13 @@ impl<const N: usize> AttitudeNode<'_, N> {
         // the wheels' momentum in force, summed once for the tracking law and the integration
         let mut h_now: Option<Vec3> = None;
         if let ModeState::Tracking { target } = &self.mode {
+            // no attitude in the umbra (the filter starts with the Sun): damp the rate, wait
+            if let (None, Some(w), true) = (det.attitude.as_ref(), omega, self.umbra(det)) {
+                torque =
+                    sun_safe_torque(&self.config.sun_safe, None, &self.config.sun_axis_body, w)
+                        .ok();
+                faults.law |= torque.is_none();
+            }
             if let (Some(q), Some(w)) = (det.attitude.as_ref(), omega) {
                 let h_w = self.wheels_body();
                 h_now = Some(h_w);

@@ -1,5 +1,5 @@
-//! The flight attitude estimator: a multiplicative extended Kalman filter (MEKF) with gyro-bias
-//! and magnetometer-bias states (Lefferts, Markley and Shuster 1982; Markley and Crassidis,
+//! The flight attitude estimator: a multiplicative extended Kalman filter (MEKF) with gyro-bias,
+//! magnetometer-bias and albedo states (Lefferts, Markley and Shuster 1982; Markley and Crassidis,
 //! *Fundamentals of Spacecraft Attitude Determination and Control*, 2014, §6.2.4, Table 6.3).
 //!
 //! Attitudes follow [`crate::attitude`]: `v_body = A(q) · v_ref`, reference TEME of date,
@@ -8,27 +8,29 @@
 //! # State
 //! The estimate is the quaternion `q̂`, the gyro bias `β̂` (rad/s, body) and the magnetometer
 //! bias `m̂` (nT, body: what the fused field of [`super::least_squares`] reads with no field,
-//! the spacecraft's residual dipole at the magnetometers and their offsets). The filter's
-//! covariance `P` is that of the 9 error states `x = (δθ, δβ, δm)`, with the attitude error a
-//! small rotation in body axes: `q = q̂ ⊗ (1, δθ/2)`, `A(q) = (I − [δθ×]) A(q̂)`.
+//! the spacecraft's residual dipole at the magnetometers and their offsets) and the Earth's
+//! albedo `â` the Sun sensors see ([`crate::env::albedo`]; 0 ..= 1). The filter's covariance
+//! `P` is that of the 10 error states `x = (δθ, δβ, δm, δa)`, with the attitude error a small
+//! rotation in body axes: `q = q̂ ⊗ (1, δθ/2)`, `A(q) = (I − [δθ×]) A(q̂)`.
 //!
 //! # Propagation (eq. 6.60, first order)
 //! With the gyros' rate `ω` (the mean over the period, [`super::least_squares`]) and
 //! `ω̂ = ω − β̂`: `q̂ ← q̂ ⊗ (1, ω̂Δt/2)`, renormalised; `P ← Φ P Φᵀ + Q` with
 //! `Φ = I + F Δt`, `F = [[−[ω̂×], −I, 0], [0, 0, 0], [0, 0, 0]]`, and `Q` diagonal:
-//! `σ_v² Δt + σ_u² Δt³/3` (attitude), `σ_u² Δt` (gyro bias), `σ_m² Δt` (magnetometer bias)
-//! ([`MekfConfig`]; the attitude–bias cross term `−σ_u² Δt²/2` is left out: 4e-15 rad²
+//! `σ_v² Δt + σ_u² Δt³/3` (attitude), `σ_u² Δt` (gyro bias), `σ_m² Δt` (magnetometer bias),
+//! `σ_a² Δt` (albedo) ([`MekfConfig`]; the attitude–bias cross term `−σ_u² Δt²/2` is left out: 4e-15 rad²
 //! against the 6e-8 rad² of the diagonal at the flight's figures). `Φ` touches only the
 //! attitude rows, so `Φ P Φᵀ` is two passes of the same 3-vector operation over the attitude
-//! rows and columns, not a 9 × 9 product.
+//! rows and columns, not a 10 × 10 product.
 //!
 //! # Measurement update (sequential scalar updates, no matrix inverse)
 //! A vector observation `y = A v_ref` (+ `m` for the field) gives `y − ŷ = [ŷ×] δθ (+ δm)`,
 //! `ŷ = A(q̂) v_ref` (eq. 6.41): three scalar measurements, row `k` of `H` being row `k` of
-//! `[ŷ×]` (and `e_k` on the magnetometer bias). Each is processed in turn with the
+//! `[ŷ×]` (and `e_k` on the magnetometer bias). The Sun's reference is the apparent Sun with
+//! the albedo ([`sun_reference`]), and row `k` has `(A(q̂) ∂v_ref/∂a)_k` on the albedo. Each is processed in turn with the
 //! linearisation of the step (the innovation less `H δx`, the correction accumulated so far),
 //! and the correction is applied once at the end: `q̂ ← q̂ ⊗ (1, δθ/2)`, renormalised,
-//! `β̂ += δβ`, `m̂ += δm`. For one scalar, with `u = P hᵀ`, `S = h u + R`, `K = u / S`:
+//! `β̂ += δβ`, `m̂ += δm`, `â += δa` (kept within 0 ..= 1). For one scalar, with `u = P hᵀ`, `S = h u + R`, `K = u / S`:
 //!
 //! **Joseph form** `P ← (I − K h) P (I − K h)ᵀ + K R Kᵀ = P − K uᵀ − u Kᵀ + S K Kᵀ`,
 //! evaluated as `P + K wᵀ − u Kᵀ` with `w = S K − u` (zero but for the rounding of `K`) on the
@@ -58,10 +60,15 @@
 //! diverged, or a sensor has).
 //!
 //! # Use
-//! [`Mekf::start`] from a two-vector (Wahba) solution, then each step [`Mekf::propagate`],
-//! [`Mekf::update_sun`] and [`Mekf::update_field`] as measurements come, and
-//! [`Mekf::attitude_sigma_rad`] decides whether the estimate is still usable
-//! ([`MekfConfig::max_attitude_sigma_rad`]).
+//! [`step`] once a control step: it starts the filter from the step's two-vector attitude
+//! (TRIAD, [`super::triad::pair_quaternion`]) when there is none, propagates it with the
+//! gyros, updates it with the Sun and the field, and drops or restarts it when it is no longer
+//! usable ([`Mekf::is_usable`]: the attitude 1σ within
+//! [`MekfConfig::max_attitude_sigma_rad`]). The parts ([`Mekf::start`], [`Mekf::propagate`],
+//! [`Mekf::update_sun`], [`Mekf::update_field`]) are public for tests and tools.
+//!
+//! **Cost** on the MSP430: `firmware/msp430-bench --groups parts`, case "step: attitude filter
+//! (propagate + Sun + field)" (`docs/msp430.md`).
 //!
 //! **Accuracy** (f32): `cargo test --test mekf -- --nocapture` runs the filter in f32 beside
 //! the same equations in f64 on one simulated hour; the estimates differ by at most the bound
@@ -263,74 +270,18 @@ pub struct StepInputs {
 #[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
 pub fn step(
     config: &MekfConfig,
-    estimate: Option<Mekf>,
+    estimate: &mut Option<Mekf>,
     inputs: &StepInputs,
-) -> (Option<Mekf>, UpdateOutcome) {
-    let start = || {
-        inputs.two_vector.map(|q| {
-            let mut f = Mekf::start(config, q);
-            (f.mag_tiles, f.gyro_tiles) = (inputs.mag_tiles, inputs.gyro_tiles);
-            f
-        })
-    };
-    let mut outcome = UpdateOutcome::default();
-    let propagated = match (estimate, inputs.omega_body_radps) {
-        (Some(mut f), Some(w)) => {
-            if f.gyro_tiles == inputs.gyro_tiles {
-                f.gyro_other_steps = 0;
-            } else {
-                f.gyro_other_steps = f.gyro_other_steps.saturating_add(1);
-                if f.gyro_other_steps >= STEPS_TO_NEW_SET {
-                    f.forget_bias(config, false);
-                    (f.gyro_tiles, f.gyro_other_steps) = (inputs.gyro_tiles, 0);
-                }
-            }
-            f.steps_without_rate = 0;
-            f.last_rate_radps = f.rate_body_radps(&w);
-            f.propagate(config, &w, inputs.dt_s)
-        }
-        // a step without the gyros (a missed read): the last rate held, its change unknown
-        (Some(mut f), None) if STEPS_TO_NEW_SET > f.steps_without_rate => {
-            f.steps_without_rate += 1;
-            let w = f.last_rate_radps + f.gyro_bias_radps;
-            f.propagate(config, &w, inputs.dt_s).map(|mut f| {
-                let held = RATE_HELD_RADPS * inputs.dt_s;
-                for i in 0..GYRO_BIAS {
-                    f.set(i, i, f.at(i, i) + held * held);
-                }
-                f
-            })
-        }
-        _ => None,
-    };
-    let Some(mut f) = propagated else {
-        return (start(), outcome);
-    };
-    if let Some(sun) = &inputs.sun {
-        outcome = f.update_sun(config, sun);
+) -> UpdateOutcome {
+    // in place: the state is 300 B, and on the MSP430 each copy of it is stack
+    if let Some(o) = estimate.as_mut().and_then(|f| f.advance(config, inputs)) {
+        return o;
     }
-    if let Some((body, teme)) = &inputs.field {
-        let mut same = f.mag_tiles == inputs.mag_tiles;
-        if same {
-            f.mag_other_steps = 0;
-        } else {
-            f.mag_other_steps = f.mag_other_steps.saturating_add(1);
-            if f.mag_other_steps >= STEPS_TO_NEW_SET {
-                f.forget_bias(config, true);
-                (f.mag_tiles, f.mag_other_steps) = (inputs.mag_tiles, 0);
-                same = true;
-            }
-        }
-        if same {
-            let o = f.update_field(config, body, teme);
-            outcome.accepted += o.accepted;
-            outcome.refused += o.refused;
-        }
+    match inputs.two_vector {
+        Some(q) => Mekf::start_in(estimate, config, q, inputs.mag_tiles, inputs.gyro_tiles),
+        None => *estimate = None,
     }
-    if f.diverged(config) || !f.is_usable(config) {
-        return (start(), outcome);
-    }
-    (Some(f), outcome)
+    UpdateOutcome::default()
 }
 
 /// The Sun observation's variance, rad² per axis, from the lit sensors' incidence cosines
@@ -372,21 +323,42 @@ impl Mekf {
     /// biases zero.
     #[cfg_attr(target_arch = "msp430", optimize(size))]
     pub fn start(config: &MekfConfig, attitude: Quaternion) -> Self {
-        let mut filter = Self {
-            attitude,
-            gyro_bias_radps: Vec3::zeros(),
-            mag_bias_nt: Vec3::zeros(),
-            albedo: config.earth_albedo,
-            p: [0.0; PACKED],
-            sun_refused_steps: 0,
-            field_refused_steps: 0,
-            mag_tiles: 0,
-            gyro_tiles: 0,
-            mag_other_steps: 0,
-            gyro_other_steps: 0,
-            last_rate_radps: Vec3::zeros(),
-            steps_without_rate: 0,
-        };
+        let mut filter = None;
+        Self::start_in(&mut filter, config, attitude, 0, 0);
+        filter.unwrap_or(Self::EMPTY)
+    }
+
+    /// Nothing: the initial value of a state built in place.
+    const EMPTY: Self = Self {
+        attitude: Quaternion::IDENTITY,
+        gyro_bias_radps: Vec3::new(0.0, 0.0, 0.0),
+        mag_bias_nt: Vec3::new(0.0, 0.0, 0.0),
+        albedo: 0.0,
+        p: [0.0; PACKED],
+        sun_refused_steps: 0,
+        field_refused_steps: 0,
+        mag_tiles: 0,
+        gyro_tiles: 0,
+        mag_other_steps: 0,
+        gyro_other_steps: 0,
+        last_rate_radps: Vec3::new(0.0, 0.0, 0.0),
+        steps_without_rate: 0,
+    };
+
+    /// [`Self::start`] into `slot` in place, for the sensor sets `mag_tiles` and `gyro_tiles`
+    /// (the state is 300 B: on the MSP430 a copy of it is stack).
+    #[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
+    fn start_in(
+        slot: &mut Option<Self>,
+        config: &MekfConfig,
+        attitude: Quaternion,
+        mag_tiles: u32,
+        gyro_tiles: u32,
+    ) {
+        let filter = slot.insert(Self::EMPTY);
+        filter.attitude = attitude;
+        filter.albedo = config.earth_albedo;
+        (filter.mag_tiles, filter.gyro_tiles) = (mag_tiles, gyro_tiles);
         let a = config.initial_attitude_rad;
         let b = config.initial_gyro_bias_radps;
         let m = config.initial_mag_bias_nt;
@@ -401,7 +373,6 @@ impl Mekf {
             };
             filter.set(i, i, s * s);
         }
-        filter
     }
 
     /// `P(i, j)` (0 outside the state, which no caller asks).
@@ -485,15 +456,71 @@ impl Mekf {
         }
     }
 
-    /// Propagation over `dt_s` with the gyros' rate (see the [module docs](self)); `None` if
-    /// the result is not usable (a non-finite rate or state).
+    /// One step of [`step`] on an estimate: `None` if it must restart (no rate for too long,
+    /// unusable, diverged).
     #[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
-    pub fn propagate(
-        mut self,
-        config: &MekfConfig,
-        omega_body_radps: &Vec3,
-        dt_s: f32,
-    ) -> Option<Self> {
+    fn advance(&mut self, config: &MekfConfig, inputs: &StepInputs) -> Option<UpdateOutcome> {
+        match inputs.omega_body_radps {
+            Some(w) => {
+                if self.gyro_tiles == inputs.gyro_tiles {
+                    self.gyro_other_steps = 0;
+                } else {
+                    self.gyro_other_steps = self.gyro_other_steps.saturating_add(1);
+                    if self.gyro_other_steps >= STEPS_TO_NEW_SET {
+                        self.forget_bias(config, false);
+                        (self.gyro_tiles, self.gyro_other_steps) = (inputs.gyro_tiles, 0);
+                    }
+                }
+                self.steps_without_rate = 0;
+                self.last_rate_radps = self.rate_body_radps(&w);
+                if !self.propagate(config, &w, inputs.dt_s) {
+                    return None;
+                }
+            }
+            // a step without the gyros (a missed read): the last rate held, its change unknown
+            None if STEPS_TO_NEW_SET > self.steps_without_rate => {
+                self.steps_without_rate += 1;
+                let w = self.last_rate_radps + self.gyro_bias_radps;
+                if !self.propagate(config, &w, inputs.dt_s) {
+                    return None;
+                }
+                let held = RATE_HELD_RADPS * inputs.dt_s;
+                for i in 0..GYRO_BIAS {
+                    self.set(i, i, self.at(i, i) + held * held);
+                }
+            }
+            None => return None,
+        }
+        let mut outcome = UpdateOutcome::default();
+        if let Some(sun) = &inputs.sun {
+            outcome = self.update_sun(config, sun);
+        }
+        if let Some((body, teme)) = &inputs.field {
+            let mut same = self.mag_tiles == inputs.mag_tiles;
+            if same {
+                self.mag_other_steps = 0;
+            } else {
+                self.mag_other_steps = self.mag_other_steps.saturating_add(1);
+                if self.mag_other_steps >= STEPS_TO_NEW_SET {
+                    self.forget_bias(config, true);
+                    (self.mag_tiles, self.mag_other_steps) = (inputs.mag_tiles, 0);
+                    same = true;
+                }
+            }
+            if same {
+                let o = self.update_field(config, body, teme);
+                outcome.accepted += o.accepted;
+                outcome.refused += o.refused;
+            }
+        }
+        (!self.diverged(config) && self.is_usable(config)).then_some(outcome)
+    }
+
+    /// Propagation over `dt_s` with the gyros' rate (see the [module docs](self)), in place;
+    /// false if the result is not usable (a non-finite rate or state, the attitude 1σ past its
+    /// limit).
+    #[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
+    pub fn propagate(&mut self, config: &MekfConfig, omega_body_radps: &Vec3, dt_s: f32) -> bool {
         let w = self.rate_body_radps(omega_body_radps);
         let half = w * (0.5 * dt_s);
         let dq = Quaternion {
@@ -503,7 +530,10 @@ impl Mekf {
             q3: half.z,
         };
         let q = self.attitude.mul(&dq);
-        self.attitude = Quaternion::new_normalize(q.q0, q.q1, q.q2, q.q3)?;
+        let Some(q) = Quaternion::new_normalize(q.q0, q.q1, q.q2, q.q3) else {
+            return false;
+        };
+        self.attitude = q;
         // Φ P: the attitude rows become x − (ω̂Δt) × x − Δt·(gyro-bias rows), column by column
         let w_dt = w * dt_s;
         let mut rows = [[0.0f32; STATES]; 3];
@@ -547,7 +577,7 @@ impl Mekf {
             };
             self.set(i, i, self.at(i, i) + add);
         }
-        self.is_usable(config).then_some(self)
+        self.is_usable(config)
     }
 
     /// The Sun's update with `sun` ([`SunObservation`]: the sensors' direction, the apparent

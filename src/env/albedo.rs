@@ -24,8 +24,11 @@
 //! `normalise(f ŝ + D)` ([`apparent_sun`]). The filter pairs that with the sensors' direction
 //! in place of `ŝ`.
 //!
-//! **Accuracy** (f32): `cargo test --test albedo -- --nocapture` compares [`irradiance`] with
-//! a 20 000-point f64 integration of the same model.
+//! **Accuracy** (f32; `cargo test --test albedo -- --nocapture`, against a 160 000-point f64
+//! integration of the same Earth, from the subsolar point to past the terminator at 400–800 km):
+//! the whole cap's `D` within 0.27 % of the largest; the apparent Sun of a 0.30 albedo within
+//! 0.031°; over a 70° field of view looking 45° off nadir within 0.41° (the 32 points resolve
+//! the field's edge coarsely).
 
 use crate::attitude::Quaternion;
 use crate::env::eclipse::EARTH_RADIUS_KM;

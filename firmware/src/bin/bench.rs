@@ -17,7 +17,7 @@ use acs_firmware::{flight, tiles};
 mod cases;
 
 /// Capacity of [`BENCH_RESULTS`] in f32 words.
-const MAX_RESULTS: usize = 48;
+const MAX_RESULTS: usize = 64;
 
 /// Results of every case, as f32 bit patterns, in order.
 #[no_mangle]

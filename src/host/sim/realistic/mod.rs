@@ -374,7 +374,7 @@ impl CoilModel {
 /// | instant | value | source |
 /// |---|---|---|
 /// | tiles read | 5 ms | the node's wait (40 000 cycles of `acs_firmware::CycleDelay` at 8 MHz), which the coils-off commands before it and the REF's acceptance after it lengthen by a few hundred cycles: the earliest, so the coils' field is at its largest |
-/// | actuators commanded | 43 ms | the attitude node's worst period in the two-node PIL, 342 800 cycles with the multiplier at 7 995 392 Hz (`firmware/pil`, `target/msp430/pil.json`; mspdebug counts the wait as 60 002 cycles, the part 40 000) |
+/// | actuators commanded | 106 ms | the attitude node's worst period in the two-node PIL, 848 335 cycles with the multiplier at 7 995 392 Hz (`firmware/pil`, `target/msp430/pil.json`; mspdebug counts the wait as 60 002 cycles, the part 40 000); 43 ms before the attitude filter of issue #30 |
 ///
 /// The one-image loop flew 55 ms and 83 ms until issue #29 (its models before the reads, its
 /// whole step). The I²C time of the reads and commands (about 10 ms and 4 ms at 100 kHz,
@@ -394,7 +394,7 @@ impl StepTiming {
     /// The flight attitude node's (table above).
     pub const FLIGHT: Self = Self {
         read_s: 0.005,
-        actuate_s: 0.043,
+        actuate_s: 0.106,
     };
 }
 
