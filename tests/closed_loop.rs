@@ -579,14 +579,14 @@ fn worst_and_p99(samples: &[&Sample]) -> (f64, f64) {
 /// β along the run and each umbra (the conical model, `acs::env::eclipse::conical`, the
 /// samples' `sun_fraction` 0). After the first orbit, the worst and p99 pointing error in the
 /// umbra and in sunlight (every step outside the umbra, the penumbra's few seconds included)
-/// separately, the steps in SunSafe and the falls back to it, and the fraction of sunlit steps.
-/// The goals (ideal truth: ≤ 0.5° worst and ≤ 0.4° p99 in the umbra and in sunlight;
-/// realistic: ≤ 3° worst in the umbra; neither falls back to SunSafe) are printed as met or not
-/// met and not asserted: the loop's filter bridges at most `max_propagation_s` without a Sun
-/// measurement and then falls back to SunSafe, where it stays until commanded. Asserted: no NaN
-/// and a bounded motion, and the geometry (β within 0.05°, every umbra within 1 % of the
-/// cylindrical shadow's length). The filter's covariance (a NEES or 3σ figure) is not in
-/// `Sample` yet: no figure for it.
+/// separately, the steps in SunSafe and the falls back to it, the fraction of sunlit steps, and
+/// the filter's consistency: the share of steps whose estimate error is within three times its
+/// own total 1σ (`StepReport::attitude_sigma_rad`), in sunlight and in the umbra. The issue's
+/// goals (ideal truth: ≤ 0.5° worst and ≤ 0.4° p99 in the umbra and in sunlight; realistic: ≤ 3°
+/// worst in the umbra and within 3σ at ≥ 99 % of the sunlit steps; neither falls back to
+/// SunSafe) are printed as met or not met and not asserted. Asserted: no NaN and a bounded
+/// motion, and the geometry (β within 0.05°, every umbra within 1 % of the cylindrical
+/// shadow's length).
 #[test]
 fn tracking_eclipse() {
     const NAME: &str = "tracking-eclipse";

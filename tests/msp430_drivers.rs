@@ -912,12 +912,16 @@ fn framed_line(packet: &[u8]) -> Vec<u8> {
 fn the_uart_carries_framed_packets_both_ways() {
     // a packet with zeros in it: on the line 0x00, its COBS encoding (the `cobs` crate's, an
     // independent implementation), 0x00
-    let packet: Vec<u8> = (0..113u8).map(|i| if i % 7 == 0 { 0 } else { i }).collect();
+    // the longest packet of the link, the REF's (125 B since issue #30's albedo): on the line
+    // 128 B, exactly the receive ring's 128 (a longer REF would overrun it every period)
+    let len = acs::link::messages::REFERENCE_PACKET_BYTES as u8;
+    let packet: Vec<u8> = (0..len).map(|i| if i % 7 == 0 { 0 } else { i }).collect();
     let line = framed_line(&packet);
     let mut expected = vec![0u8];
     expected.extend(cobs::encode_vec(&packet));
     expected.push(0);
     assert_eq!(line, expected);
+    assert!(line.len() <= usize::from(RX_RING_BYTES), "{} B on the line", line.len());
 
     // the same line into the receiver, one byte per byte time, polled after each
     let h = Handle::new();

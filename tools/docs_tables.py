@@ -252,13 +252,15 @@ def simulator_closed_loop(f, bench, pil):
                     f"{fallback}; after the first orbit {f(k + 'after_orbit_sun_safe_steps', 'n')} of "
                     f"{f(k + 'after_orbit_steps', 'n')} steps in SunSafe; umbra {sig(f.num(k + 'after_orbit_umbra_worst_deg'))}° worst, "
                     f"{sig(f.num(k + 'after_orbit_umbra_p99_deg'))}° p99; sunlight ({f(k + 'after_orbit_sunlit_fraction', '.3f')} of the "
-                    f"steps) {sig(f.num(k + 'after_orbit_sunlit_worst_deg'))}° worst, {sig(f.num(k + 'after_orbit_sunlit_p99_deg'))}° p99")
+                    f"steps) {sig(f.num(k + 'after_orbit_sunlit_worst_deg'))}° worst, {sig(f.num(k + 'after_orbit_sunlit_p99_deg'))}° p99; "
+                    f"the error within the filter's 3σ at {100 * f.num(k + 'after_orbit_sunlit_within_3_sigma'):.1f} % of the sunlit "
+                    f"steps, {100 * f.num(k + 'after_orbit_umbra_within_3_sigma'):.1f} % in the umbra")
 
     e = c + "tracking-eclipse."
     rows.append(
         f"| `tracking-eclipse` (goals of #30, not requirements): β {f(e + 'beta_min_deg', '.3f')}° to "
         f"{f(e + 'beta_max_deg', '.3f')}°, umbras of {numbers(e + 'ideal.umbra_passes_s')} s | after the first orbit ≤ 0.5° worst and "
-        f"≤ 0.4° p99 in the umbra and in sunlight (ideal), ≤ 3° worst in the umbra (realistic); no fall-back to SunSafe | "
+        f"≤ 0.4° p99 in the umbra and in sunlight (ideal), ≤ 3° worst in the umbra and within 3σ at ≥ 99 % of the sunlit steps (realistic); no fall-back to SunSafe | "
         f"{eclipse('ideal')} | {eclipse('realistic')} |"
     )
     return rows

@@ -11,7 +11,7 @@
 //! | `LINK_RX` | `[u8; 128]` | a packet for this node |
 //! | `LINK_RX_LEN` | `u16` | its length (0: none); the node clears it when it takes the packet |
 
-/// The longest packet of the link (REF: 113 B).
+/// The longest packet of the link (REF: 125 B).
 pub const LINK_BYTES: usize = 128;
 
 /// The packet sent (see the [module docs](self)).

@@ -6,8 +6,9 @@
 //! arrived for step `k`, commands its actuators and sends **STATUS(k)**: the step number, mode,
 //! attitude and its validity, wheel momentum, the last guidance it accepted, its boot count, its
 //! fault word and its copy of the clock. The reference node answers **REF(k+1)**: the step
-//! number `k+1`, the UTC of that step, the position, the Sun unit vector, the shadow and the
-//! field in TEME at that UTC, the guidance (an id, the target attitude, rate and feed-forward
+//! number `k+1`, the UTC of that step, the position, the Sun unit vector, the shadow, the
+//! field in TEME at that UTC and the albedo the lit Sun sensors see at STATUS(k)'s attitude
+//! (issue #30), the guidance (an id, the target attitude, rate and feed-forward
 //! momentum), the flags `clock_valid` and `elements_valid`, and its own faults.
 //!
 //! - REF(k+1) is used at step `k+1` only if it is complete before that step's sensor reads and
@@ -24,12 +25,12 @@
 //! # Layout
 //! Every field big-endian, `f32` as its IEEE 754 bits: a message crosses the link bit for bit.
 //! An absent optional value is sent as zeros with its validity bit clear and read back as
-//! `None`. [`Status::BYTES`] = 56, [`Reference::BYTES`] = 105.
+//! `None`. [`Status::BYTES`] = 56, [`Reference::BYTES`] = 117.
 //!
 //! # Packets
 //! Each message is the user data of one CCSDS space packet with its CRC
 //! ([`crate::link::space_packet`]): STATUS telemetry on APID [`STATUS_APID`] (64 B), REF on
-//! [`REFERENCE_APID`] (113 B). The ground's telecommands reach each node on its own APID
+//! [`REFERENCE_APID`] (125 B). The ground's telecommands reach each node on its own APID
 //! ([`ATTITUDE_TC_APID`], [`REFERENCE_TC_APID`]), from the on-board computer directly: a dead
 //! link between the nodes never takes away the attitude node's commands (sun-safe, the tiles).
 
