@@ -921,7 +921,11 @@ fn the_uart_carries_framed_packets_both_ways() {
     expected.extend(cobs::encode_vec(&packet));
     expected.push(0);
     assert_eq!(line, expected);
-    assert!(line.len() <= usize::from(RX_RING_BYTES), "{} B on the line", line.len());
+    assert!(
+        line.len() <= usize::from(RX_RING_BYTES),
+        "{} B on the line",
+        line.len()
+    );
 
     // the same line into the receiver, one byte per byte time, polled after each
     let h = Handle::new();
