@@ -265,8 +265,9 @@ pub struct StepInputs {
 /// ([`Mekf::forget_bias`]) before its sensors are used (the field of a set not yet taken is
 /// not used); a step without a rate propagates the last one (for at most
 /// [`STEPS_TO_NEW_SET`] steps, with [`RATE_HELD_RADPS`]); a step longer without one, or whose
-/// result is unusable or has diverged ([`Mekf::diverged`]), restarts from the two-vector attitude if there is one, else leaves no
-/// estimate. Returns the estimate and what the updates did.
+/// result is unusable or has diverged ([`Mekf::diverged`]), restarts from the two-vector
+/// attitude if there is one, else leaves no estimate. The estimate is updated in place;
+/// returns what the updates did (none on a start).
 #[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
 pub fn step(
     config: &MekfConfig,
