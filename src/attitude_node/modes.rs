@@ -9,7 +9,7 @@ use crate::linalg::Vec3;
 
 /// Consecutive steps without a valid attitude, outside the umbra, after which `Slew`/`Tracking`
 /// fall back to `SunSafe`. In the umbra they wait instead, `Tracking` damping the rate: the
-/// filter starts again when the Sun is seen (issue #30; [`super::laws::in_umbra`]).
+/// filter starts again when the Sun is seen (issue #30; `laws::in_umbra`).
 pub const INVALID_STEPS_TO_SAFE: u16 = 30;
 
 /// The operating mode.
