@@ -909,6 +909,60 @@ fn causes(
     none
 }
 
+/// Issue #30 item 2: the albedo answer against the truth's albedo at 0.20, 0.30 and 0.45 while
+/// the flight model starts from 0.30 ± 50 % (`flight::FILTER`) and estimates it: the worst and
+/// RMS pointing error in sunlight, `tracking` from 1 200 s on and `tracking-eclipse` after the
+/// first orbit. Printed with the issue's criterion (each within 20 % of the 0.30 figure), not
+/// asserted; asserted: no NaN.
+#[test]
+fn albedo_robustness() {
+    fn sunlit(s: &[Sample], from_s: f64) -> (f64, f64) {
+        let v: Vec<f64> = s
+            .iter()
+            .filter(|s| s.t_s >= from_s && s.sun_fraction > 0.0)
+            .filter_map(|s| s.pointing_error_deg)
+            .collect();
+        let worst = v.iter().copied().fold(0.0, f64::max);
+        let rms = (v.iter().map(|x| x * x).sum::<f64>() / v.len().max(1) as f64).sqrt();
+        (worst, rms)
+    }
+    let scenarios: [(
+        &str,
+        fn() -> Result<Scenario, acs::host::sim::SimError>,
+        f64,
+    ); 2] = [
+        ("tracking", || scenarios::tracking(None), 1200.0),
+        ("tracking-eclipse", scenarios::tracking_eclipse, orbit_s()),
+    ];
+    for (name, scenario, from_s) in scenarios {
+        let mut worst = Vec::new();
+        for albedo in [0.20, 0.30, 0.45] {
+            let mut realism = Realism::DEFAULT;
+            realism.sun_sensor.albedo = albedo;
+            let mut sc = scenario().unwrap().with_truth(TruthLevel::Realistic);
+            sc.sim.realism = Some(realism);
+            let samples = sc.run().unwrap();
+            no_nan(&samples);
+            let (w, rms) = sunlit(&samples, from_s);
+            figure(
+                &format!("closed_loop.albedo.{name}.{albedo:.2}.sunlit_worst_deg"),
+                w,
+            );
+            figure(
+                &format!("closed_loop.albedo.{name}.{albedo:.2}.sunlit_rms_deg"),
+                rms,
+            );
+            worst.push(w);
+        }
+        let holds = worst.iter().all(|w| *w <= 1.2 * worst[1]);
+        figures::verdict(&format!("closed_loop.albedo.{name}.holds"), holds);
+        println!(
+            "albedo {name}: sunlit worst {:.3}° / {:.3}° / {:.3}° at a truth albedo of 0.20 / 0.30 / 0.45 (holds within 20 %: {holds})",
+            worst[0], worst[1], worst[2]
+        );
+    }
+}
+
 /// The worst figures of the realistic truth, effect by effect (printed; asserted only that with
 /// every effect removed the figures come back to the ideal truth's size).
 #[test]
