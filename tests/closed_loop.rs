@@ -926,11 +926,8 @@ fn albedo_robustness() {
         let rms = (v.iter().map(|x| x * x).sum::<f64>() / v.len().max(1) as f64).sqrt();
         (worst, rms)
     }
-    let scenarios: [(
-        &str,
-        fn() -> Result<Scenario, acs::host::sim::SimError>,
-        f64,
-    ); 2] = [
+    type ScenarioFn = fn() -> Result<Scenario, acs::host::sim::SimError>;
+    let scenarios: [(&str, ScenarioFn, f64); 2] = [
         ("tracking", || scenarios::tracking(None), 1200.0),
         ("tracking-eclipse", scenarios::tracking_eclipse, orbit_s()),
     ];
