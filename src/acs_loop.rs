@@ -32,10 +32,9 @@
 //! 4. Body field and rate by least squares over the tiles (operators cached per set of working
 //!    tiles; a field whose magnitude is more than [`FIELD_MAGNITUDE_TOLERANCE`] from the model's
 //!    is refused, [`Faults::field`]: a coil left on, a magnetometer gone wrong); Sun direction
-//!    averaged over the lit tiles (only outside the umbra); attitude by
-//!    TRIAD (the Sun exact, [`crate::determination::triad::pair_quaternion`]) from the Sun and
-//!    field pairs, which starts the
-//!    attitude filter ([`crate::determination::mekf`]: propagated with the gyros, updated with
+//!    averaged over the lit tiles (only outside the umbra); the
+//!    attitude filter, started by TRIAD (the Sun exact,
+//!    [`crate::determination::triad::pair_quaternion`]) from the Sun and field pairs ([`crate::determination::mekf`]: propagated with the gyros, updated with
 //!    the Sun and the field, its gyro and magnetometer biases estimated).
 //! 5. Mode logic (below), the mode's law, wheel momentum and coil dipole commands.
 //!
@@ -83,7 +82,6 @@ use crate::determination::least_squares::{
 };
 use crate::determination::mekf::{self, Mekf, MekfConfig, StepInputs, SunObservation};
 use crate::determination::sun_sensor::{incidence_inv_cos2, sun_direction_body};
-use crate::determination::triad;
 use crate::env::albedo;
 use crate::env::eclipse::{cylindrical_illumination, Illumination, Shadow};
 use crate::env::igrf::{coefficient_count, Degree, Igrf, IgrfError, ModelId, FULL_COEFFS};
@@ -181,9 +179,10 @@ pub enum Command {
 pub struct StepReport {
     /// The mode after this step's transitions.
     pub mode: Mode,
-    /// The attitude measured this step from the Sun and the field by TRIAD (the Sun exact:
-    /// [`crate::determination::triad::pair_quaternion`]; reference TEME → body), if any: the
-    /// filter's start.
+    /// The attitude measured from the Sun and the field by TRIAD (the Sun exact:
+    /// [`crate::determination::triad::pair_quaternion`]; reference TEME → body) when the
+    /// filter (re)started from it at this step; `None` at every other step (TRIAD is computed
+    /// only to start the filter).
     pub measured_attitude: Option<Quaternion>,
     /// The filtered attitude the laws used (reference TEME → body), if valid.
     pub attitude: Option<Quaternion>,
@@ -925,17 +924,11 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
             ),
             _ => None,
         };
-        let albedo = self.estimate.map_or(0.0, |e| e.albedo);
+        let albedo = self.estimate.as_ref().map_or(0.0, |e| e.albedo);
         let sun_ref = models
             .sun
             .as_ref()
             .map(|s| mekf::sun_reference(&s.direction, fraction, albedo_teme.as_ref(), albedo));
-        let measured = match (sun_body, b_body_nt, &sun_ref, models.b_teme_nt) {
-            (Some(s_b), Some(b_b), Some((s_r, _)), Some(b_r)) => {
-                triad::pair_quaternion(&s_b, s_r, &b_b, &b_r)
-            }
-            _ => None,
-        };
         let elapsed = self.last_time.map(|t| now.seconds_since_f32(&t));
         self.last_time = Some(*now);
         // A step is one control period: a gap of any other size or sign (a clock correction, a
@@ -966,7 +959,6 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
             omega_body_radps: omega,
             sun,
             field: b_body_nt.zip(models.b_teme_nt),
-            two_vector: measured,
             mag_tiles: self.mag_solver.as_ref().map_or(0, |s| s.tiles()),
             gyro_tiles: self.gyro_solver.as_ref().map_or(0, |s| s.tiles()),
             dt_s: dt,
@@ -984,7 +976,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         report.attitude_sigma_rad = estimate.map(|e| e.attitude_sigma_rad());
         report.refused_measurements = outcome.refused;
         report.sun_body = sun_body;
-        report.measured_attitude = measured;
+        report.measured_attitude = attitude.filter(|_| outcome.started);
         report.attitude = attitude;
         dt
     }

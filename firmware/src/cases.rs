@@ -266,12 +266,11 @@ fn run_step_laws<S: Sink>(s: &mut S) {
         omega_body_radps: Some(w),
         sun: Some(observation),
         field: Some((b, b_teme)),
-        two_vector: Some(m),
         mag_tiles: 0b11_1110,
         gyro_tiles: 0b11_1110,
         dt_s: 1.0,
     };
-    // started from the two-vector attitude `m` (with the step's sensor sets), one step on
+    // started from the step's Sun and field (TRIAD, with its sensor sets), one step on
     let mut e = None;
     step(&FILTER, &mut e, &inputs);
     s.begin("step: attitude filter (propagate + Sun + field)");

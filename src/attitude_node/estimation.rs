@@ -12,7 +12,6 @@ use crate::acs_loop::StepReport;
 use crate::determination::least_squares::{angular_rate_body_cached, magnetic_field_body_cached};
 use crate::determination::mekf::{self, StepInputs, SunObservation};
 use crate::determination::sun_sensor::{incidence_inv_cos2, sun_direction_body};
-use crate::determination::triad;
 use crate::env::eclipse::Shadow;
 use crate::linalg::{dot, Vec3};
 use crate::link::messages::Reference;
@@ -86,16 +85,10 @@ impl<const N: usize> AttitudeNode<'_, N> {
         // the Sun as the sensors see it, with the albedo
         let sun_ref = reference.and_then(|r| {
             let fraction = r.illumination.map_or(1.0, |i| i.fraction);
-            let albedo = self.estimate.map_or(0.0, |e| e.albedo);
+            let albedo = self.estimate.as_ref().map_or(0.0, |e| e.albedo);
             r.sun_teme
                 .map(|s| mekf::sun_reference(&s, fraction, r.albedo_teme.as_ref(), albedo))
         });
-        let measured = match (sun_body, b_body_nt, &sun_ref, b_teme_nt) {
-            (Some(s_b), Some(b_b), Some((s_r, _)), Some(b_r)) => {
-                triad::pair_quaternion(&s_b, s_r, &b_b, &b_r)
-            }
-            _ => None,
-        };
         // the node's copy of the clock: the REF's UTC, or one period on without a REF (a
         // REF after a gap of the link then follows by one period, no clock fault)
         let elapsed = match reference {
@@ -134,7 +127,6 @@ impl<const N: usize> AttitudeNode<'_, N> {
             omega_body_radps: omega,
             sun,
             field: b_body_nt.zip(b_teme_nt),
-            two_vector: measured,
             mag_tiles: self.mag_solver.as_ref().map_or(0, |s| s.tiles()),
             gyro_tiles: self.gyro_solver.as_ref().map_or(0, |s| s.tiles()),
             dt_s: dt,
@@ -152,7 +144,7 @@ impl<const N: usize> AttitudeNode<'_, N> {
         report.attitude_sigma_rad = estimate.map(|e| e.attitude_sigma_rad());
         report.refused_measurements = outcome.refused;
         report.sun_body = sun_body;
-        report.measured_attitude = measured;
+        report.measured_attitude = attitude.filter(|_| outcome.started);
         report.attitude = attitude;
         dt
     }

@@ -93,11 +93,19 @@ const ALBEDO: usize = 9;
 /// over one simulated hour of `tests/mekf.rs`, rad (measured 7.4e-7 rad; the bound 1e-5).
 pub const F32_ATTITUDE_BOUND_RAD: f32 = 1.0e-5;
 
-/// Index of `P(i, j)` in the packed upper triangle, row by row.
+/// Where row `i` of the packed upper triangle starts, `i (2n + 1 − i)/2`: a table, as the
+/// MSP430's base instruction set has no multiply and the hot loops ask for every element.
+/// (`packed_indices_cover_the_triangle_once` checks it.)
+const ROW_START: [u8; STATES] = [0, 10, 19, 27, 34, 40, 45, 49, 52, 54];
+
+/// Index of `P(i, j)` in the packed upper triangle, row by row (`PACKED`, outside it, for a
+/// row past the state).
 #[cfg_attr(target_arch = "msp430", inline(never))]
-const fn packed(i: usize, j: usize) -> usize {
+fn packed(i: usize, j: usize) -> usize {
     let (i, j) = if j >= i { (i, j) } else { (j, i) };
-    i * (2 * STATES + 1 - i) / 2 + (j - i)
+    ROW_START
+        .get(i)
+        .map_or(PACKED, |start| usize::from(*start) + (j - i))
 }
 
 /// The filter's tuning (see the [module docs](self) for where each enters).
@@ -199,6 +207,8 @@ pub struct UpdateOutcome {
     pub accepted: u8,
     /// Scalar measurements refused by the gate.
     pub refused: u8,
+    /// The filter (re)started at this step from the two-vector attitude.
+    pub started: bool,
 }
 
 /// The filter's state: the estimate and its error covariance (see the [module docs](self)).
@@ -249,8 +259,6 @@ pub struct StepInputs {
     pub sun: Option<SunObservation>,
     /// The field: body (the magnetometers' fused field) and TEME (the model's), nT.
     pub field: Option<(Vec3, Vec3)>,
-    /// This step's two-vector attitude (reference TEME → body), which starts the filter.
-    pub two_vector: Option<Quaternion>,
     /// The tiles (bit `i`: tile `i`) whose magnetometers gave the field.
     pub mag_tiles: u32,
     /// The tiles whose gyros gave the rate.
@@ -259,8 +267,9 @@ pub struct StepInputs {
     pub dt_s: f32,
 }
 
-/// One control step of the filter: started from the two-vector attitude when there is no
-/// estimate; otherwise propagated with the gyros' rate and updated with the Sun and the field.
+/// One control step of the filter: started from the two-vector attitude (TRIAD of the Sun and
+/// the field, the Sun exact: [`super::triad::pair_quaternion`], computed only then) when there
+/// is no estimate; otherwise propagated with the gyros' rate and updated with the Sun and the field.
 /// A bias whose set of sensors changed for [`STEPS_TO_NEW_SET`] steps is forgotten
 /// ([`Mekf::forget_bias`]) before its sensors are used (the field of a set not yet taken is
 /// not used); a step without a rate propagates the last one (for at most
@@ -278,11 +287,25 @@ pub fn step(
     if let Some(o) = estimate.as_mut().and_then(|f| f.advance(config, inputs)) {
         return o;
     }
-    match inputs.two_vector {
-        Some(q) => Mekf::start_in(estimate, config, q, inputs.mag_tiles, inputs.gyro_tiles),
-        None => *estimate = None,
+    let two_vector = match (&inputs.sun, &inputs.field) {
+        (Some(sun), Some((body, teme))) => {
+            super::triad::pair_quaternion(&sun.body, &sun.reference_teme, body, teme)
+        }
+        _ => None,
+    };
+    match two_vector {
+        Some(q) => {
+            Mekf::start_in(estimate, config, q, inputs.mag_tiles, inputs.gyro_tiles);
+            UpdateOutcome {
+                started: true,
+                ..UpdateOutcome::default()
+            }
+        }
+        None => {
+            *estimate = None;
+            UpdateOutcome::default()
+        }
     }
-    UpdateOutcome::default()
 }
 
 /// The Sun observation's variance, rad² per axis, from the lit sensors' incidence cosines
@@ -324,14 +347,20 @@ impl Mekf {
     /// biases zero.
     #[cfg_attr(target_arch = "msp430", optimize(size))]
     pub fn start(config: &MekfConfig, attitude: Quaternion) -> Self {
-        let mut filter = None;
-        Self::start_in(&mut filter, config, attitude, 0, 0);
-        filter.unwrap_or(Self::EMPTY)
+        let mut filter = Self::EMPTY;
+        filter.initialise(config, attitude, 0, 0);
+        filter
     }
 
     /// Nothing: the initial value of a state built in place.
+    /// (All zero, the attitude too, so that it is a fill, not a 300-B copy from flash.)
     const EMPTY: Self = Self {
-        attitude: Quaternion::IDENTITY,
+        attitude: Quaternion {
+            q0: 0.0,
+            q1: 0.0,
+            q2: 0.0,
+            q3: 0.0,
+        },
         gyro_bias_radps: Vec3::new(0.0, 0.0, 0.0),
         mag_bias_nt: Vec3::new(0.0, 0.0, 0.0),
         albedo: 0.0,
@@ -356,7 +385,20 @@ impl Mekf {
         mag_tiles: u32,
         gyro_tiles: u32,
     ) {
-        let filter = slot.insert(Self::EMPTY);
+        slot.insert(Self::EMPTY)
+            .initialise(config, attitude, mag_tiles, gyro_tiles);
+    }
+
+    /// The start's state on an [`Self::EMPTY`] filter.
+    #[cfg_attr(target_arch = "msp430", optimize(size))]
+    fn initialise(
+        &mut self,
+        config: &MekfConfig,
+        attitude: Quaternion,
+        mag_tiles: u32,
+        gyro_tiles: u32,
+    ) {
+        let filter = self;
         filter.attitude = attitude;
         filter.albedo = config.earth_albedo;
         (filter.mag_tiles, filter.gyro_tiles) = (mag_tiles, gyro_tiles);
@@ -608,6 +650,8 @@ impl Mekf {
         b_body_nt: &Vec3,
         b_teme_nt: &Vec3,
     ) -> UpdateOutcome {
+        // the attitude after the Sun's correction, its own matrix: a sequential update
+        // linearises each measurement about the estimate the one before left
         let predicted = mat_vec(self.attitude.to_dcm().matrix(), b_teme_nt);
         let k = config.field_relative;
         let s = config.field_noise_nt;
