@@ -43,7 +43,7 @@
 //! |---|---|---|---|
 //! | `Detumble` | B-dot (gyro form if the rate is known, else field derivative) | coils | `|ω| < exit_rate` → `SunSafe` |
 //! | `SunSafe` | Sun pointing + rate damping; damping only in eclipse | wheels (coils if no wheel), coils dump momentum | a ground command → `Slew` or `Tracking` |
-//! | `Slew` | the thesis's open-loop plan (principal-axis rotations at constant momentum), executed by time (it needs no attitude) | wheels | plan done → `Tracking` of the commanded attitude |
+//! | `Slew` | the thesis's plan (principal-axis rotations) as a reference trajectory (rate ramps the wheels' torque allows, [`crate::control::slew_trajectory`]) tracked in closed loop: quaternion feedback about the reference beside its feed-forward momentum (the feed-forward alone without an attitude) | wheels | trajectory done → `Tracking` of the commanded attitude |
 //! | `Tracking` | quaternion feedback | wheels, coils dump momentum | a new command |
 //! From any mode: `|ω| > enter_rate` → `Detumble`; a ground command (sun-safe, track, a slew
 //! that could be planned) → its mode. In `Slew` and `Tracking`, an invalid attitude makes the
@@ -74,6 +74,7 @@ use crate::control::bdot::{bdot_from_rates, BdotConfig, BdotState};
 use crate::control::magnetorquer::{dipole_for_torque, dumping_dipole};
 use crate::control::principal_axes::PrincipalAxes;
 use crate::control::slew::{decompose, manoeuvre_matrix, plan, Branch, SlewLimits, SlewPlan};
+use crate::control::slew_trajectory::{feedback_torque, SlewFollower, SlewTrajectory};
 use crate::control::sun_safe::{sun_safe_torque, SunSafeGains};
 use crate::control::tracking::{tracking_torque, TrackingGains};
 use crate::control::wheels::{Allocator, Wheel, WheelAllocation, WheelError};
@@ -158,7 +159,7 @@ pub struct AcsConfig<const N: usize = MAX_TILES> {
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub enum Command {
     /// Slew to `target` (reference → body, [`crate::attitude`]) within `within_s` seconds by the
-    /// thesis's open-loop plan, then track it.
+    /// thesis's plan flown in closed loop ([`crate::control::slew_trajectory`]), then track it.
     Slew {
         /// Commanded attitude `A_d`.
         target: Dcm,
@@ -267,15 +268,16 @@ impl StepReport {
     }
 }
 
-/// A slew in progress: what its execution needs of the plan (the rotations' durations, rounded
-/// to whole control periods, and body momenta, in execution order) and the start.
+/// A slew in progress: its reference trajectory and start, the momentum the wheels hold
+/// beside the feed-forward (body, kg·m²/s: theirs before the slew, with the feedback's torque
+/// integrated) and the follower (the two nodes' split: the reference node's trajectory, the
+/// attitude node's follower).
 #[derive(Copy, Clone, Debug, PartialEq)]
 struct SlewProgress {
-    /// `(duration_s, h_body)` of each rotation.
-    steps: [(f32, Vec3); 3],
+    trajectory: SlewTrajectory,
     started: Epoch<Utc>,
-    /// Wheel momentum (body) before the slew: the plan's momenta are added to it.
     h_base: Vec3,
+    follower: SlewFollower,
 }
 
 /// The mode with the data it runs on (issue #19 item 3): a slew carries its plan's progress and
@@ -285,7 +287,8 @@ struct SlewProgress {
 enum ModeState {
     Detumble,
     SunSafe,
-    /// The thesis's open-loop slew, then tracking of `target` (reference → body).
+    /// The slew flown in closed loop on its reference trajectory, then tracking of `target`
+    /// (reference → body).
     Slew {
         progress: SlewProgress,
         target: Quaternion,
@@ -647,10 +650,9 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         }
     }
 
-    /// The thesis's open-loop plan from `attitude` to `target` within `within_s`, each rotation
-    /// rounded up to whole control periods with its momentum scaled to keep the angle, started
-    /// `now` (the mode left as it was if the planner refuses; out of line: the planner's
-    /// temporaries stay off the step's stack).
+    /// The thesis's plan from `attitude` to `target` within `within_s` as a reference
+    /// trajectory ([`SlewTrajectory`]), started `now` (the mode left as it was if the planner
+    /// refuses; out of line: the planner's temporaries stay off the step's stack).
     #[inline(never)]
     #[cfg_attr(target_arch = "msp430", optimize(size))]
     fn start_slew(
@@ -669,21 +671,20 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
             within_s,
         )
         .map_err(|_| AcsError::CannotSlew)?;
-        // whole control periods, same angle: L·t constant
-        let period = self.config.control_period_s;
-        let mut slew = SlewProgress {
-            steps: [(0.0f32, Vec3::zeros()); 3],
+        let trajectory = SlewTrajectory::new(
+            &plan,
+            &self.config.axes,
+            &self.config.wheel_torque_nm,
+            self.config.control_period_s,
+            self.config.slew_pause_s,
+        )
+        .map_err(|_| AcsError::CannotSlew)?;
+        let slew = SlewProgress {
+            trajectory,
             started: now,
             h_base: self.wheels_body(),
+            follower: SlewFollower::NEW,
         };
-        for ((duration, h), s) in slew.steps.iter_mut().zip(plan.steps.iter()) {
-            if s.duration_s > 0.0 {
-                let ticks = crate::fmath::max(s.duration_s / period - 1e-4, 0.0) as u32 + 1;
-                let rounded = ticks as f32 * period;
-                *h = s.h_body * (s.duration_s / rounded);
-                *duration = rounded;
-            }
-        }
         self.transition(Event::Slew(&slew, target.to_quaternion()));
         Ok(())
     }
@@ -1086,12 +1087,51 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
                     faults.law |= torque.is_none();
                 }
             }
-            ModeState::Slew { progress, .. } => match self.slew_momentum(progress, now) {
-                Some(h) => h_target = Some(h),
-                // done: track the slew's target
-                None => self.transition(Event::SlewDone),
-            },
-            ModeState::Tracking { .. } => {}
+            ModeState::Slew { .. } | ModeState::Tracking { .. } => {}
+        }
+        // a slew: its reference followed in closed loop, the feedback's torque integrated into
+        // the wheels beside the feed-forward (without an attitude the feed-forward alone); its
+        // trajectory done: track its target
+        let period = self.config.control_period_s;
+        let reference = match &mut self.mode {
+            ModeState::Slew { progress, .. } => Some(
+                progress
+                    .trajectory
+                    .at(now.seconds_since_f32(&progress.started), period),
+            ),
+            _ => None,
+        };
+        match reference {
+            Some(Some(reference)) => {
+                let h_w = self.wheels_body();
+                let config = self.config;
+                if let ModeState::Slew { progress, .. } = &mut self.mode {
+                    let tracked =
+                        progress
+                            .follower
+                            .advance(Some(&reference), det.attitude.as_ref(), dt);
+                    let h_base = &mut progress.h_base;
+                    if let (Some(target), Some(q), Some(w)) =
+                        (tracked, det.attitude.as_ref(), omega)
+                    {
+                        match feedback_torque(
+                            &config.tracking,
+                            &config.axes.inertia_body,
+                            &config.wheel_torque_nm,
+                            (q, w),
+                            &target,
+                            &reference.rate_body_radps,
+                            &h_w,
+                        ) {
+                            Ok(t) => *h_base = crate::linalg::sub_scaled(h_base, &t, dt),
+                            Err(_) => faults.law = true,
+                        }
+                    }
+                    h_target = Some(*h_base - reference.h_ff_body_nms);
+                }
+            }
+            Some(None) => self.transition(Event::SlewDone),
+            None => {}
         }
         // the wheels' momentum in force, summed once for the tracking law and the integration
         let mut h_now: Option<Vec3> = None;
@@ -1137,27 +1177,6 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
             }
         }
         (dipole, h_target)
-    }
-
-    /// The body momentum the wheels hold at `now` in the slew `p` (the step's momentum while
-    /// rotating, the momentum before the slew while stopping between axes), `None` when the
-    /// plan is done.
-    fn slew_momentum(&self, p: &SlewProgress, now: &Epoch<Utc>) -> Option<Vec3> {
-        // half a period of margin: boundaries fall on ticks
-        let t = now.seconds_since_f32(&p.started) + 0.5 * self.config.control_period_s;
-        let mut t0 = 0.0f32;
-        for (duration_s, h_body) in p.steps.iter() {
-            if t0 + duration_s > t {
-                // rotating: the body holds the step's momentum
-                return Some(p.h_base - h_body);
-            }
-            if t0 + duration_s + self.config.slew_pause_s > t {
-                // stopping before the next axis
-                return Some(p.h_base);
-            }
-            t0 += duration_s + self.config.slew_pause_s;
-        }
-        None
     }
 
     /// Step phase 5c: wheel momentum (the target, or the momentum in force re-sent: it stops
@@ -1339,10 +1358,19 @@ mod tests {
             q2: 0.0,
             q3: 0.0,
         };
+        let config = &crate::flight::CONFIG;
+        let angles = crate::control::slew::AxisAngles {
+            phi_a: 0.1,
+            theta_b: 0.0,
+            psi_c: 0.0,
+        };
+        let p = plan(&config.axes, &angles, &config.slew_limits, 100.0).unwrap();
+        let torque = config.wheel_torque_nm;
         let progress = SlewProgress {
-            steps: [(1.0, Vec3::x()); 3],
+            trajectory: SlewTrajectory::new(&p, &config.axes, &torque, 1.0, 5.0).unwrap(),
             started: Epoch::<Utc>::from_parts(0, 0, 0).unwrap(),
             h_base: Vec3::zeros(),
+            follower: SlewFollower::NEW,
         };
         let detumble = ModeState::Detumble;
         let sun_safe = ModeState::SunSafe;

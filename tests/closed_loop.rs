@@ -143,7 +143,7 @@ fn detumble_within_three_orbits() {
     }
 }
 
-/// The error at the end of the open-loop plan (where the loop switches from Slew to Tracking)
+/// The error at the end of the plan (where the loop switches from Slew to Tracking)
 /// and at the end of the run; `None` if the plan never completed.
 fn slew_end_error(samples: &[Sample]) -> Option<(f64, f64)> {
     let end = samples
@@ -166,13 +166,13 @@ fn thesis_slew(noisy: bool, limit_deg: f64, thesis_deg: f64) {
         bounded(&samples);
         let end = slew_end_error(&samples);
         let (met, figure) = match end {
-            Some((open_loop, closed)) => {
-                figure(&key(name, truth, "plan_end_deg"), open_loop);
+            Some((plan_end, closed)) => {
+                figure(&key(name, truth, "plan_end_deg"), plan_end);
                 figure(&key(name, truth, "run_end_deg"), closed);
-                println!("{name} ({} truth): error at the end of the open-loop plan {open_loop:.4}° (thesis {thesis_deg}°), after tracking {closed:.4}°", truth.name());
+                println!("{name} ({} truth): error at the end of the plan {plan_end:.4}° (thesis {thesis_deg}°), after tracking {closed:.4}°", truth.name());
                 (
-                    open_loop <= limit_deg,
-                    format!("{open_loop:.3}°; {closed:.3}° after tracking"),
+                    plan_end <= limit_deg,
+                    format!("{plan_end:.3}°; {closed:.3}° after tracking"),
                 )
             }
             None => (false, "the plan never completed".to_string()),
@@ -185,8 +185,8 @@ fn thesis_slew(noisy: bool, limit_deg: f64, thesis_deg: f64) {
             &figure,
         );
         if truth == TruthLevel::Ideal {
-            let (open_loop, _) = end.expect("the slew completed");
-            assert!(open_loop <= limit_deg, "{open_loop}");
+            let (plan_end, _) = end.expect("the slew completed");
+            assert!(plan_end <= limit_deg, "{plan_end}");
         }
     }
 }
@@ -452,9 +452,10 @@ fn tracking_with_wheels_and_noisy_tiles() {
     }
 }
 
-/// The flight configuration's slew (no requirement: the figures are printed): the
-/// open-loop plan completes within the commanded time and tracking then converges (asserted in
-/// the ideal truth).
+/// The flight configuration's slew: the plan, flown in closed loop on its reference trajectory,
+/// completes within the commanded time and tracking then converges (asserted in the ideal
+/// truth); in both truths it ends within 1° of its target (issue #30's goal for the `slew`
+/// campaign, asserted on this run).
 #[test]
 fn flight_slew_completes_and_converges() {
     for truth in TRUTHS {
@@ -471,15 +472,16 @@ fn flight_slew_completes_and_converges() {
             .find(|w| w[0].mode == Mode::Slew && w[1].mode == Mode::Tracking)
             .map(|w| w[1].t_s);
         match (ended, slew_end_error(&samples)) {
-            (Some(ended), Some((open_loop, closed))) => {
+            (Some(ended), Some((plan_end, closed))) => {
                 figure(&key("slew", truth, "plan_begin_s"), begun);
                 figure(&key("slew", truth, "plan_end_s"), ended);
-                figure(&key("slew", truth, "plan_end_deg"), open_loop);
+                figure(&key("slew", truth, "plan_end_deg"), plan_end);
                 figure(&key("slew", truth, "run_end_deg"), closed);
                 println!(
-                    "slew ({} truth): plan from {begun:.0} s to {ended:.0} s, error at its end {open_loop:.3}°, {closed:.3}° at the end of the run",
+                    "slew ({} truth): plan from {begun:.0} s to {ended:.0} s, error at its end {plan_end:.3}°, {closed:.3}° at the end of the run",
                     truth.name()
                 );
+                assert!(plan_end <= 1.0, "{plan_end}");
                 if truth == TruthLevel::Ideal {
                     assert!(ended - begun <= 300.0);
                     assert!(closed < 0.5, "{closed}");
@@ -1037,7 +1039,9 @@ fn loop_state_size() {
     );
     // the attitude filter's state (issue #30: a 10-state covariance, 55 × 4 B) took it past 512
     assert!(attitude - reference <= 640);
-    assert!(reference_node - orbit - reference <= 160);
+    // a slew's reference trajectory (issue #30 item 4: three rotations' profiles and the
+    // attitude they start at, 152 B on the host) took it past 160: measured 232 B
+    assert!(reference_node - orbit - reference <= 240);
     // the composition: both nodes, the last STATUS and the last two packets; the one image
     println!(
         "FlightLoop (the two nodes composed) {} B, OneImageLoop {} B (host, 64-bit)",

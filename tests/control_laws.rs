@@ -340,6 +340,66 @@ fn tracking_converges_from_a_large_error_and_takes_the_short_way() {
     }
 }
 
+/// Every one of the law's 32 inputs NaN, +∞ or −∞ (the others those of a tracking step in
+/// progress, and of a satellite at rest on its target) gives `NotFinite`: the law checks its
+/// result, not its inputs, and every input reaches the result.
+#[test]
+fn tracking_refuses_every_non_finite_input() {
+    use acs::control::tracking::TrackingError;
+    let inertia = Mat3::new(0.010, 1e-4, -2e-4, 1e-4, 0.012, 3e-4, -2e-4, 3e-4, 0.014);
+    let gains = TrackingGains::from_bandwidth(&inertia, 0.5, 0.9);
+    let q = Quaternion::new_normalize(0.9, 0.1, -0.2, 0.3).unwrap();
+    let t = Quaternion::new_normalize(0.8, -0.1, 0.3, 0.2).unwrap();
+    let cases = [
+        (
+            q,
+            Vec3::new(1e-3, -2e-3, 5e-4),
+            t,
+            Vec3::new(2e-4, 1e-4, -3e-4),
+            Vec3::new(1e-4, 2e-4, -1e-4),
+        ),
+        (
+            Quaternion::IDENTITY,
+            Vec3::zeros(),
+            Quaternion::IDENTITY,
+            Vec3::zeros(),
+            Vec3::zeros(),
+        ),
+    ];
+    for (q, w, t, wt, h) in cases {
+        let base = [
+            q.q0, q.q1, q.q2, q.q3, t.q0, t.q1, t.q2, t.q3, w.x, w.y, w.z, wt.x, wt.y, wt.z, h.x,
+            h.y, h.z,
+        ];
+        let g = [gains.kp_nm, gains.kd_nms];
+        for i in 0..32 {
+            for bad in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+                let mut x = base;
+                let mut gg = g;
+                let mut m = inertia;
+                match i {
+                    0..17 => x[i] = bad,
+                    17..23 => gg[(i - 17) / 3][(i - 17) % 3] = bad,
+                    _ => m[i - 23] = bad,
+                }
+                let quat = |k: usize| Quaternion {
+                    q0: x[k],
+                    q1: x[k + 1],
+                    q2: x[k + 2],
+                    q3: x[k + 3],
+                };
+                let v = |k: usize| Vec3::new(x[k], x[k + 1], x[k + 2]);
+                let gains = TrackingGains {
+                    kp_nm: gg[0],
+                    kd_nms: gg[1],
+                };
+                let r = tracking_torque(&gains, &m, &quat(0), &v(8), &quat(4), &v(11), &v(14));
+                assert_eq!(r, Err(TrackingError::NotFinite), "input {i} = {bad}");
+            }
+        }
+    }
+}
+
 #[test]
 fn sun_safe_points_the_axis_and_damps_in_eclipse() {
     let inertia = Mat3::from_diagonal(&Vec3::new(0.042, 0.042, 0.0067));

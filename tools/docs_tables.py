@@ -147,7 +147,7 @@ def closed_loop(f, bench, pil):
         f"| `detumble`: 500 km 97°, 10°/s per axis | < 0.5°/s within 3 orbits | {met(f, c + 'detumble' + i + 'verdict')}: < 0.5°/s after "
         f"{f(c + 'detumble' + i + 'below_s', 'n')} s ({f(c + 'detumble' + i + 'below_orbits', '.2f')} orbits); "
         f"{sig(f.num(c + 'detumble' + i + 'end_degps'), 2)}°/s at 3 orbits | — |",
-        f"| `thesis-slew`: ch. 12, A → A_d by the open-loop plan, ideal sensors | ≤ 0.15° | {met(f, c + 'thesis-slew' + i + 'verdict')}: "
+        f"| `thesis-slew`: ch. 12, A → A_d by the plan flown in closed loop, ideal sensors | ≤ 0.15° | {met(f, c + 'thesis-slew' + i + 'verdict')}: "
         f"**{f(c + 'thesis-slew' + i + 'plan_end_deg', '.3f')}°** at the end of the plan (0.034° with the precise Sun on board: "
         f"the plan's end is sensitive at this level, see below); {f(c + 'thesis-slew' + i + 'run_end_deg', '.3f')}° after tracking | 0.148° (Simulink) |",
         f"| `thesis-slew-noisy`: same, about 1 % sensor noise | ≤ 0.45° | {met(f, c + 'thesis-slew-noisy' + i + 'verdict')}: "

@@ -1,5 +1,6 @@
-//! Step phase 5: the mode's events and the mode's law (B-dot, sun-safe, the slew's momentum
-//! from the reference node's plan, quaternion tracking), as a coil dipole and a wheel momentum.
+//! Step phase 5: the mode's events and the mode's law (B-dot, sun-safe, the slew's reference
+//! from the reference node tracked in closed loop, quaternion tracking), as a coil dipole and a
+//! wheel momentum.
 //!
 //! Attitudes are `v_body = A(q) · v_ref`, reference TEME of date ([`crate::attitude`]).
 
@@ -8,6 +9,7 @@ use super::{AttitudeNode, Faults, Mode};
 use crate::acs_loop::StepReport;
 use crate::control::bdot::bdot_from_rates;
 use crate::control::magnetorquer::dipole_for_torque;
+use crate::control::slew_trajectory::{feedback_torque, SlewReference};
 use crate::control::sun_safe::sun_safe_torque;
 use crate::control::tracking::tracking_torque;
 use crate::linalg::Vec3;
@@ -105,16 +107,54 @@ impl<const N: usize> AttitudeNode<'_, N> {
                     faults.law |= torque.is_none();
                 }
             }
-            // the slew's momentum from the reference node's plan, this step's (none without a
-            // REF: the wheels hold); its guidance turned to tracking: done, track the target
-            ModeState::Slew { h_base, .. } => match guidance.map(|g| g.kind) {
-                Some(GuidanceKind::Slew) => {
-                    h_target = guidance.map(|g| h_base - g.h_ff_body_nms);
+            ModeState::Slew { .. } | ModeState::Tracking { .. } => {}
+        }
+        // a slew: the REF's reference (its rate, feed-forward) tracked in closed loop, the
+        // follower's attitude integrated from its rates, the feedback's torque integrated into
+        // the wheels beside the feed-forward (without an attitude the feed-forward alone;
+        // without a REF the wheels hold and the follower holds its rate); its guidance turned
+        // to tracking: done, track the target
+        if let ModeState::Slew { .. } = self.mode {
+            match guidance {
+                Some(g) if g.kind == GuidanceKind::Track => self.transition(Event::SlewDone),
+                _ => {
+                    let reference =
+                        guidance
+                            .filter(|g| g.kind == GuidanceKind::Slew)
+                            .map(|g| SlewReference {
+                                rate_body_radps: g.rate_body_radps,
+                                h_ff_body_nms: g.h_ff_body_nms,
+                            });
+                    let h_w = self.wheels_body();
+                    let config = self.config;
+                    if let ModeState::Slew {
+                        h_base, follower, ..
+                    } = &mut self.mode
+                    {
+                        let tracked =
+                            follower.advance(reference.as_ref(), det.attitude.as_ref(), dt);
+                        if let Some(r) = &reference {
+                            if let (Some(target), Some(q), Some(w)) =
+                                (tracked, det.attitude.as_ref(), omega)
+                            {
+                                match feedback_torque(
+                                    &config.tracking,
+                                    &config.axes.inertia_body,
+                                    &config.wheel_torque_nm,
+                                    (q, w),
+                                    &target,
+                                    &r.rate_body_radps,
+                                    &h_w,
+                                ) {
+                                    Ok(t) => *h_base = crate::linalg::sub_scaled(h_base, &t, dt),
+                                    Err(_) => faults.law = true,
+                                }
+                            }
+                            h_target = Some(*h_base - r.h_ff_body_nms);
+                        }
+                    }
                 }
-                Some(GuidanceKind::Track) => self.transition(Event::SlewDone),
-                _ => {}
-            },
-            ModeState::Tracking { .. } => {}
+            }
         }
         // the wheels' momentum in force, summed once for the tracking law and the integration
         let mut h_now: Option<Vec3> = None;

@@ -5,6 +5,7 @@
 //! ([`crate::attitude`]).
 
 use crate::attitude::Quaternion;
+use crate::control::slew_trajectory::SlewFollower;
 use crate::linalg::Vec3;
 
 /// Consecutive steps without a valid attitude, outside the umbra, after which `Slew`/`Tracking`
@@ -20,7 +21,8 @@ pub enum Mode {
     Detumble,
     /// Sun pointing of the array normal, rate damping in eclipse.
     SunSafe,
-    /// The thesis's slew in progress (its momentum plan from the reference node).
+    /// A slew in progress: the reference node's plan, flown in closed loop on its reference
+    /// trajectory ([`crate::control::slew_trajectory`]).
     Slew,
     /// Closed-loop tracking of a commanded attitude.
     Tracking,
@@ -38,19 +40,21 @@ impl Mode {
     }
 }
 
-/// The mode with the data it runs on (issue #19 item 3): a slew carries the wheels' momentum
-/// before it and its target, tracking its target, so no mode can run without its data.
+/// The mode with the data it runs on (issue #19 item 3): a slew carries the momentum the wheels
+/// hold beside its feed-forward, its target and its follower, tracking its target, so no mode can run without its data.
 /// [`Mode`] is its tag (telemetry); [`next_mode`] holds every transition.
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub(super) enum ModeState {
     Detumble,
     SunSafe,
-    /// The slew the reference node plans, then tracking of `target` (reference → body); the
-    /// wheels hold `h_base` (body, kg·m²/s, their momentum when the slew was accepted) less the
-    /// plan's feed-forward momentum.
+    /// The slew the reference node plans, flown in closed loop on its reference trajectory
+    /// (`follower`: [`crate::control::slew_trajectory`]), then tracking of `target` (reference
+    /// → body); the wheels hold `h_base` (body, kg·m²/s: their momentum when the slew was
+    /// accepted, the feedback's torque integrated) less the reference's feed-forward momentum.
     Slew {
         h_base: Vec3,
         target: Quaternion,
+        follower: SlewFollower,
     },
     /// Tracking of `target` (reference → body).
     Tracking {
@@ -101,7 +105,11 @@ pub(super) fn next_mode(state: &mut ModeState, event: Event) {
         (S::Slew { target, .. }, Event::SlewDone) => S::Tracking { target: *target },
         (_, Event::SunSafe) => S::SunSafe,
         (_, Event::Track(target)) => S::Tracking { target },
-        (_, Event::Slew { h_base, target }) => S::Slew { h_base, target },
+        (_, Event::Slew { h_base, target }) => S::Slew {
+            h_base,
+            target,
+            follower: SlewFollower::NEW,
+        },
         (_, Event::RateBelow | Event::AttitudeLost | Event::SlewDone) => return,
     };
 }
@@ -126,11 +134,13 @@ mod tests {
         let slew = ModeState::Slew {
             h_base: h,
             target: q(0.1),
+            follower: SlewFollower::NEW,
         };
         let tracking = ModeState::Tracking { target: q(0.2) };
         let new_slew = ModeState::Slew {
             h_base: h,
             target: q(0.3),
+            follower: SlewFollower::NEW,
         };
         let events = [
             Event::RateAbove,

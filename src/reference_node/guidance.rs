@@ -1,8 +1,11 @@
 //! The reference node's guidance: the ground's track and slew commands, which it owns. A slew is
 //! the thesis's three-axis decomposition (seed 000 §7, [`crate::control::slew`]) planned from
-//! the attitude the attitude node last reported, each rotation rounded up to whole control
-//! periods with its momentum scaled to keep the angle; each REF carries the plan's body momentum
-//! at that step's UTC (the feed-forward), then, the plan done, tracking of its target.
+//! the attitude the attitude node last reported and flown on its reference trajectory
+//! ([`crate::control::slew_trajectory`]: rate ramps the wheels' torque allows, whole control
+//! periods); each REF carries its target and the reference at that step's UTC (the mean rate
+//! over the period before and the body's feed-forward momentum over the period after), which
+//! the attitude node follows in closed loop, then, the trajectory done, tracking of the
+//! target.
 //!
 //! Attitudes are `v_body = A · v_ref`, reference TEME of date ([`crate::attitude`]).
 
@@ -10,16 +13,15 @@ use super::ReferenceNode;
 use crate::acs_loop::AcsError;
 use crate::attitude::{Dcm, Quaternion};
 use crate::control::slew::{decompose, manoeuvre_matrix, plan, Branch, SlewPlan};
+use crate::control::slew_trajectory::SlewTrajectory;
 use crate::linalg::Vec3;
 use crate::link::messages::{Guidance, GuidanceKind};
 use crate::time::{Epoch, Utc};
 
-/// A slew in progress: what its execution needs of the plan (the rotations' durations, rounded
-/// to whole control periods, and body momenta, in execution order) and its start.
+/// A slew in progress: its reference trajectory and its start.
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub(super) struct SlewProgress {
-    /// `(duration_s, h_body)` of each rotation.
-    steps: [(f32, Vec3); 3],
+    trajectory: SlewTrajectory,
     started: Epoch<Utc>,
 }
 
@@ -52,21 +54,18 @@ impl<const N: usize, const F: usize> ReferenceNode<'_, N, F> {
             within_s,
         )
         .map_err(|_| AcsError::CannotSlew)?;
-        // whole control periods, same angle: L·t constant
-        let period = self.config.control_period_s;
-        let mut slew = SlewProgress {
-            steps: [(0.0f32, Vec3::zeros()); 3],
+        let trajectory = SlewTrajectory::new(
+            &plan,
+            &self.config.axes,
+            &self.config.wheel_torque_nm,
+            self.config.control_period_s,
+            self.config.slew_pause_s,
+        )
+        .map_err(|_| AcsError::CannotSlew)?;
+        self.slew = Some(SlewProgress {
+            trajectory,
             started: now,
-        };
-        for ((duration, h), s) in slew.steps.iter_mut().zip(plan.steps.iter()) {
-            if s.duration_s > 0.0 {
-                let ticks = crate::fmath::max(s.duration_s / period - 1e-4, 0.0) as u32 + 1;
-                let rounded = ticks as f32 * period;
-                *h = s.h_body * (s.duration_s / rounded);
-                *duration = rounded;
-            }
-        }
-        self.slew = Some(slew);
+        });
         self.new_guidance(GuidanceKind::Slew, target.to_quaternion());
         Ok(())
     }
@@ -87,40 +86,25 @@ impl<const N: usize, const F: usize> ReferenceNode<'_, N, F> {
         };
     }
 
-    /// The guidance at `now`: a slew's momentum at that time, or, its plan done, tracking of
-    /// its target.
+    /// The guidance at `now`: a slew's reference at that time, or, its trajectory done,
+    /// tracking of its target.
     pub(super) fn guidance_at(&mut self, now: &Epoch<Utc>) -> Guidance {
-        if let Some(p) = &self.slew {
-            match self.slew_momentum(p, now) {
-                Some(h) => self.guidance.h_ff_body_nms = h,
+        let period = self.config.control_period_s;
+        if let Some(p) = &mut self.slew {
+            let g = &mut self.guidance;
+            match p.trajectory.at(now.seconds_since_f32(&p.started), period) {
+                Some(r) => {
+                    g.rate_body_radps = r.rate_body_radps;
+                    g.h_ff_body_nms = r.h_ff_body_nms;
+                }
                 None => {
+                    g.kind = GuidanceKind::Track;
+                    g.rate_body_radps = Vec3::zeros();
+                    g.h_ff_body_nms = Vec3::zeros();
                     self.slew = None;
-                    self.guidance.kind = GuidanceKind::Track;
-                    self.guidance.h_ff_body_nms = Vec3::zeros();
                 }
             }
         }
         self.guidance
-    }
-
-    /// The body momentum the slew `p` asks of the wheels, beyond what they held before it, at
-    /// `now` (the step's momentum while rotating, none while stopping between axes), `None`
-    /// when the plan is done.
-    fn slew_momentum(&self, p: &SlewProgress, now: &Epoch<Utc>) -> Option<Vec3> {
-        // half a period of margin: boundaries fall on ticks
-        let t = now.seconds_since_f32(&p.started) + 0.5 * self.config.control_period_s;
-        let mut t0 = 0.0f32;
-        for (duration_s, h_body) in p.steps.iter() {
-            if t0 + duration_s > t {
-                // rotating: the body holds the step's momentum
-                return Some(*h_body);
-            }
-            if t0 + duration_s + self.config.slew_pause_s > t {
-                // stopping before the next axis
-                return Some(Vec3::zeros());
-            }
-            t0 += duration_s + self.config.slew_pause_s;
-        }
-        None
     }
 }

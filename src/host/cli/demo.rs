@@ -208,7 +208,7 @@ pub fn run(_args: &Args) -> Result<(), CliError> {
 
     // 6. simulated slew, closed by tracking
     println!(
-        "\n6. Simulated slew (RK4 rigid body + wheels, f64 truth; open-loop plan then tracking)"
+        "\n6. Simulated slew (RK4 rigid body + wheels, f64 truth; the plan flown in closed loop, then tracking)"
     );
     for (noisy, key) in [
         (false, "simulink_error_ideal_deg"),
@@ -227,7 +227,7 @@ pub fn run(_args: &Args) -> Result<(), CliError> {
             .and_then(|w| w[1].pointing_error_deg);
         let last = samples.last().and_then(|s| s.pointing_error_deg);
         println!(
-            "   {}: error at the end of the open-loop plan {:.4}°, after {:.0} s of tracking {:.4}°   thesis (Simulink): {:?}°",
+            "   {}: error at the end of the plan {:.4}°, after {:.0} s of tracking {:.4}°   thesis (Simulink): {:?}°",
             if noisy { "1 % sensor noise" } else { "ideal sensors   " },
             end.unwrap_or(f64::NAN),
             sc.duration_s,

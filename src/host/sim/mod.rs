@@ -416,7 +416,13 @@ impl Simulator {
 
     /// The realistic truth's state at the start: every device's constant errors, the
     /// unmodelled field scaled on the sphere of the orbit's initial radius.
-    fn real_state(&self, model: Realism, omega0: &Vec3d) -> Result<RealState, SimError> {
+    fn real_state(&self, mut model: Realism, omega0: &Vec3d) -> Result<RealState, SimError> {
+        // no wheel of the truth is faster than the ideal truth's: without its effects
+        // ([`realistic::Effect::Wheel`]) the realistic wheel is the ideal one
+        model.wheel.torque_limit_nm = model
+            .wheel
+            .torque_limit_nm
+            .min(self.config.wheel_max_torque_nm);
         let seed = self.config.seed;
         let tiles = self.config.tiles.as_slice();
         let r0_m = self.environment(0.0)?.r_teme_km.norm() * 1e3;
@@ -1114,7 +1120,12 @@ impl Simulator {
             .get(tile)
             .copied()
             .unwrap_or(0.0);
-        let w = gyro.axis_body.dot(&real.omega_mean)
+        let omega = if real.model.timing.gyro_period_mean {
+            &real.omega_mean
+        } else {
+            &self.truth.omega
+        };
+        let w = gyro.axis_body.dot(omega)
             + gyro.bias_radps
             + markov
             + sigma * gauss(seed, Stream::GyroNoise, real.step, tile as u64);

@@ -374,8 +374,9 @@ pub fn thesis_config() -> Result<AcsConfig<TILES>, SimError> {
 }
 
 /// The thesis scenario (seed 000 ch. 12): DTUSAT on 2009-06-16 00:00 UTC, true attitude A
-/// (3-2-1: Φ = 0, θ = −30°, Ψ = −45°), slew to `A_d` = 90° about I by the thesis's open-loop
-/// plan (shortest branch), then tracking. `noisy`: about 1 % sensor noise. The thesis's own
+/// (3-2-1: Φ = 0, θ = −30°, Ψ = −45°), slew to `A_d` = 90° about I by the thesis's plan
+/// (shortest branch) flown in closed loop ([`crate::control::slew_trajectory`]; the thesis flew
+/// it open loop), then tracking. `noisy`: about 1 % sensor noise. The thesis's own
 /// satellite ([`thesis_config`]), no disturbances.
 pub fn thesis_slew(noisy: bool) -> Result<Scenario, SimError> {
     let flight = thesis_config()?;
@@ -417,7 +418,7 @@ pub fn thesis_slew(noisy: bool) -> Result<Scenario, SimError> {
             "thesis-slew"
         },
         description:
-            "seed 000 ch. 12, the thesis's satellite: hold A, slew to A_d (90° about I) by the open-loop plan, then track",
+            "seed 000 ch. 12, the thesis's satellite: hold A, slew to A_d (90° about I) by the plan flown in closed loop, then track",
         sim,
         flight: Satellite::Thesis(Box::new(flight)),
         initial: (quat_f64(&q_true), Vec3d::zeros()),
@@ -613,15 +614,16 @@ pub fn tracking_eclipse() -> Result<Scenario, SimError> {
 }
 
 /// A slew with the flight configuration on the `tracking` orbit and sensors: hold the
-/// `tracking` target from rest, at 120 s slew 90° about the body x axis by the thesis's
-/// open-loop plan within 300 s, then track the new attitude; 1 200 control periods.
+/// `tracking` target from rest, at 120 s slew 90° about the body x axis by the thesis's plan
+/// flown in closed loop ([`crate::control::slew_trajectory`]) within 300 s, then track the new
+/// attitude; 1 200 control periods.
 pub fn slew() -> Result<Scenario, SimError> {
     let base = tracking(None)?;
     let hold = Dcm::a3(0.6).then(&Dcm::a1(-0.3));
     let target = hold.then(&Dcm::a1(core::f32::consts::FRAC_PI_2));
     Ok(Scenario {
         name: "slew",
-        description: "flight configuration: hold, slew 90° by the open-loop plan within 300 s, then track; dawn-dusk orbit, noisy tiles",
+        description: "flight configuration: hold, slew 90° by the plan flown in closed loop within 300 s, then track; dawn-dusk orbit, noisy tiles",
         initial: (quat_f64(&hold.to_quaternion()), Vec3d::zeros()),
         commands: vec![
             (

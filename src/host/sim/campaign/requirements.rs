@@ -11,7 +11,7 @@
 //! | `tracking`, `failed-tile`, `tracking-eclipse` | (reported) | worst pointing error from 1 200 s on (`worst_from_1200s_deg`; issue #30's goal for `tracking`: p99 ≤ 1.2° over a campaign) |
 //! | `tracking` | (reported) | RMS pointing error from 1 200 s on |
 //! | `failed-tile` | still converges | error at the end (< 0.5°) |
-//! | `slew` | the plan completes, then converges | error at the end (< 0.5°); error at the end of the plan (reported) |
+//! | `slew` | the plan, flown in closed loop, ends within 1° (issue #30), then converges | error at the end of the plan (≤ 1°), at the end (< 0.5°) |
 //! | `thesis-slew`, `thesis-slew-noisy` | ≤ 0.15°, ≤ 0.45° at the end of the plan | error where Slew hands over to Tracking (∞ if the plan never completes) |
 //! | `sun-safe` | no NaN, actuators safe or gyro/magnetometer laws in the umbra | attitudes measured in the umbra (≤ 0); seconds of umbra and the rate at the end (reported) |
 //! | `tracking-eclipse` | (reported: issue #30's goals, not requirements) | worst pointing error after the first orbit in the umbra and in sunlight; seconds of umbra |
@@ -155,14 +155,14 @@ pub fn metrics(name: &str) -> Vec<Metric> {
         ],
         "slew" => vec![
             Metric {
+                key: "plan_end_error_deg",
+                text: "pointing error at the end of the plan, ° (issue #30: the plan flown in closed loop on the flight wheels)",
+                limit: Some((Bound::AtMost, 1.0)),
+            },
+            Metric {
                 key: "final_error_deg",
                 text: "pointing error at the end, ° (converges after the plan)",
                 limit: Some((Bound::Below, 0.5)),
-            },
-            Metric {
-                key: "plan_end_error_deg",
-                text: "pointing error at the end of the plan, °",
-                limit: None,
             },
         ],
         "thesis-slew" => vec![Metric {
@@ -178,7 +178,7 @@ pub fn metrics(name: &str) -> Vec<Metric> {
         "sun-safe" => vec![
             Metric {
                 key: "attitudes_in_umbra",
-                text: "attitudes measured in the umbra (safe or gyro/magnetometer laws there)",
+                text: "attitudes measured (the filter started) in the umbra (safe or gyro/magnetometer laws there)",
                 limit: Some((Bound::AtMost, 0.0)),
             },
             Metric {

@@ -388,6 +388,9 @@ pub struct StepTiming {
     pub read_s: f64,
     /// Actuators commanded, s after the step's start.
     pub actuate_s: f64,
+    /// The gyros give the body's mean rate over the control period (the tile averages its
+    /// samples, [`GyroModel`]); false: the rate at the read, as the ideal truth's.
+    pub gyro_period_mean: bool,
 }
 
 impl StepTiming {
@@ -395,6 +398,7 @@ impl StepTiming {
     pub const FLIGHT: Self = Self {
         read_s: 0.005,
         actuate_s: 0.106,
+        gyro_period_mean: true,
     };
 }
 
@@ -459,11 +463,13 @@ pub enum Effect {
     MagnetometerErrors,
     /// The gyros' noise, biases, scale factor and misalignment.
     GyroErrors,
-    /// The wheels' speed loop, torque limit, friction and quanta.
+    /// The wheels' speed loop, torque limit, friction and quanta (without it the wheel is the
+    /// ideal truth's: it slews at the simulator's `wheel_max_torque_nm`).
     Wheel,
     /// The coils' time constant, quantum, scale factor and current limit.
     Coil,
-    /// The read latency and the actuation instant.
+    /// The read latency, the actuation instant and the gyros' averaging over the period
+    /// (without it the gyros read the rate at the step's start, as the ideal truth's).
     Timing,
 }
 
@@ -546,6 +552,7 @@ impl Realism {
             Effect::Timing => {
                 r.timing.read_s = 0.0;
                 r.timing.actuate_s = 0.0;
+                r.timing.gyro_period_mean = false;
             }
         }
         r
