@@ -127,14 +127,19 @@ pub struct AcsConfig<const N: usize = MAX_TILES> {
     pub bdot: BdotConfig,
     /// Tracking gains.
     pub tracking: TrackingGains,
+    /// The slew feedback's bandwidth over the tracking law's, `k`: its gains are `K_p k²`,
+    /// `K_d k` ([`Self::slew_gains`]). A slew's errors grow with its rate (a body whose inertia
+    /// is 10 % off the loop's turns 10 % faster or slower than the feed-forward asks), which
+    /// a hold's do not; `k` keeps `k ω_n T` small for the discrete loop.
+    pub slew_gain_factor: f32,
     /// Sun-safe gains.
     pub sun_safe: SunSafeGains,
     /// Body axis pointed at the Sun in `SunSafe` (unit).
     pub sun_axis_body: Vec3,
     /// Momentum-planner limits of the thesis's slew.
     pub slew_limits: SlewLimits,
-    /// The control period, s: slew durations are rounded up to whole periods (the loop can only
-    /// change a wheel command on a tick) with the momentum scaled to keep each angle exact.
+    /// The control period, s: a slew's ramps and rotations last whole periods (the loop can only
+    /// change a wheel command on a tick; [`crate::control::slew_trajectory`]).
     pub control_period_s: f32,
     /// Pause after each rotation of a slew, s: the wheels return to their momentum before the
     /// slew, so the body stops before it turns about the next axis (the thesis spaces its three
@@ -153,6 +158,18 @@ pub struct AcsConfig<const N: usize = MAX_TILES> {
     pub igrf_degree: Degree,
     /// The attitude filter's tuning ([`crate::determination::mekf`]).
     pub filter: MekfConfig,
+}
+
+impl<const N: usize> AcsConfig<N> {
+    /// The slew feedback's gains: the tracking law's at `slew_gain_factor` times its bandwidth
+    /// (`K_p k²`, `K_d k`).
+    pub fn slew_gains(&self) -> TrackingGains {
+        let k = self.slew_gain_factor;
+        TrackingGains {
+            kp_nm: self.tracking.kp_nm * (k * k),
+            kd_nms: self.tracking.kd_nms * k,
+        }
+    }
 }
 
 /// A ground command.
@@ -1115,7 +1132,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
                         (tracked, det.attitude.as_ref(), omega)
                     {
                         match feedback_torque(
-                            &config.tracking,
+                            &config.slew_gains(),
                             &config.axes.inertia_body,
                             &config.wheel_torque_nm,
                             (q, w),

@@ -209,23 +209,27 @@ fn trajectories_end_at_the_target_within_the_wheels_limits() {
 fn invalid_limits_are_refused_and_a_null_slew_takes_no_time() {
     let axes = &CONFIG.axes;
     let q = Quaternion::IDENTITY;
-    let m = manoeuvre_matrix(&q.to_dcm(), &Dcm::a1(0.5), axes);
-    let p = plan(
-        axes,
-        &decompose(&m, Branch::Shortest).unwrap(),
-        &CONFIG.slew_limits,
-        100.0,
-    )
-    .unwrap();
+    let plan_to = |target: &Dcm| {
+        let m = manoeuvre_matrix(&q.to_dcm(), target, axes);
+        let angles = decompose(&m, Branch::Shortest).unwrap();
+        plan(axes, &angles, &CONFIG.slew_limits, 100.0).unwrap()
+    };
+    let p = plan_to(&Dcm::a1(0.5));
     let torque = CONFIG.wheel_torque_nm;
+    let (nan, inf) = (f32::NAN, f32::INFINITY);
     for (t, period, pause) in [
         (Vec3::new(0.0, 1e-4, 1e-4), 1.0, 5.0),
-        (Vec3::new(f32::NAN, 1e-4, 1e-4), 1.0, 5.0),
+        (Vec3::new(nan, 1e-4, 1e-4), 1.0, 5.0),
+        (Vec3::new(1e-4, nan, 1e-4), 1.0, 5.0),
+        (Vec3::new(1e-4, 1e-4, nan), 1.0, 5.0),
+        (Vec3::new(1e-4, inf, 1e-4), 1.0, 5.0),
         (Vec3::new(1e-4, -1e-4, 1e-4), 1.0, 5.0),
         (torque, 0.0, 5.0),
-        (torque, f32::INFINITY, 5.0),
+        (torque, inf, 5.0),
+        (torque, nan, 5.0),
         (torque, 1.0, -1.0),
-        (torque, 1.0, f32::NAN),
+        (torque, 1.0, inf),
+        (torque, 1.0, nan),
     ] {
         assert_eq!(
             SlewTrajectory::new(&p, axes, &t, period, pause),
@@ -233,15 +237,8 @@ fn invalid_limits_are_refused_and_a_null_slew_takes_no_time() {
             "{t:?} {period} {pause}"
         );
     }
-    let m = manoeuvre_matrix(&q.to_dcm(), &q.to_dcm(), axes);
-    let p = plan(
-        axes,
-        &decompose(&m, Branch::Shortest).unwrap(),
-        &CONFIG.slew_limits,
-        100.0,
-    )
-    .unwrap();
-    let mut trajectory = SlewTrajectory::new(&p, axes, &torque, 1.0, 5.0).unwrap();
+    let mut trajectory =
+        SlewTrajectory::new(&plan_to(&q.to_dcm()), axes, &torque, 1.0, 5.0).unwrap();
     assert_eq!(trajectory.duration_s(), 0.0);
     assert_eq!(trajectory.at(0.0, 1.0), None);
 }

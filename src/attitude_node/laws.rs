@@ -138,7 +138,7 @@ impl<const N: usize> AttitudeNode<'_, N> {
                                 (tracked, det.attitude.as_ref(), omega)
                             {
                                 match feedback_torque(
-                                    &config.tracking,
+                                    &config.slew_gains(),
                                     &config.axes.inertia_body,
                                     &config.wheel_torque_nm,
                                     (q, w),

@@ -42,10 +42,12 @@
 //! `f` = [`TORQUE_FRACTION`] of it, that fraction of the period, so the body follows the
 //! profile late by `f T/2`. The feedback therefore tracks the follower's attitude turned back
 //! by `f T/2` at the last mean rate, and compares the gyros' rate with that mean rate. With
-//! these, the loop flies the thesis's slew to 0.039° at the end of its plan in the ideal truth
-//! (0.107° open loop; the thesis's Simulink 0.148°); tracking the profile's own attitude and
-//! rate at `t` gave 0.122° and, with the realistic truth's gyros (a mean over the period),
-//! 0.16–0.33° (`tests/closed_loop.rs`, scratch runs).
+//! these and the tracking law's gains, the loop flew the thesis's slew to 0.039° at the end of
+//! its plan in the ideal truth (0.107° open loop; the thesis's Simulink 0.148°); tracking the
+//! profile's own attitude and rate at `t` gave 0.122° and, with the realistic truth's gyros (a
+//! mean over the period), 0.16–0.33° (`tests/closed_loop.rs`, scratch runs). The thesis
+//! scenarios fly the feedback at four times their tracking law's bandwidth
+//! (`AcsConfig::slew_gain_factor`), for dispersed inertia.
 //!
 //! # Accuracy
 //! Over 600 random slews (`tests/slew_trajectory.rs`: the flight satellite at 1 s and 0.1 s

