@@ -68,6 +68,7 @@ FLIGHT = [
     "src/control/principal_axes.rs",
     "src/control/sizing.rs",
     "src/control/slew.rs",
+    "src/control/slew_trajectory.rs",
     "src/control/sun_safe.rs",
     "src/control/tracking.rs",
     "src/control/wheels.rs",
