@@ -74,7 +74,9 @@ use crate::control::bdot::{bdot_from_rates, BdotConfig, BdotState};
 use crate::control::magnetorquer::{dipole_for_torque, dumping_dipole};
 use crate::control::principal_axes::PrincipalAxes;
 use crate::control::slew::{decompose, manoeuvre_matrix, plan, Branch, SlewLimits, SlewPlan};
-use crate::control::slew_trajectory::{feedback_torque, SlewFollower, SlewTrajectory};
+use crate::control::slew_trajectory::{
+    feedback_torque, SlewFollower, SlewReference, SlewTrajectory,
+};
 use crate::control::sun_safe::{sun_safe_torque, SunSafeGains};
 use crate::control::tracking::{tracking_torque, TrackingGains};
 use crate::control::wheels::{Allocator, Wheel, WheelAllocation, WheelError};
@@ -169,6 +171,71 @@ impl<const N: usize> AcsConfig<N> {
             kp_nm: self.tracking.kp_nm * (k * k),
             kd_nms: self.tracking.kd_nms * k,
         }
+    }
+
+    /// The thesis's plan from `attitude` to `target` within `within_s` (both reference TEME →
+    /// body) as the reference trajectory the wheels can follow ([`SlewTrajectory`]: this
+    /// configuration's axes, slew limits, wheel torque, control period and pause).
+    /// [`AcsError::CannotSlew`] if the decomposition or the planner refuses.
+    #[cfg_attr(target_arch = "msp430", inline(always))]
+    pub(crate) fn slew_trajectory(
+        &self,
+        attitude: &Dcm,
+        target: &Dcm,
+        within_s: f32,
+    ) -> Result<SlewTrajectory, AcsError> {
+        let m = manoeuvre_matrix(attitude, target, &self.axes);
+        let angles = decompose(&m, Branch::Shortest).map_err(|_| AcsError::CannotSlew)?;
+        let plan: SlewPlan = plan(&self.axes, &angles, &self.slew_limits, within_s)
+            .map_err(|_| AcsError::CannotSlew)?;
+        SlewTrajectory::new(
+            &plan,
+            &self.axes,
+            &self.wheel_torque_nm,
+            self.control_period_s,
+            self.slew_pause_s,
+        )
+        .map_err(|_| AcsError::CannotSlew)
+    }
+
+    /// One step of a slew on the attitude side (both compositions: the attitude node and
+    /// [`AcsLoop`]): `follower` moves on by `reference` (its last rate held without one), the
+    /// feedback ([`feedback_torque`] at [`Self::slew_gains`]) on the step's estimate `det`
+    /// (reference TEME → body, the gyros' rate) and the wheels' momentum `h_wheels` (body,
+    /// kg·m²/s) is integrated into the momentum they hold. Returns the wheels' momentum with
+    /// the reference's feed-forward (`None` without a reference: hold the momentum in force;
+    /// without an attitude the feed-forward alone); a feedback that refuses its input sets
+    /// `faults.law`.
+    pub(crate) fn follow_slew(
+        &self,
+        follower: &mut SlewFollower,
+        reference: Option<&SlewReference>,
+        det: &StepReport,
+        h_wheels: &Vec3,
+        dt: f32,
+        faults: &mut Faults,
+    ) -> Option<Vec3> {
+        let tracked = follower.advance(reference, det.attitude.as_ref(), dt);
+        let r = reference?;
+        if let (Some(target), Some(q), Some(w)) = (
+            tracked,
+            det.attitude.as_ref(),
+            det.omega_body_radps.as_ref(),
+        ) {
+            match feedback_torque(
+                &self.slew_gains(),
+                &self.axes.inertia_body,
+                &self.wheel_torque_nm,
+                (q, w),
+                &target,
+                &r.rate_body_radps,
+                h_wheels,
+            ) {
+                Ok(t) => follower.integrate(&t, dt),
+                Err(_) => faults.law = true,
+            }
+        }
+        Some(follower.h_wheels_nms(r))
     }
 }
 
@@ -285,15 +352,13 @@ impl StepReport {
     }
 }
 
-/// A slew in progress: its reference trajectory and start, the momentum the wheels hold
-/// beside the feed-forward (body, kg·m²/s: theirs before the slew, with the feedback's torque
-/// integrated) and the follower (the two nodes' split: the reference node's trajectory, the
-/// attitude node's follower).
+/// A slew in progress: its reference trajectory and start, and the follower with the momentum
+/// the wheels hold beside the feed-forward (the two nodes' split: the reference node's
+/// trajectory, the attitude node's follower).
 #[derive(Copy, Clone, Debug, PartialEq)]
 struct SlewProgress {
     trajectory: SlewTrajectory,
     started: Epoch<Utc>,
-    h_base: Vec3,
     follower: SlewFollower,
 }
 
@@ -679,28 +744,13 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         within_s: f32,
         now: Epoch<Utc>,
     ) -> Result<(), AcsError> {
-        let m = manoeuvre_matrix(&attitude.to_dcm(), target, &self.config.axes);
-        let angles = decompose(&m, Branch::Shortest).map_err(|_| AcsError::CannotSlew)?;
-        let plan: SlewPlan = plan(
-            &self.config.axes,
-            &angles,
-            &self.config.slew_limits,
-            within_s,
-        )
-        .map_err(|_| AcsError::CannotSlew)?;
-        let trajectory = SlewTrajectory::new(
-            &plan,
-            &self.config.axes,
-            &self.config.wheel_torque_nm,
-            self.config.control_period_s,
-            self.config.slew_pause_s,
-        )
-        .map_err(|_| AcsError::CannotSlew)?;
+        let trajectory = self
+            .config
+            .slew_trajectory(&attitude.to_dcm(), target, within_s)?;
         let slew = SlewProgress {
             trajectory,
             started: now,
-            h_base: self.wheels_body(),
-            follower: SlewFollower::NEW,
+            follower: SlewFollower::new(self.wheels_body()),
         };
         self.transition(Event::Slew(&slew, target.to_quaternion()));
         Ok(())
@@ -1123,28 +1173,14 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
                 let h_w = self.wheels_body();
                 let config = self.config;
                 if let ModeState::Slew { progress, .. } = &mut self.mode {
-                    let tracked =
-                        progress
-                            .follower
-                            .advance(Some(&reference), det.attitude.as_ref(), dt);
-                    let h_base = &mut progress.h_base;
-                    if let (Some(target), Some(q), Some(w)) =
-                        (tracked, det.attitude.as_ref(), omega)
-                    {
-                        match feedback_torque(
-                            &config.slew_gains(),
-                            &config.axes.inertia_body,
-                            &config.wheel_torque_nm,
-                            (q, w),
-                            &target,
-                            &reference.rate_body_radps,
-                            &h_w,
-                        ) {
-                            Ok(t) => *h_base = crate::linalg::sub_scaled(h_base, &t, dt),
-                            Err(_) => faults.law = true,
-                        }
-                    }
-                    h_target = Some(*h_base - reference.h_ff_body_nms);
+                    h_target = config.follow_slew(
+                        &mut progress.follower,
+                        Some(&reference),
+                        det,
+                        &h_w,
+                        dt,
+                        faults,
+                    );
                 }
             }
             Some(None) => self.transition(Event::SlewDone),
@@ -1386,8 +1422,7 @@ mod tests {
         let progress = SlewProgress {
             trajectory: SlewTrajectory::new(&p, &config.axes, &torque, 1.0, 5.0).unwrap(),
             started: Epoch::<Utc>::from_parts(0, 0, 0).unwrap(),
-            h_base: Vec3::zeros(),
-            follower: SlewFollower::NEW,
+            follower: SlewFollower::new(Vec3::zeros()),
         };
         let detumble = ModeState::Detumble;
         let sun_safe = ModeState::SunSafe;

@@ -153,8 +153,8 @@ fn chapter10_example() {
     let torques = ["ch10_m1", "ch10_m2", "ch10_m3"];
     for (k, s) in steps.iter().enumerate() {
         let w = rel(&s.omega_body_radps, &vec3(&d, omegas[k]));
-        let l = rel(&s.h_body, &vec3(&d, momenta[k]));
-        let t = rel(&(s.h_body / 1e-4), &vec3(&d, torques[k]));
+        let l = rel(&s.h_body(&axes), &vec3(&d, momenta[k]));
+        let t = rel(&(s.h_body(&axes) / 1e-4), &vec3(&d, torques[k]));
         figure(&format!("control.chapter_10.step{k}_rel"), w.max(l).max(t));
         println!("chapter 10 step {k}: rel err omega {w:.2e}, L {l:.2e}, impulse torque {t:.2e}");
         assert!(w < 1e-5 && l < 1e-5 && t < 1e-5, "step {k}: {w} {l} {t}");
@@ -200,9 +200,9 @@ fn check_thesis_test(d: &HashMap<String, Vec<f64>>, a: &Dcm, prefix: &str) {
     }
     // L3 = first (about C), L2 = second (about B), L1 = third (about A)
     let l_err = [
-        rel(&p.steps[0].h_body, &vec3(d, &format!("{prefix}_l3"))),
-        rel(&p.steps[1].h_body, &vec3(d, &format!("{prefix}_l2"))),
-        rel(&p.steps[2].h_body, &vec3(d, &format!("{prefix}_l1"))),
+        rel(&p.steps[0].h_body(&axes), &vec3(d, &format!("{prefix}_l3"))),
+        rel(&p.steps[1].h_body(&axes), &vec3(d, &format!("{prefix}_l2"))),
+        rel(&p.steps[2].h_body(&axes), &vec3(d, &format!("{prefix}_l1"))),
     ];
     figure(
         &format!("control.{prefix}_rel"),

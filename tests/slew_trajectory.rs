@@ -92,7 +92,7 @@ fn fly(
     let p = plan(axes, &angles, limits, 1.0e4).unwrap();
     let pause = 5.0;
     let mut trajectory = SlewTrajectory::new(&p, axes, torque_nm, period_s, pause).unwrap();
-    let mut follower = SlewFollower::NEW;
+    let mut follower = SlewFollower::new(Vec3::zeros());
     let mut followed = *start;
     let inverse = axes.inertia_body.try_inverse().unwrap();
     let peak = p

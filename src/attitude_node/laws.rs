@@ -9,7 +9,7 @@ use super::{AttitudeNode, Faults, Mode};
 use crate::acs_loop::StepReport;
 use crate::control::bdot::bdot_from_rates;
 use crate::control::magnetorquer::dipole_for_torque;
-use crate::control::slew_trajectory::{feedback_torque, SlewReference};
+use crate::control::slew_trajectory::SlewReference;
 use crate::control::sun_safe::sun_safe_torque;
 use crate::control::tracking::tracking_torque;
 use crate::linalg::Vec3;
@@ -127,31 +127,9 @@ impl<const N: usize> AttitudeNode<'_, N> {
                             });
                     let h_w = self.wheels_body();
                     let config = self.config;
-                    if let ModeState::Slew {
-                        h_base, follower, ..
-                    } = &mut self.mode
-                    {
-                        let tracked =
-                            follower.advance(reference.as_ref(), det.attitude.as_ref(), dt);
-                        if let Some(r) = &reference {
-                            if let (Some(target), Some(q), Some(w)) =
-                                (tracked, det.attitude.as_ref(), omega)
-                            {
-                                match feedback_torque(
-                                    &config.slew_gains(),
-                                    &config.axes.inertia_body,
-                                    &config.wheel_torque_nm,
-                                    (q, w),
-                                    &target,
-                                    &r.rate_body_radps,
-                                    &h_w,
-                                ) {
-                                    Ok(t) => *h_base = crate::linalg::sub_scaled(h_base, &t, dt),
-                                    Err(_) => faults.law = true,
-                                }
-                            }
-                            h_target = Some(*h_base - r.h_ff_body_nms);
-                        }
+                    if let ModeState::Slew { follower, .. } = &mut self.mode {
+                        h_target =
+                            config.follow_slew(follower, reference.as_ref(), det, &h_w, dt, faults);
                     }
                 }
             }

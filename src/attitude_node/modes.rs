@@ -40,8 +40,9 @@ impl Mode {
     }
 }
 
-/// The mode with the data it runs on (issue #19 item 3): a slew carries the momentum the wheels
-/// hold beside its feed-forward, its target and its follower, tracking its target, so no mode can run without its data.
+/// The mode with the data it runs on (issue #19 item 3): a slew carries its target and its
+/// follower (with the momentum the wheels hold beside its feed-forward), tracking its target,
+/// so no mode can run without its data.
 /// [`Mode`] is its tag (telemetry); [`next_mode`] holds every transition.
 #[derive(Copy, Clone, Debug, PartialEq)]
 pub(super) enum ModeState {
@@ -49,10 +50,9 @@ pub(super) enum ModeState {
     SunSafe,
     /// The slew the reference node plans, flown in closed loop on its reference trajectory
     /// (`follower`: [`crate::control::slew_trajectory`]), then tracking of `target` (reference
-    /// → body); the wheels hold `h_base` (body, kg·m²/s: their momentum when the slew was
-    /// accepted, the feedback's torque integrated) less the reference's feed-forward momentum.
+    /// → body); the wheels hold the follower's momentum (theirs when the slew was accepted, the
+    /// feedback's torque integrated) less the reference's feed-forward momentum.
     Slew {
-        h_base: Vec3,
         target: Quaternion,
         follower: SlewFollower,
     },
@@ -106,9 +106,8 @@ pub(super) fn next_mode(state: &mut ModeState, event: Event) {
         (_, Event::SunSafe) => S::SunSafe,
         (_, Event::Track(target)) => S::Tracking { target },
         (_, Event::Slew { h_base, target }) => S::Slew {
-            h_base,
             target,
-            follower: SlewFollower::NEW,
+            follower: SlewFollower::new(h_base),
         },
         (_, Event::RateBelow | Event::AttitudeLost | Event::SlewDone) => return,
     };
@@ -132,15 +131,13 @@ mod tests {
         let detumble = ModeState::Detumble;
         let sun_safe = ModeState::SunSafe;
         let slew = ModeState::Slew {
-            h_base: h,
             target: q(0.1),
-            follower: SlewFollower::NEW,
+            follower: SlewFollower::new(h),
         };
         let tracking = ModeState::Tracking { target: q(0.2) };
         let new_slew = ModeState::Slew {
-            h_base: h,
             target: q(0.3),
-            follower: SlewFollower::NEW,
+            follower: SlewFollower::new(h),
         };
         let events = [
             Event::RateAbove,

@@ -263,10 +263,15 @@ pub struct SlewStep {
     /// Body rate during the step, rad/s, body UVW: `Eᵀ ω_abc` (eq. 10.28).
     #[cfg_attr(feature = "defmt", defmt(Debug2Format))]
     pub omega_body_radps: Vec3,
-    /// Body angular momentum during the step, kg·m²/s, body UVW: `I · ω_uvw` (eq. 10.29). The
-    /// wheels hold the opposite momentum.
-    #[cfg_attr(feature = "defmt", defmt(Debug2Format))]
-    pub h_body: Vec3,
+}
+
+impl SlewStep {
+    /// Body angular momentum during the step, kg·m²/s, body UVW: `I · ω_uvw` (eq. 10.29), `I`
+    /// the inertia of the `axes` it was planned with. The wheels hold the opposite momentum.
+    /// (Computed on demand: the flight guidance flies the rate ([`super::slew_trajectory`]).)
+    pub fn h_body(&self, axes: &PrincipalAxes) -> Vec3 {
+        mat_vec(&axes.inertia_body, &self.omega_body_radps)
+    }
 }
 
 /// A planned slew: three steps in execution order (about C, then B, then A).
@@ -287,8 +292,8 @@ impl SlewPlan {
 }
 
 /// The step that rotates by `angle_rad` about principal axis `axis` (0 = A, 1 = B, 2 = C) in
-/// `duration_s` (eqs. 10.27–10.29): `ω_abc` along the axis, `ω_uvw = Eᵀ ω_abc`,
-/// `h_body = I ω_uvw`. A zero duration gives a null step.
+/// `duration_s` (eqs. 10.27–10.28): `ω_abc` along the axis, `ω_uvw = Eᵀ ω_abc` (its momentum,
+/// eq. 10.29: [`SlewStep::h_body`]). A zero duration gives a null step.
 #[cfg_attr(target_arch = "msp430", optimize(size))]
 pub fn step_for(axes: &PrincipalAxes, axis: u8, angle_rad: f32, duration_s: f32) -> SlewStep {
     let rate = if duration_s > 0.0 {
@@ -301,14 +306,11 @@ pub fn step_for(axes: &PrincipalAxes, axis: u8, angle_rad: f32, duration_s: f32)
         1 => Vec3::new(0.0, rate, 0.0),
         _ => Vec3::new(0.0, 0.0, rate),
     };
-    let omega_body_radps = mat_vec(&transpose(&axes.e), &omega_abc);
-    let h_body = mat_vec(&axes.inertia_body, &omega_body_radps);
     SlewStep {
         axis,
         angle_rad,
         duration_s,
-        omega_body_radps,
-        h_body,
+        omega_body_radps: mat_vec(&transpose(&axes.e), &omega_abc),
     }
 }
 

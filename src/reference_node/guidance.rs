@@ -12,7 +12,6 @@
 use super::ReferenceNode;
 use crate::acs_loop::AcsError;
 use crate::attitude::{Dcm, Quaternion};
-use crate::control::slew::{decompose, manoeuvre_matrix, plan, Branch, SlewPlan};
 use crate::control::slew_trajectory::SlewTrajectory;
 use crate::linalg::Vec3;
 use crate::link::messages::{Guidance, GuidanceKind};
@@ -45,23 +44,9 @@ impl<const N: usize, const F: usize> ReferenceNode<'_, N, F> {
         within_s: f32,
         now: Epoch<Utc>,
     ) -> Result<(), AcsError> {
-        let m = manoeuvre_matrix(&attitude.to_dcm(), target, &self.config.axes);
-        let angles = decompose(&m, Branch::Shortest).map_err(|_| AcsError::CannotSlew)?;
-        let plan: SlewPlan = plan(
-            &self.config.axes,
-            &angles,
-            &self.config.slew_limits,
-            within_s,
-        )
-        .map_err(|_| AcsError::CannotSlew)?;
-        let trajectory = SlewTrajectory::new(
-            &plan,
-            &self.config.axes,
-            &self.config.wheel_torque_nm,
-            self.config.control_period_s,
-            self.config.slew_pause_s,
-        )
-        .map_err(|_| AcsError::CannotSlew)?;
+        let trajectory = self
+            .config
+            .slew_trajectory(&attitude.to_dcm(), target, within_s)?;
         self.slew = Some(SlewProgress {
             trajectory,
             started: now,
