@@ -400,6 +400,51 @@ fn tracking_refuses_every_non_finite_input() {
     }
 }
 
+/// Every one of the sun-safe law's 11 inputs NaN, +∞ or −∞ (the others those of a step in
+/// progress, of a satellite at rest on the Sun, with the Sun behind the axis, and in eclipse)
+/// gives `NotFinite`: the law checks its result and its unit vectors, not each input.
+#[test]
+fn sun_safe_refuses_every_non_finite_input() {
+    use acs::control::tracking::TrackingError;
+    let gains = [2e-4f32, 4e-3];
+    let axis = Vec3::new(0.0, 0.0, 1.0);
+    let cases = [
+        (
+            Some(Vec3::new(0.3, -0.5, 0.81)),
+            Vec3::new(1e-3, -2e-3, 5e-4),
+        ),
+        (Some(axis), Vec3::zeros()),
+        (Some(-axis), Vec3::zeros()),
+        (None, Vec3::new(1e-3, -2e-3, 5e-4)),
+    ];
+    for (sun, w) in cases {
+        let s = sun.unwrap_or_else(Vec3::zeros);
+        let base = [
+            s.x, s.y, s.z, axis.x, axis.y, axis.z, w.x, w.y, w.z, gains[0], gains[1],
+        ];
+        // in eclipse the Sun is no input
+        let first = if sun.is_some() { 0 } else { 3 };
+        for i in first..base.len() {
+            for bad in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+                let mut x = base;
+                x[i] = bad;
+                let v = |k: usize| Vec3::new(x[k], x[k + 1], x[k + 2]);
+                let g = SunSafeGains {
+                    kp_nm: x[9],
+                    kd_nms: x[10],
+                };
+                let sun = sun.map(|_| v(0));
+                let r = sun_safe_torque(&g, sun.as_ref(), &v(3), &v(6));
+                assert_eq!(
+                    r,
+                    Err(TrackingError::NotFinite),
+                    "{sun:?}: input {i} = {bad}"
+                );
+            }
+        }
+    }
+}
+
 #[test]
 fn sun_safe_points_the_axis_and_damps_in_eclipse() {
     let inertia = Mat3::from_diagonal(&Vec3::new(0.042, 0.042, 0.0067));

@@ -253,21 +253,35 @@ impl Dense {
         self.p = f * self.p * f.transpose() + q;
     }
 
+    /// The field (`mag`): the three components of `y − ŷ − m = [ŷ×] δθ + δm`. The Sun: its
+    /// components along two unit vectors `e` normal to the unit `ŷ`, `e·(y − ŷ) = (e × ŷ)·δθ`
+    /// (the basis of Duff et al. 2017, which the flight filter also gates in).
     fn update(&mut self, y: &V3, v_ref: &V3, r: f64, mag: bool) {
         let yhat = dcm64(self.q) * v_ref;
         let bias = if mag { self.m } else { V3::zeros() };
         let mut dx = V10::zeros();
-        let hs = skew(&yhat);
-        for k in 0..3 {
+        let along: Vec<V3> = if mag {
+            vec![V3::x(), V3::y(), V3::z()]
+        } else {
+            let sign = if yhat.z >= 0.0 { 1.0 } else { -1.0 };
+            let a = -1.0 / (sign + yhat.z);
+            let b = yhat.x * yhat.y * a;
+            vec![
+                V3::new(1.0 + sign * yhat.x * yhat.x * a, sign * b, -sign * yhat.x),
+                V3::new(b, sign + yhat.y * yhat.y * a, -yhat.y),
+            ]
+        };
+        for (k, e) in along.iter().enumerate() {
             let mut h = SMatrix::<f64, 1, 10>::zeros();
+            let row = e.cross(&yhat);
             for j in 0..3 {
-                h[(0, j)] = hs[(k, j)];
+                h[(0, j)] = row[j];
             }
             if mag {
                 h[(0, 6 + k)] = 1.0;
             }
             let s = (h * self.p * h.transpose())[(0, 0)] + r;
-            let nu = y[k] - yhat[k] - bias[k] - (h * dx)[(0, 0)];
+            let nu = e.dot(&(y - yhat - bias)) - (h * dx)[(0, 0)];
             if nu * nu > CONFIG.gate_chi2 as f64 * s {
                 continue;
             }
@@ -432,11 +446,10 @@ fn the_gate_refuses_a_wrong_measurement() {
     let (body, reference, variance) = s.sun.expect("sunlit at 600 s");
     let turned = nalgebra::Rotation3::from_axis_angle(&V3::y_axis(), 20f64.to_radians()) * body;
     let outcome = bad.update_sun(&CONFIG, &observation(&turned, &reference, variance));
-    assert_eq!(
-        (outcome.accepted, outcome.refused),
-        (1, 2),
-        "the component along the turn axis passes"
-    );
+    // two scalars in the plane normal to the Sun; the 20° offset is in that plane, so at
+    // least one of them carries it (here both do)
+    assert_eq!(outcome.accepted + outcome.refused, 2);
+    assert!(outcome.refused >= 1, "{outcome:?}");
     let moved = error_body(q64(&f2.attitude), q64(&bad.attitude)).norm();
     assert!(moved < 1e-3, "{moved}");
     assert!(!bad.diverged(&CONFIG));

@@ -290,6 +290,27 @@ fn run_step_laws<S: Sink>(s: &mut S) {
     for x in e.map_or([f32::NAN; 10], |e| e.variances()) {
         s.out(x);
     }
+    // its parts, one step on from there
+    if let Some(f) = e.as_mut() {
+        s.begin("step: attitude filter, propagation");
+        let usable = f.propagate(&FILTER, &w, 1.0);
+        core::hint::black_box((&*f, usable));
+        s.end();
+        s.begin("step: attitude filter, Sun update (2 scalars)");
+        let sun = f.update_sun(&FILTER, &observation);
+        core::hint::black_box((&*f, sun));
+        s.end();
+        s.begin("step: attitude filter, field update (3 scalars)");
+        let field = f.update_field(&FILTER, &b, &b_teme);
+        core::hint::black_box((&*f, field));
+        s.end();
+        s.out(f32::from(usable));
+        s.out(f32::from(sun.accepted + field.accepted));
+    }
+    let qe = e.map_or(nan, |e| e.attitude);
+    for x in [qe.q0, qe.q1, qe.q2, qe.q3] {
+        s.out(x);
+    }
 
     let r_teme = Vec3::new(s.input(-2_100.0), s.input(4_900.0), s.input(4_200.0));
     let sun_teme = Vec3::new(s.input(0.92), s.input(0.3), s.input(0.25));

@@ -38,45 +38,49 @@ pub fn sun_safe_torque(
     axis_body: &Vec3,
     omega_body_radps: &Vec3,
 ) -> Result<Vec3, TrackingError> {
-    let finite = |v: &Vec3| v.iter().all(|x| x.is_finite());
-    if !finite(axis_body)
-        || !finite(omega_body_radps)
-        || !gains.kp_nm.is_finite()
-        || !gains.kd_nms.is_finite()
-        || sun_body.is_some_and(|s| !finite(s))
-    {
+    // an input NaN or infinite fails its unit vector or makes the torque so (`K_p`, which
+    // the eclipse's torque leaves out, checked itself; `tests/control_laws.rs` poisons each
+    // input): one check of the result, not of the 11 inputs
+    let Some(a) = unit(axis_body) else {
+        return Err(TrackingError::NotFinite);
+    };
+    let damping = -omega_body_radps * gains.kd_nms;
+    let tau = match sun_body {
+        None => damping,
+        Some(s) => {
+            let Some(s) = unit(s) else {
+                return Err(TrackingError::NotFinite);
+            };
+            let cross = if !(linalg::dot(&a, &s) >= ANTI_ALIGNED_COS) {
+                // leave the unstable equilibrium about an axis perpendicular to â
+                let helper = if !(a.x.abs() >= 0.9) {
+                    Vec3::x()
+                } else {
+                    Vec3::y()
+                };
+                let c = linalg::cross(&a, &helper);
+                linalg::div(&c, linalg::norm(&c))
+            } else {
+                linalg::cross(&a, &s)
+            };
+            // `cross·K_p + damping` (the damping term times 1 is itself)
+            linalg::lin2(&cross, gains.kp_nm, &damping, 1.0)
+        }
+    };
+    if !(tau.x.is_finite() && tau.y.is_finite() && tau.z.is_finite() && gains.kp_nm.is_finite()) {
         return Err(TrackingError::NotFinite);
     }
     if !(gains.kp_nm >= 0.0) || !(gains.kd_nms >= 0.0) {
         return Err(TrackingError::NegativeGain);
     }
-    let damping = -omega_body_radps * gains.kd_nms;
-    let Some(s) = sun_body else {
-        return Ok(damping);
-    };
-    let (Some(s), Some(a)) = (unit(s), unit(axis_body)) else {
-        return Err(TrackingError::NotFinite);
-    };
-    let cross = if !(linalg::dot(&a, &s) >= ANTI_ALIGNED_COS) {
-        // leave the unstable equilibrium about an axis perpendicular to â
-        let helper = if !(a.x.abs() >= 0.9) {
-            Vec3::x()
-        } else {
-            Vec3::y()
-        };
-        let c = linalg::cross(&a, &helper);
-        linalg::div(&c, linalg::norm(&c))
-    } else {
-        linalg::cross(&a, &s)
-    };
-    // `cross·K_p + damping` (the damping term times 1 is itself)
-    Ok(linalg::lin2(&cross, gains.kp_nm, &damping, 1.0))
+    Ok(tau)
 }
 
-/// `v/|v|`, or `None` for a zero vector (nalgebra's `try_normalize(0.0)`, same operations).
+/// `v/|v|`, or `None` for a zero or non-finite `v` (nalgebra's `try_normalize(0.0)`, same
+/// operations).
 fn unit(v: &Vec3) -> Option<Vec3> {
     let n = linalg::norm(v);
-    if !(n > 0.0) {
+    if !(n > 0.0 && n.is_finite()) {
         None
     } else {
         Some(linalg::div(v, n))

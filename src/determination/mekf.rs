@@ -25,9 +25,18 @@
 //!
 //! # Measurement update (sequential scalar updates, no matrix inverse)
 //! A vector observation `y = A v_ref` (+ `m` for the field) gives `y − ŷ = [ŷ×] δθ (+ δm)`,
-//! `ŷ = A(q̂) v_ref` (eq. 6.41): three scalar measurements, row `k` of `H` being row `k` of
-//! `[ŷ×]` (and `e_k` on the magnetometer bias). The Sun's reference is the apparent Sun with
-//! the albedo ([`sun_reference`]), and row `k` has `(A(q̂) ∂v_ref/∂a)_k` on the albedo. Each is processed in turn with the
+//! `ŷ = A(q̂) v_ref` (eq. 6.41), taken as scalars `e · (y − ŷ) = (e × ŷ) · δθ (+ e · δm)`
+//! along unit vectors `e`:
+//! - **field**: along the body axes, three scalars (row `k` of `H` is row `k` of `[ŷ×]`, and
+//!   1 on the magnetometer bias of axis `k`);
+//! - **Sun** (a unit vector, two degrees of freedom): along the two unit vectors `e₁`, `e₂`
+//!   normal to `ŷ` (Duff et al. 2017's basis: `H` rows `−e₂`, `e₁`), two scalars. Their
+//!   information `(I − ŷŷᵀ)/σ²` is that of the three rows of `[ŷ×]` (Shuster 1989), for two
+//!   thirds of the work (measured: the filter's step 441 494 → 411 121 cycles with the
+//!   multiplier). The Sun's reference is the apparent Sun with the albedo
+//!   ([`sun_reference`]), and each scalar has `e · A(q̂) ∂v_ref/∂a` on the albedo.
+//!
+//! Each is processed in turn with the
 //! linearisation of the step (the innovation less `H δx`, the correction accumulated so far),
 //! and the correction is applied once at the end: `q̂ ← q̂ ⊗ (1, δθ/2)`, renormalised,
 //! `β̂ += δβ`, `m̂ += δm`, `â += δa` (kept within 0 ..= 1). For one scalar, with `u = P hᵀ`, `S = h u + R`, `K = u / S`:
@@ -48,8 +57,10 @@
 //!   residual and alignment, which do not average.
 //! - **Field**: `σ² = σ_abs² + (k |B_ref|)²` per axis: the magnetometers' noise and
 //!   quantisation, and the part that scales with the field (scale factors, misalignment, the
-//!   field model's error). The unit vector's `R = σ² I` is the measurement model of Shuster
-//!   (1989), exact for the rows of `[ŷ×]`.
+//!   field model's error).
+//!
+//! The Sun's `σ²` per scalar along `e₁`, `e₂` is Shuster's (1989) measurement model of a unit
+//! vector, `R = σ² (I − ŷŷᵀ)`, exactly.
 //!
 //! # Innovation gate
 //! A scalar with `ν² > γ S` (`ν` its innovation, [`MekfConfig::gate_chi2`] = `γ`, a χ² with one
@@ -630,8 +641,11 @@ impl Mekf {
         let a = self.attitude.to_dcm();
         let predicted = mat_vec(a.matrix(), &sun.reference_teme);
         let d_albedo = mat_vec(a.matrix(), &sun.d_reference_d_albedo);
+        // two scalars in the plane normal to the unit ŷ (see the module docs)
+        let (e1, e2) = tangent_basis(&predicted);
         let outcome = self.update_vector(
             config,
+            &[e1, e2],
             &sun.body,
             &predicted,
             sun.variance_rad2,
@@ -656,7 +670,14 @@ impl Mekf {
         let k = config.field_relative;
         let s = config.field_noise_nt;
         let variance = s * s + k * k * dot(b_teme_nt, b_teme_nt);
-        let outcome = self.update_vector(config, b_body_nt, &predicted, variance, Extra::MagBias);
+        let outcome = self.update_vector(
+            config,
+            &AXES,
+            b_body_nt,
+            &predicted,
+            variance,
+            Extra::MagBias,
+        );
         self.field_refused_steps = count_refused(self.field_refused_steps, &outcome);
         // the field refused for a while: first its bias is doubted (a stuck or failing sensor
         // leaves it wrong), then, refused as long again, the whole estimate (`diverged`)
@@ -674,12 +695,15 @@ impl Mekf {
         self.sun_refused_steps >= n || self.field_refused_steps >= n.saturating_mul(2)
     }
 
-    /// Three scalar updates with `y` against `ŷ` (+ the magnetometer bias, or with the albedo's
-    /// partials), then the correction applied.
+    /// The scalar updates with `y` (`measured`) against `ŷ` (`predicted`, + the magnetometer
+    /// bias for the field) along each of the unit vectors `along` (body): `e · (y − ŷ)`
+    /// against `(e × ŷ) · δθ`, with `e` on the magnetometer bias of its axis or `e · ∂ŷ/∂a` on
+    /// the albedo; then the correction applied.
     #[cfg_attr(target_arch = "msp430", optimize(size))]
     fn update_vector(
         &mut self,
         config: &MekfConfig,
+        along: &[Vec3],
         measured: &Vec3,
         predicted: &Vec3,
         variance: f32,
@@ -687,29 +711,18 @@ impl Mekf {
     ) -> UpdateOutcome {
         let mut dx = [0.0f32; STATES];
         let mut outcome = UpdateOutcome::default();
-        let (bias, partials) = match extra {
-            Extra::MagBias => (self.mag_bias_nt, Vec3::new(1.0, 1.0, 1.0)),
-            Extra::Albedo(d) => (Vec3::zeros(), d),
+        let bias = match extra {
+            Extra::MagBias => self.mag_bias_nt,
+            Extra::Albedo(_) => Vec3::zeros(),
         };
-        let partials = [partials.x, partials.y, partials.z];
-        let p = predicted;
-        // rows of [ŷ×]
-        let rows = [
-            Vec3::new(0.0, -p.z, p.y),
-            Vec3::new(p.z, 0.0, -p.x),
-            Vec3::new(-p.y, p.x, 0.0),
-        ];
-        let residuals = [
-            measured.x - p.x - bias.x,
-            measured.y - p.y - bias.y,
-            measured.z - p.z - bias.z,
-        ];
-        for (k, ((h, residual), c)) in rows.iter().zip(residuals).zip(partials).enumerate() {
+        let residual = *measured - predicted - bias;
+        for (k, e) in along.iter().enumerate() {
             let b = match extra {
-                Extra::MagBias => (MAG_BIAS + k, c),
-                Extra::Albedo(_) => (ALBEDO, c),
+                Extra::MagBias => (MAG_BIAS + k, 1.0),
+                Extra::Albedo(d) => (ALBEDO, dot(e, &d)),
             };
-            if self.scalar_update(config, &mut dx, h, b, residual, variance) {
+            let h = cross(e, predicted);
+            if self.scalar_update(config, &mut dx, &h, b, dot(e, &residual), variance) {
                 outcome.accepted += 1;
             } else {
                 outcome.refused += 1;
@@ -743,7 +756,8 @@ impl Mekf {
         if !(s > 0.0) || !(config.gate_chi2 * s >= nu * nu) {
             return false;
         }
-        // K = u / S, accumulated; w = S K − u (the gain's rounding)
+        // K = u · (1/S): one division (the Joseph form absorbs its rounding); w = S K − u
+        let inv_s = 1.0 / s;
         let mut k = [0.0f32; STATES];
         let mut w = [0.0f32; STATES];
         for (((ki, wi), ui), di) in k
@@ -752,7 +766,7 @@ impl Mekf {
             .zip(u.iter())
             .zip(dx.iter_mut())
         {
-            *ki = ui / s;
+            *ki = ui * inv_s;
             *di += *ki * nu;
             *wi = s * *ki - ui;
         }
@@ -793,6 +807,32 @@ impl Mekf {
         // an albedo is within 0 ..= 1
         self.albedo = fmath::min(fmath::max(self.albedo + dx[9], 0.0), 1.0);
     }
+}
+
+/// The body axes: the field's scalars are its components.
+static AXES: [Vec3; 3] = [
+    Vec3::new(1.0, 0.0, 0.0),
+    Vec3::new(0.0, 1.0, 0.0),
+    Vec3::new(0.0, 0.0, 1.0),
+];
+
+/// Two unit vectors `(e₁, e₂)` completing the unit `p` to a right-handed orthonormal basis
+/// `(e₁, e₂, p)`, without a square root or a singular direction: Duff et al., "Building an
+/// Orthonormal Basis, Revisited", JCGT 6(1), 2017, listing 3.
+#[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
+fn tangent_basis(p: &Vec3) -> (Vec3, Vec3) {
+    // with s = ±1 the sign of p_z: a = −1/(s + p_z), t = s p_x a;
+    // e₁ = (1 + s p_x² a, s p_x p_y a, −s p_x), e₂ = (p_x p_y a, s + p_y² a, −p_y)
+    let negative = !(p.z >= 0.0);
+    let s = if negative { -1.0 } else { 1.0 };
+    let a = -1.0 / (s + p.z);
+    let xa = p.x * a;
+    let t = if negative { -xa } else { xa };
+    let minus_sx = if negative { p.x } else { -p.x };
+    (
+        Vec3::new(1.0 + p.x * t, p.y * t, minus_sx),
+        Vec3::new(xa * p.y, s + p.y * (p.y * a), -p.y),
+    )
 }
 
 /// `h · v` for the row `h = (h, 0…, c at e)`.
