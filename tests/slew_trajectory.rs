@@ -3,7 +3,9 @@
 //! or more torque than its share of the wheels', and its feed-forward turns the body by the
 //! reference's angle each period.
 
+mod common;
 mod figures;
+use common::Lcg;
 use figures::figure;
 
 use acs::attitude::{Dcm, Quaternion};
@@ -13,21 +15,15 @@ use acs::control::slew_trajectory::{turned, SlewFollower, SlewTrajectory, TORQUE
 use acs::flight::CONFIG;
 use acs::linalg::{Mat3, Vec3};
 
-/// A small deterministic generator (no dependency): uniform in [0, 1).
-struct Lcg(u64);
-
-impl Lcg {
-    fn next(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-
+/// Random attitudes from the tests' shared generator.
+trait RandomAttitude {
     /// A uniformly random attitude (Shoemake).
+    fn attitude(&mut self) -> Quaternion;
+}
+
+impl RandomAttitude for Lcg {
     fn attitude(&mut self) -> Quaternion {
-        let (u1, u2, u3) = (self.next(), self.next(), self.next());
+        let (u1, u2, u3) = (self.uniform(), self.uniform(), self.uniform());
         let tau = std::f64::consts::TAU;
         let (a, b) = ((1.0 - u1).sqrt(), u1.sqrt());
         let q = [

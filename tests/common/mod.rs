@@ -258,3 +258,18 @@ pub fn flight_orbit() -> acs::orbit::sgp4::Sgp4 {
     .unwrap();
     acs::orbit::sgp4::Sgp4::new(&tle, acs::orbit::sgp4::Gravity::Wgs72).unwrap()
 }
+
+/// Deterministic pseudo-random numbers for the tests (64-bit LCG, Knuth's MMIX constants; no
+/// dependency): `uniform()` in [0, 1).
+pub struct Lcg(pub u64);
+
+impl Lcg {
+    /// The next number, uniform in [0, 1) (the top 53 bits of the state).
+    pub fn uniform(&mut self) -> f64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
