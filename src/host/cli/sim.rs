@@ -56,7 +56,7 @@ pub struct Args {
     /// With `--pil`: the attitude node's flight image.
     #[arg(
         long,
-        default_value = "firmware/target/msp430-none-elf/release/acs-attitude"
+        default_value = "firmware/target/msp430-none-elf/attitude/acs-attitude"
     )]
     elf_attitude: PathBuf,
     /// With `--pil`: leave out the link-fault case after the scenario.

@@ -696,7 +696,7 @@ impl Default for PilOptions {
     fn default() -> Self {
         Self {
             elf_reference: PathBuf::from("firmware/target/msp430-none-elf/release/acs-reference"),
-            elf_attitude: PathBuf::from("firmware/target/msp430-none-elf/release/acs-attitude"),
+            elf_attitude: PathBuf::from("firmware/target/msp430-none-elf/attitude/acs-attitude"),
             mspdebug: "mspdebug".into(),
             timeout_s: 60,
             link_faults: true,
