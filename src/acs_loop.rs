@@ -69,6 +69,7 @@ use core::fmt;
 use core::marker::PhantomData;
 
 use crate::attitude::{Dcm, Quaternion};
+use crate::attitude_node::health::{has_twin, ActuatorHealth};
 use crate::attitude_node::laws::in_umbra;
 use crate::control::bdot::{bdot_from_rates, BdotConfig, BdotState};
 use crate::control::magnetorquer::{dipole_for_torque, dumping_dipole};
@@ -460,6 +461,8 @@ pub struct AcsLoop<'c, const N: usize = MAX_TILES, const F: usize = FULL_COEFFS>
     /// Commanded momentum of each tile's wheel, kg·m²/s along the tile normal.
     wheel_h: [f32; N],
     failures: [u8; N],
+    /// The wheels' and coils' read-back checks ([`crate::attitude_node::health`]).
+    health: ActuatorHealth<N>,
     /// Allocators of the wheels and the coils, rebuilt when their working set changes.
     wheel_allocator: Option<Allocator>,
     coil_allocator: Option<Allocator>,
@@ -631,6 +634,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
             estimate: None,
             wheel_h: [0.0; N],
             failures: [0; N],
+            health: ActuatorHealth::new(),
             wheel_allocator: None,
             coil_allocator: None,
             mag_solver: None,
@@ -672,9 +676,21 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         self.failed & 1u32.checked_shl(tile as u32).unwrap_or(0) == 0
     }
 
-    /// True if tile `tile` carries a wheel and is in service.
+    /// True if tile `tile` carries a wheel, is in service, and its wheel is in the allocation
+    /// ([`crate::attitude_node::health`]).
     fn has_working_wheel(&self, tile: usize, t: &Tile) -> bool {
-        t.equipment.reaction_wheel && self.is_working(tile)
+        t.equipment.reaction_wheel && self.is_working(tile) && self.health.wheel_in(tile)
+    }
+
+    /// The wheels' and coils' health ([`crate::attitude_node::health`]).
+    pub fn health(&self) -> &ActuatorHealth<N> {
+        &self.health
+    }
+
+    /// Fails coil `coil` and takes it out of its allocation (`failed`), or returns it to
+    /// service.
+    pub fn set_coil_failed(&mut self, coil: usize, failed: bool) {
+        self.health.set_coil_failed(coil, failed);
     }
 
     /// Marks a tile failed (ground command or fault detection); its devices are no longer used
@@ -691,6 +707,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
     /// and the cached allocators and least-squares operators are rebuilt for the new set.
     #[cfg_attr(target_arch = "msp430", optimize(size))]
     pub fn restore(&mut self, tile: usize) {
+        self.health.restore_wheel(tile);
         self.failed &= !1u32.checked_shl(tile as u32).unwrap_or(0);
         if let Some(count) = self.failures.get_mut(tile) {
             *count = 0;
@@ -772,7 +789,9 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
     pub fn safe<B: TileBus>(&mut self, bus: &mut B) -> Faults {
         let mut faults = Faults::default();
         for i in 0..self.config.coils.len() {
-            faults.actuator |= bus.set_dipole(i, 0.0).is_err();
+            let accepted = bus.set_dipole(i, 0.0).is_ok();
+            self.health.coil_commanded(i, 0.0, accepted);
+            faults.actuator |= !accepted;
         }
         faults
     }
@@ -843,6 +862,16 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
                     _ => failed = true,
                 }
             }
+            if tile.equipment.reaction_wheel && self.health.wheel_in(i) {
+                let commanded = self.wheel_h.get(i).copied().unwrap_or(0.0);
+                let read = bus.read_wheel_momentum(i);
+                let limit = config.wheel_limit_nms;
+                if self.health.check_wheel(i, read, commanded, limit, faults)
+                    && has_twin(&config.tiles, i, |j, t| self.has_working_wheel(j, t))
+                {
+                    self.health.take_wheel_out(i);
+                }
+            }
             if let Some(count) = self.failures.get_mut(i) {
                 if failed {
                     faults.device_read = true;
@@ -884,7 +913,14 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         dt_s: f32,
         report: &mut StepReport,
     ) {
-        let mut faults = self.safe(bus);
+        let mut faults = Faults::default();
+        for i in 0..self.config.coils.len() {
+            if self.health.coil_in(i) {
+                self.health
+                    .check_coil(i, bus.read_coil_dipole(i), &mut faults);
+            }
+        }
+        faults.actuator |= self.safe(bus).actuator;
         // The models first: the tiles are read after them, so the readings live only under
         // the determination (and the magnetometers see the coils' field decay meanwhile).
         let models = self.models(&now, &mut faults);
@@ -1246,6 +1282,8 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
     ) -> (Vec3, Vec3) {
         let h = h_target.unwrap_or_else(|| self.wheels_body());
         faults.saturated |= self.command_wheels(bus, &h, faults);
+        // a failed actuator is reported every step until the ground restores it
+        faults.actuator |= self.health.any_failed();
         // what the wheels now hold: dumped through the coils and reported
         let h_wheels = self.wheels_body();
         let mut dipole = dipole;
@@ -1306,11 +1344,6 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
     /// opposite) and commands them, each wheel limited on its own. Returns true if one was
     /// limited. A limit that is not positive commands nothing (reported in `faults.law`).
     fn command_wheels<B: TileBus>(&mut self, bus: &mut B, h: &Vec3, faults: &mut Faults) -> bool {
-        let mut wheels = [Wheel {
-            axis_body: Vec3::z(),
-            limit: 1.0,
-            working: false,
-        }; N];
         // allocated without a limit, then each wheel limited on its own: a wheel at its limit
         // stays there and the others keep the momentum they were asked to hold (scaling the
         // whole allocation would take momentum from wheels the law never asked to change)
@@ -1320,6 +1353,11 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
             faults.law = true;
             return false;
         }
+        let mut wheels = [Wheel {
+            axis_body: Vec3::z(),
+            limit: 1.0,
+            working: false,
+        }; N];
         for (i, (w, t)) in wheels.iter_mut().zip(self.config.tiles.iter()).enumerate() {
             *w = Wheel {
                 axis_body: t.normal_body(),
@@ -1361,7 +1399,9 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
                 _ => 0.0,
             };
             *cmd = value;
-            faults.actuator |= bus.set_wheel_momentum(i, value).is_err();
+            let accepted = bus.set_wheel_momentum(i, value).is_ok();
+            self.health.wheel_commanded(i, accepted);
+            faults.actuator |= !accepted;
         }
         saturated
     }
@@ -1374,8 +1414,11 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
             limit: 1.0,
             working: false,
         }; MAX_COILS];
-        for (c, cfg) in coils.iter_mut().zip(self.config.coils.iter()) {
-            *c = *cfg;
+        for (i, (c, cfg)) in coils.iter_mut().zip(self.config.coils.iter()).enumerate() {
+            *c = Wheel {
+                working: cfg.working && self.health.coil_in(i),
+                ..*cfg
+            };
         }
         let alloc = match cached_allocation(&mut self.coil_allocator, &coils, &(-m)) {
             Ok(a) => a,
@@ -1387,9 +1430,11 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         };
         faults.saturated |= !(alloc.scale >= 1.0);
         let mut produced = Vec3::zeros();
-        for (i, (value, coil)) in alloc.wheel.iter().zip(self.config.coils.iter()).enumerate() {
+        for (i, (value, coil)) in alloc.wheel.iter().zip(coils.iter()).enumerate() {
             if coil.working {
-                faults.actuator |= bus.set_dipole(i, *value).is_err();
+                let accepted = bus.set_dipole(i, *value).is_ok();
+                self.health.coil_commanded(i, *value, accepted);
+                faults.actuator |= !accepted;
                 produced += coil.axis_body * *value;
             }
         }

@@ -48,6 +48,13 @@ pub const SUN_LSB_RAD: f32 = 1.0e-4;
 pub const MAGNETOMETER_LSB_NT: f32 = 10.0;
 /// Unit of the raw gyro rate, rad/s per LSB.
 pub const GYRO_LSB_RADPS: f32 = 1.0e-4;
+/// Unit of a wheel's momentum read-back, kg·m²/s per LSB: ±3.3e-3, 3.3 times the flight
+/// limit ([`crate::flight::WHEEL_LIMIT_NMS`]); the realistic wheel's tachometer quantum (1 rpm,
+/// 1.7e-6 kg·m²/s) is 17 LSB.
+pub const WHEEL_LSB_NMS: f32 = 1.0e-7;
+/// Unit of a coil's dipole read-back, A·m² per LSB: ±0.33 A·m², 1.6 times the flight limit
+/// ([`crate::flight::COIL_LIMIT_AM2`]).
+pub const COIL_LSB_AM2: f32 = 1.0e-5;
 
 /// What a tile carries (the thesis's `sun`, `magnetometer`, `gyroscope`, `RW` flags).
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]

@@ -54,6 +54,12 @@ impl TileBus for Recorder<'_> {
         self.coils.push((coil, m_am2));
         self.sim.set_dipole(coil, m_am2)
     }
+    fn read_wheel_momentum(&mut self, tile: usize) -> Result<Option<i16>, ErrorKind> {
+        self.sim.read_wheel_momentum(tile)
+    }
+    fn read_coil_dipole(&mut self, coil: usize) -> Result<Option<i16>, ErrorKind> {
+        self.sim.read_coil_dipole(coil)
+    }
     fn delay_us(&mut self, us: u32) {
         self.sim.delay_us(us);
     }
@@ -691,12 +697,15 @@ fn wheel_stopped() {
     }
 }
 
-/// Finding: nothing reports the stopped wheel (the HAL has no wheel read-back).
+/// Finding 4, fixed (issue #31): the stopped wheel's read-back (`TileBus::read_wheel_momentum`)
+/// falls behind its command and does not come closer: failed (`acs::attitude_node::health`) and
+/// reported every step until the ground restores it. The only wheel on U, it stays in the
+/// allocation (taking it out would give up U for good).
 #[test]
-#[ignore = "issue 19: a wheel that accepts commands and does not spin is not reported: TileBus has no wheel momentum read-back (Simulator::wheel_momentum_nms exists, the loop cannot call it), so AcsLoop cannot compare the commanded and the actual momentum"]
 fn wheel_stopped_is_reported() {
-    let (run, clear, _) = wheel_stopped_run(3);
-    assert!(every_step(&run, FAULT_AT + 5.0, clear, ACTUATOR));
+    let (run, _, end) = wheel_stopped_run(3);
+    assert!(every_step(&run, FAULT_AT + 5.0, end, ACTUATOR));
+    assert!(!every_step(&run, FAULT_AT - 10.0, FAULT_AT, ACTUATOR));
 }
 
 /// A wheel that refuses commands: tile 2's (+W) wheel fails every command for 120 s.
@@ -726,12 +735,16 @@ fn coil_open() {
     recovered("open coil", back);
 }
 
-/// Finding: nothing reports the open coil (no coil current read-back in the HAL).
+/// Finding 5, fixed (issue #31): the coil's read-back (`TileBus::read_coil_dipole`) is not its
+/// command: three strikes, from the fault's first step, fail it (`acs::attitude_node::health`),
+/// and it is reported from then on, every step until the ground restores it. The sole coil on
+/// its axis, it stays in the allocation.
 #[test]
-#[ignore = "issue 19: an open-circuit coil that accepts its commands is not reported: TileBus::set_dipole returns Ok and the HAL has no coil current read-back"]
 fn coil_open_is_reported() {
-    let (run, clear, _) = coil_open_run();
-    assert!(every_step(&run, FAULT_AT + 1.0, clear, ACTUATOR));
+    let (run, clear, end) = coil_open_run();
+    assert!(every_step(&run, FAULT_AT + 3.0, end, ACTUATOR));
+    assert!(!every_step(&run, FAULT_AT - 10.0, FAULT_AT, ACTUATOR));
+    let _ = clear;
 }
 
 /// A coil left on: coil 0 (x) stays at 0.2 A·m² for 60 s, through the coils-off before the

@@ -27,6 +27,8 @@ enum Call {
     Gyro(usize, Result<i16, ErrorKind>),
     Wheel(usize, u32, Result<(), ErrorKind>),
     Dipole(usize, u32, Result<(), ErrorKind>),
+    WheelRead(usize, Result<Option<i16>, ErrorKind>),
+    CoilRead(usize, Result<Option<i16>, ErrorKind>),
 }
 
 /// The simulator's bus, every call recorded.
@@ -61,6 +63,16 @@ impl<B: TileBus> TileBus for Record<'_, B> {
         self.calls.push(Call::Dipole(coil, m_am2.to_bits(), r));
         r
     }
+    fn read_wheel_momentum(&mut self, tile: usize) -> Result<Option<i16>, ErrorKind> {
+        let r = self.bus.read_wheel_momentum(tile);
+        self.calls.push(Call::WheelRead(tile, r));
+        r
+    }
+    fn read_coil_dipole(&mut self, coil: usize) -> Result<Option<i16>, ErrorKind> {
+        let r = self.bus.read_coil_dipole(coil);
+        self.calls.push(Call::CoilRead(coil, r));
+        r
+    }
     fn delay_us(&mut self, us: u32) {
         self.bus.delay_us(us);
     }
@@ -71,15 +83,16 @@ impl<B: TileBus> TileBus for Record<'_, B> {
 struct Replay {
     calls: VecDeque<Call>,
     step: usize,
-    /// The composition's calls in order: `c` a coil command, `w` a wait, `r` a read, `m` a
-    /// wheel command.
+    /// The composition's calls in order: `b` a coil read-back, `c` a coil command, `w` a wait,
+    /// `r` a read (a wheel's read-back included), `m` a wheel command.
     order: String,
 }
 
 impl Replay {
     fn next(&mut self, call: Call) -> Call {
         self.order.push(match call {
-            Call::Sun(..) | Call::Mag(..) | Call::Gyro(..) => 'r',
+            Call::Sun(..) | Call::Mag(..) | Call::Gyro(..) | Call::WheelRead(..) => 'r',
+            Call::CoilRead(..) => 'b',
             Call::Wheel(..) => 'm',
             Call::Dipole(..) => 'c',
         });
@@ -87,7 +100,9 @@ impl Replay {
         let same = match (&recorded, &call) {
             (Some(Call::Sun(a, _)), Call::Sun(b, _))
             | (Some(Call::Mag(a, _)), Call::Mag(b, _))
-            | (Some(Call::Gyro(a, _)), Call::Gyro(b, _)) => a == b,
+            | (Some(Call::Gyro(a, _)), Call::Gyro(b, _))
+            | (Some(Call::WheelRead(a, _)), Call::WheelRead(b, _))
+            | (Some(Call::CoilRead(a, _)), Call::CoilRead(b, _)) => a == b,
             (Some(r), c) => r == c,
             (None, _) => false,
         };
@@ -129,6 +144,18 @@ impl TileBus for Replay {
     fn set_dipole(&mut self, coil: usize, m_am2: f32) -> Result<(), ErrorKind> {
         match self.next(Call::Dipole(coil, m_am2.to_bits(), Ok(()))) {
             Call::Dipole(_, _, r) => r,
+            _ => Err(ErrorKind::Other),
+        }
+    }
+    fn read_wheel_momentum(&mut self, tile: usize) -> Result<Option<i16>, ErrorKind> {
+        match self.next(Call::WheelRead(tile, Ok(None))) {
+            Call::WheelRead(_, r) => r,
+            _ => Err(ErrorKind::Other),
+        }
+    }
+    fn read_coil_dipole(&mut self, coil: usize) -> Result<Option<i16>, ErrorKind> {
+        match self.next(Call::CoilRead(coil, Ok(None))) {
+            Call::CoilRead(_, r) => r,
             _ => Err(ErrorKind::Other),
         }
     }
@@ -174,10 +201,10 @@ fn compare<const N: usize, const F: usize>(
         let mut r2 = StepReport::empty(two.mode());
         two.step_into(&mut replay, now, dt_s as f32, &mut r2);
         assert!(replay.calls.is_empty(), "{}: step {step}", scenario.name);
-        // the composition switches every coil off (the thesis satellite has none), waits once,
-        // then reads (the one-image loop makes the same calls without the wait: its models ran
-        // between the two)
-        let after_coils = replay.order.trim_start_matches('c');
+        // the composition reads its coils back (`b`), switches every coil off (the thesis
+        // satellite has none), waits once, then reads (the one-image loop makes the same calls
+        // without the wait: its models ran between the two)
+        let after_coils = replay.order.trim_start_matches('b').trim_start_matches('c');
         assert!(
             after_coils.starts_with("wr"),
             "{}: step {step}: {}",

@@ -17,6 +17,9 @@
 //! | `ACTUATOR_REFUSE` | `u16` | bits `i`, `8 + c`: wheel `i`, coil `c` refuses its command |
 //! | `CMD_WHEEL_NMS` | `[f32; 6]` | wheel momentum commands, kg·m²/s along tile z |
 //! | `CMD_DIPOLE_AM2` | `[f32; 3]` | coil dipole commands, A·m² |
+//! | `TILE_WHEEL` | `[i16; 6]` | wheel momentum read-back, 1e-7 kg·m²/s |
+//! | `COIL_READ` | `[i16; 3]` | coil dipole read-back, 1e-5 A·m² |
+//! | `READBACK_ERRORS` | `u16` | bits `i`, `8 + c`: the read-back of wheel `i`, coil `c` fails (a bus error) |
 
 use acs::flight::TILES;
 use acs::hal::{ErrorKind, TileBus};
@@ -48,6 +51,15 @@ pub static mut CMD_WHEEL_NMS: [f32; TILES] = [0.0; TILES];
 /// Coil dipole commands (read by the bus).
 #[no_mangle]
 pub static mut CMD_DIPOLE_AM2: [f32; COILS] = [0.0; COILS];
+/// Wheel momentum read-back mailbox.
+#[no_mangle]
+pub static mut TILE_WHEEL: [i16; TILES] = [0; TILES];
+/// Coil dipole read-back mailbox.
+#[no_mangle]
+pub static mut COIL_READ: [i16; COILS] = [0; COILS];
+/// Read-backs that fail (see the [module docs](self)).
+#[no_mangle]
+pub static mut READBACK_ERRORS: u16 = 0;
 
 /// Bit `i` of `mask` (false beyond 31).
 fn bit(mask: u32, i: usize) -> bool {
@@ -92,6 +104,17 @@ fn read_error(i: usize) -> Result<(), ErrorKind> {
     }
 }
 
+/// The read-back error of bit `i` of [`READBACK_ERRORS`], if set.
+fn readback_error(i: usize) -> Result<(), ErrorKind> {
+    // SAFETY: as in `read_error`.
+    let errors = unsafe { core::ptr::read_volatile(&raw const READBACK_ERRORS) };
+    if bit(u32::from(errors), i) {
+        Err(ErrorKind::Bus)
+    } else {
+        Ok(())
+    }
+}
+
 /// True if actuator bit `i` of [`ACTUATOR_REFUSE`] is set.
 fn refuses(i: usize) -> bool {
     // SAFETY: as in `read_error`.
@@ -129,6 +152,18 @@ impl TileBus for MailboxBus {
             return Err(ErrorKind::OutOfRange);
         }
         set_element(&raw mut CMD_DIPOLE_AM2, coil, m_am2)
+    }
+    fn read_wheel_momentum(&mut self, tile: usize) -> Result<Option<i16>, ErrorKind> {
+        readback_error(tile)?;
+        element(&raw const TILE_WHEEL, tile)
+            .map(Some)
+            .ok_or(ErrorKind::DeviceAbsent)
+    }
+    fn read_coil_dipole(&mut self, coil: usize) -> Result<Option<i16>, ErrorKind> {
+        readback_error(8 + coil)?;
+        element(&raw const COIL_READ, coil)
+            .map(Some)
+            .ok_or(ErrorKind::DeviceAbsent)
     }
     /// The part's busy wait (`acs_firmware::CycleDelay`): the simulator counts its cycles. On
     /// the host (the benchmark's expected results, `bench-host`, which shares this file) there

@@ -46,10 +46,23 @@ impl<const N: usize> AttitudeNode<'_, N> {
     pub fn safe<B: TileBus>(&mut self, bus: &mut B) -> Faults {
         let mut faults = Faults::default();
         for i in 0..self.config.coils.len() {
-            faults.actuator |= bus.set_dipole(i, 0.0).is_err();
+            let accepted = bus.set_dipole(i, 0.0).is_ok();
+            self.health.coil_commanded(i, 0.0, accepted);
+            faults.actuator |= !accepted;
         }
         faults
     }
+
+    /// Step phase 1: each coil in its allocation checked from its read-back, the dipole of the
+    /// previous step's command ([`super::health`]).
+    pub(super) fn check_coils<B: TileBus>(&mut self, bus: &mut B, faults: &mut Faults) {
+        for i in 0..self.config.coils.len() {
+            if self.health.coil_in(i) {
+                self.health.check_coil(i, bus.read_coil_dipole(i), faults);
+            }
+        }
+    }
+
     /// Step phase 5c: wheel momentum (the target, or the momentum in force re-sent: it stops
     /// failed tiles' wheels), momentum dumping through the coils outside detumble, coil dipole.
     /// Returns the dipole commanded and the wheels' total momentum now commanded (body).
@@ -64,6 +77,8 @@ impl<const N: usize> AttitudeNode<'_, N> {
     ) -> (Vec3, Vec3) {
         let h = h_target.unwrap_or_else(|| self.wheels_body());
         faults.saturated |= self.command_wheels(bus, &h, faults);
+        // a failed actuator is reported every step until the ground restores it
+        faults.actuator |= self.health.any_failed();
         // what the wheels now hold: dumped through the coils and reported
         let h_wheels = self.wheels_body();
         let mut dipole = dipole;
@@ -98,11 +113,6 @@ impl<const N: usize> AttitudeNode<'_, N> {
     /// opposite) and commands them, each wheel limited on its own. Returns true if one was
     /// limited. A limit that is not positive commands nothing (reported in `faults.law`).
     fn command_wheels<B: TileBus>(&mut self, bus: &mut B, h: &Vec3, faults: &mut Faults) -> bool {
-        let mut wheels = [Wheel {
-            axis_body: Vec3::z(),
-            limit: 1.0,
-            working: false,
-        }; N];
         // allocated without a limit, then each wheel limited on its own: a wheel at its limit
         // stays there and the others keep the momentum they were asked to hold (scaling the
         // whole allocation would take momentum from wheels the law never asked to change)
@@ -112,6 +122,11 @@ impl<const N: usize> AttitudeNode<'_, N> {
             faults.law = true;
             return false;
         }
+        let mut wheels = [Wheel {
+            axis_body: Vec3::z(),
+            limit: 1.0,
+            working: false,
+        }; N];
         for (i, (w, t)) in wheels.iter_mut().zip(self.config.tiles.iter()).enumerate() {
             *w = Wheel {
                 axis_body: t.normal_body(),
@@ -153,7 +168,9 @@ impl<const N: usize> AttitudeNode<'_, N> {
                 _ => 0.0,
             };
             *cmd = value;
-            faults.actuator |= bus.set_wheel_momentum(i, value).is_err();
+            let accepted = bus.set_wheel_momentum(i, value).is_ok();
+            self.health.wheel_commanded(i, accepted);
+            faults.actuator |= !accepted;
         }
         saturated
     }
@@ -166,8 +183,11 @@ impl<const N: usize> AttitudeNode<'_, N> {
             limit: 1.0,
             working: false,
         }; MAX_COILS];
-        for (c, cfg) in coils.iter_mut().zip(self.config.coils.iter()) {
-            *c = *cfg;
+        for (i, (c, cfg)) in coils.iter_mut().zip(self.config.coils.iter()).enumerate() {
+            *c = Wheel {
+                working: cfg.working && self.health.coil_in(i),
+                ..*cfg
+            };
         }
         let alloc = match cached_allocation(&mut self.coil_allocator, &coils, &(-m)) {
             Ok(a) => a,
@@ -179,9 +199,11 @@ impl<const N: usize> AttitudeNode<'_, N> {
         };
         faults.saturated |= !(alloc.scale >= 1.0);
         let mut produced = Vec3::zeros();
-        for (i, (value, coil)) in alloc.wheel.iter().zip(self.config.coils.iter()).enumerate() {
+        for (i, (value, coil)) in alloc.wheel.iter().zip(coils.iter()).enumerate() {
             if coil.working {
-                faults.actuator |= bus.set_dipole(i, *value).is_err();
+                let accepted = bus.set_dipole(i, *value).is_ok();
+                self.health.coil_commanded(i, *value, accepted);
+                faults.actuator |= !accepted;
                 produced += coil.axis_body * *value;
             }
         }

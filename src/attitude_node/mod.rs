@@ -8,7 +8,8 @@
 //! date; quaternions scalar-first.
 //!
 //! # One step ([`AttitudeNode::step_into`])
-//! 1. Magnetorquers off (the magnetometers must not see them, note 002 §8.5), then a wait of
+//! 1. The coils' read-back checked against the previous step's commands ([`health`]), then
+//!    magnetorquers off (the magnetometers must not see them, note 002 §8.5), then a wait of
 //!    [`COIL_DECAY_US`] on the bus's timer ([`TileBus::delay_us`]) for their field to decay.
 //! 2. The REF: used if it was made for this step and its clock is valid
 //!    ([`crate::link::messages::Reference::usable_at`]); otherwise the step runs without
@@ -23,6 +24,7 @@
 //! |---|---|
 //! | [`modes`] | the modes and their one transition function |
 //! | [`faults`] | the step's faults and their telemetry word |
+//! | [`health`] | the wheels' and coils' read-back checks, actuators taken out of allocation |
 //! | [`sensing`] | tile reads, tiles taken out of service |
 //! | [`estimation`] | field, rate, Sun, the TRIAD start, the filter, the node's clock |
 //! | [`laws`] | mode events, B-dot, sun-safe, slew momentum, tracking |
@@ -41,6 +43,7 @@ use crate::time::{Epoch, TimeSpan, Utc};
 pub mod actuation;
 pub mod estimation;
 pub mod faults;
+pub mod health;
 pub mod laws;
 pub mod modes;
 pub mod sensing;
@@ -50,6 +53,7 @@ pub use faults::Faults;
 pub use modes::{Mode, INVALID_STEPS_TO_SAFE};
 pub use sensing::FAILURES_TO_MARK_FAILED;
 
+use health::ActuatorHealth;
 use modes::{next_mode, Event, ModeState};
 
 /// The wait between switching the coils off and reading the tiles, µs: 5 ms, 12.8 time
@@ -100,6 +104,8 @@ pub struct AttitudeNode<'c, const N: usize = MAX_TILES> {
     /// Commanded momentum of each tile's wheel, kg·m²/s along the tile normal.
     wheel_h: [f32; N],
     failures: [u8; N],
+    /// The wheels' and coils' read-back checks ([`health`]).
+    health: ActuatorHealth<N>,
     /// Allocators of the wheels and the coils, rebuilt when their working set changes.
     wheel_allocator: Option<Allocator>,
     coil_allocator: Option<Allocator>,
@@ -150,6 +156,7 @@ impl<'c, const N: usize> AttitudeNode<'c, N> {
             estimate: None,
             wheel_h: [0.0; N],
             failures: [0; N],
+            health: ActuatorHealth::new(),
             wheel_allocator: None,
             coil_allocator: None,
             mag_solver: None,
@@ -193,9 +200,21 @@ impl<'c, const N: usize> AttitudeNode<'c, N> {
         self.failed & 1u32.checked_shl(tile as u32).unwrap_or(0) == 0
     }
 
-    /// True if tile `tile` carries a wheel and is in service.
+    /// True if tile `tile` carries a wheel, is in service, and its wheel is in the allocation
+    /// ([`health`]).
     fn has_working_wheel(&self, tile: usize, t: &Tile) -> bool {
-        t.equipment.reaction_wheel && self.is_working(tile)
+        t.equipment.reaction_wheel && self.is_working(tile) && self.health.wheel_in(tile)
+    }
+
+    /// The wheels' and coils' health ([`health`]): which are out of their allocation.
+    pub fn health(&self) -> &ActuatorHealth<N> {
+        &self.health
+    }
+
+    /// Fails coil `coil` and takes it out of its allocation (`failed`, the ground's
+    /// `MARK_FAILED` of a coil), or returns it to service (`RESTORE`).
+    pub fn set_coil_failed(&mut self, coil: usize, failed: bool) {
+        self.health.set_coil_failed(coil, failed);
     }
 
     /// Marks a tile failed (ground command or fault detection); its devices are no longer used
@@ -208,10 +227,12 @@ impl<'c, const N: usize> AttitudeNode<'c, N> {
     }
 
     /// Returns a tile to service (ground command, e.g. after a power cycle of a tile marked
-    /// failed): its devices are used again from the next step, its bus-failure count restarts,
-    /// and the cached allocators and least-squares operators are rebuilt for the new set.
+    /// failed): its devices, its wheel included ([`health`]), are used again from the next
+    /// step, its bus-failure count restarts, and the cached allocators and least-squares
+    /// operators are rebuilt for the new set.
     #[cfg_attr(target_arch = "msp430", optimize(size))]
     pub fn restore(&mut self, tile: usize) {
+        self.health.restore_wheel(tile);
         self.failed &= !1u32.checked_shl(tile as u32).unwrap_or(0);
         if let Some(count) = self.failures.get_mut(tile) {
             *count = 0;
@@ -292,7 +313,9 @@ impl<'c, const N: usize> AttitudeNode<'c, N> {
         dt_s: f32,
         report: &mut StepReport,
     ) -> Status {
-        let mut faults = self.safe(bus);
+        let mut faults = Faults::default();
+        self.check_coils(bus, &mut faults);
+        faults.actuator |= self.safe(bus).actuator;
         bus.delay_us(COIL_DECAY_US);
         let reference = reference.filter(|r| r.usable_at(self.step));
         match reference {

@@ -1,6 +1,7 @@
 //! Step phase 3: reading the tiles' sensors, raw, and taking a tile out of service when its
 //! devices keep failing (unless the whole bus is failing).
 
+use super::health::has_twin;
 use super::{AttitudeNode, Faults};
 use crate::hal::TileBus;
 use crate::linalg::Vec2;
@@ -136,6 +137,16 @@ impl<const N: usize> AttitudeNode<'_, N> {
                         any_read = true;
                     }
                     _ => failed = true,
+                }
+            }
+            if tile.equipment.reaction_wheel && self.health.wheel_in(i) {
+                let commanded = self.wheel_h.get(i).copied().unwrap_or(0.0);
+                let read = bus.read_wheel_momentum(i);
+                let limit = config.wheel_limit_nms;
+                if self.health.check_wheel(i, read, commanded, limit, faults)
+                    && has_twin(&config.tiles, i, |j, t| self.has_working_wheel(j, t))
+                {
+                    self.health.take_wheel_out(i);
                 }
             }
             if let Some(count) = self.failures.get_mut(i) {

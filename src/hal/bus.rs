@@ -12,6 +12,8 @@
 //! | `read_gyro(i)` | tile `i`'s [`Gyro::read_rate_raw`] | as above |
 //! | `set_wheel_momentum(i, h)` | tile `i`'s [`ReactionWheel::set_momentum`] | as above |
 //! | `set_dipole(c, m)` | coil `c`'s [`Magnetorquer::set_dipole`] | as above (no such coil) |
+//! | `read_wheel_momentum(i)` | tile `i`'s [`ReactionWheel::read_momentum_raw`] | as above |
+//! | `read_coil_dipole(c)` | coil `c`'s [`Magnetorquer::read_dipole_raw`] | as above |
 //! | `delay_us(t)` | the board's timer, `embedded_hal::delay::DelayNs::delay_us` | none |
 //!
 //! The devices are any types implementing the device traits: the drivers of
@@ -324,6 +326,19 @@ where
         self.coil_mut(CoilIndex(coil))
             .ok_or(ErrorKind::DeviceAbsent)?
             .set_dipole(m_am2)
+            .map_err(kind)
+    }
+
+    fn read_wheel_momentum(&mut self, tile: usize) -> Result<Option<i16>, ErrorKind> {
+        self.device(TileIndex(tile), |t| t.wheel.as_mut())?
+            .read_momentum_raw()
+            .map_err(kind)
+    }
+
+    fn read_coil_dipole(&mut self, coil: usize) -> Result<Option<i16>, ErrorKind> {
+        self.coil_mut(CoilIndex(coil))
+            .ok_or(ErrorKind::DeviceAbsent)?
+            .read_dipole_raw()
             .map_err(kind)
     }
 

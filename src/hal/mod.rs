@@ -41,8 +41,10 @@
 //! | sun sensor | two `i16` angles `(a, b)` | [`SUN_LSB_RAD`] = 1e-4 rad |
 //! | magnetometer | two `i16` components along tile x, y | [`MAGNETOMETER_LSB_NT`] = 10 nT |
 //! | gyro | one `i16` rate about tile z | [`GYRO_LSB_RADPS`] = 1e-4 rad/s |
-//! | reaction wheel | momentum command along tile z (no read-back yet) | kg·m²/s |
+//! | reaction wheel | momentum command along tile z | kg·m²/s |
+//! | reaction wheel read-back | one `i16` momentum along tile z (the tachometer) | [`WHEEL_LSB_NMS`] = 1e-7 kg·m²/s |
 //! | magnetorquer | dipole command along the coil's axis | A·m² |
+//! | magnetorquer read-back | one `i16` dipole along the coil's axis (its current) | [`COIL_LSB_AM2`] = 1e-5 A·m² |
 //!
 //! These units are the bus's contract, fixed in [`crate::tiles`]: the flight loop converts with
 //! them (units per tile in the loop's configuration would change the flight loop and its image,
@@ -59,6 +61,8 @@
 //! [`SUN_LSB_RAD`]: crate::tiles::SUN_LSB_RAD
 //! [`MAGNETOMETER_LSB_NT`]: crate::tiles::MAGNETOMETER_LSB_NT
 //! [`GYRO_LSB_RADPS`]: crate::tiles::GYRO_LSB_RADPS
+//! [`WHEEL_LSB_NMS`]: crate::tiles::WHEEL_LSB_NMS
+//! [`COIL_LSB_AM2`]: crate::tiles::COIL_LSB_AM2
 
 pub mod bus;
 pub mod drivers;
@@ -166,6 +170,13 @@ pub trait ReactionWheel: ErrorType {
     fn stop(&mut self) -> Result<(), Self::Error> {
         self.set_momentum(0.0)
     }
+
+    /// The wheel's momentum read back (its tachometer) along tile z, in
+    /// [`crate::tiles::WHEEL_LSB_NMS`]; `Ok(None)`: the driver has no read-back (the default),
+    /// and the loop cannot check this wheel.
+    fn read_momentum_raw(&mut self) -> Result<Option<i16>, Self::Error> {
+        Ok(None)
+    }
 }
 
 /// A magnetorquer coil (dipole along its axis).
@@ -176,6 +187,13 @@ pub trait Magnetorquer: ErrorType {
     /// Switches the coil off (the safe state; also before magnetometer reads).
     fn off(&mut self) -> Result<(), Self::Error> {
         self.set_dipole(0.0)
+    }
+
+    /// The coil's dipole read back (its current times its turns-area) along its axis, in
+    /// [`crate::tiles::COIL_LSB_AM2`]; `Ok(None)`: the driver has no read-back (the default),
+    /// and the loop cannot check this coil.
+    fn read_dipole_raw(&mut self) -> Result<Option<i16>, Self::Error> {
+        Ok(None)
     }
 }
 
@@ -222,6 +240,9 @@ impl<T: ReactionWheel + ?Sized> ReactionWheel for &mut T {
     fn stop(&mut self) -> Result<(), Self::Error> {
         T::stop(self)
     }
+    fn read_momentum_raw(&mut self) -> Result<Option<i16>, Self::Error> {
+        T::read_momentum_raw(self)
+    }
 }
 
 impl<T: Magnetorquer + ?Sized> Magnetorquer for &mut T {
@@ -230,6 +251,9 @@ impl<T: Magnetorquer + ?Sized> Magnetorquer for &mut T {
     }
     fn off(&mut self) -> Result<(), Self::Error> {
         T::off(self)
+    }
+    fn read_dipole_raw(&mut self) -> Result<Option<i16>, Self::Error> {
+        T::read_dipole_raw(self)
     }
 }
 
@@ -264,6 +288,21 @@ pub trait TileBus {
     /// Commands the dipole of magnetorquer coil `coil` (an index into `AcsConfig::coils`,
     /// not a tile index), A·m² along the coil's axis.
     fn set_dipole(&mut self, coil: usize, m_am2: f32) -> Result<(), ErrorKind>;
+    /// The momentum tile `tile`'s wheel reads back (its tachometer), in
+    /// [`crate::tiles::WHEEL_LSB_NMS`] along the tile normal; `Ok(None)`: this wheel has no
+    /// read-back, and the attitude node cannot check it (the default).
+    fn read_wheel_momentum(&mut self, tile: usize) -> Result<Option<i16>, ErrorKind> {
+        let _ = tile;
+        Ok(None)
+    }
+    /// The dipole coil `coil` reads back (its current), in [`crate::tiles::COIL_LSB_AM2`]
+    /// along its axis; `Ok(None)`: this coil has no read-back, and the attitude node cannot
+    /// check it (the default). The node reads it at the start of a step, before it switches
+    /// the coils off: the dipole of the previous step's command.
+    fn read_coil_dipole(&mut self, coil: usize) -> Result<Option<i16>, ErrorKind> {
+        let _ = coil;
+        Ok(None)
+    }
     /// Waits at least `us` microseconds before returning. The attitude node calls it once a
     /// step, between switching the coils off and reading the tiles
     /// ([`crate::attitude_node::COIL_DECAY_US`]): a board waits on its timer (the flight
@@ -287,6 +326,12 @@ impl<T: TileBus + ?Sized> TileBus for &mut T {
     }
     fn set_dipole(&mut self, coil: usize, m_am2: f32) -> Result<(), ErrorKind> {
         T::set_dipole(self, coil, m_am2)
+    }
+    fn read_wheel_momentum(&mut self, tile: usize) -> Result<Option<i16>, ErrorKind> {
+        T::read_wheel_momentum(self, tile)
+    }
+    fn read_coil_dipole(&mut self, coil: usize) -> Result<Option<i16>, ErrorKind> {
+        T::read_coil_dipole(self, coil)
     }
     fn delay_us(&mut self, us: u32) {
         T::delay_us(self, us)

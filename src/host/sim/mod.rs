@@ -599,6 +599,17 @@ impl Simulator {
             .fold(Vec3d::zeros(), |acc, ((axis, _), m)| acc + axis * *m)
     }
 
+    /// The dipole coil `coil` gives now (its read-back, [`TileBus::read_coil_dipole`]), A·m²:
+    /// the ideal truth's commanded (or forced) dipole, the realistic coil's present dipole
+    /// ([`realistic::CoilModel`]: quantisation, scale factor, rise and decay). `None`: no such
+    /// coil.
+    pub fn coil_dipole_am2(&self, coil: usize) -> Option<f64> {
+        match &self.real {
+            None => self.coil_cmd.get(coil).copied(),
+            Some(real) => real.devices.coils.get(coil).map(|c| c.m_am2),
+        }
+    }
+
     /// Density at 500 km of the drag model, kg/m³: seed 004's worst case in the ideal truth,
     /// the stated solar activity's in the realistic truth.
     fn density_500km(&self) -> f64 {
@@ -927,11 +938,11 @@ impl Simulator {
     /// The momentum tile `tile`'s wheel reports, kg·m²/s: in the realistic truth its
     /// tachometer (whole rpm, [`realistic::WheelModel`]), in the ideal truth the true momentum.
     ///
-    /// This is the simulator side of the HAL's wheel read-back (issue #18 item 3): once
-    /// [`TileBus`] has `fn read_wheel_momentum(&mut self, tile: usize) -> Result<f32,
-    /// ErrorKind>`, the simulator's implementation is this call. It draws no random number in
-    /// the ideal truth (the ideal runs stay bit for bit what they were) and a pure function of
-    /// the seed, step and tile in the realistic truth (time-outs at the scenario's dropout rate).
+    /// The simulator side of the HAL's wheel read-back ([`TileBus::read_wheel_momentum`],
+    /// which also fails it in a bus burst or on a dead tile, and gives it as a word). It draws
+    /// no random number: the ideal truth's runs stay bit for bit what they were, and in the
+    /// realistic truth its time-outs are a pure function of the seed, step and tile (at the
+    /// scenario's dropout rate).
     pub fn wheel_momentum_nms(&mut self, tile: usize) -> Result<f32, ErrorKind> {
         let has_wheel = self
             .config
@@ -1344,6 +1355,20 @@ impl TileBus for Simulator {
 
     /// Returns at once: the truth places the reads and the commands in the step itself
     /// ([`realistic::StepTiming`], which includes this wait for the two nodes).
+    fn read_wheel_momentum(&mut self, tile: usize) -> Result<Option<i16>, ErrorKind> {
+        self.fault_gate(tile)?;
+        let h = self.wheel_momentum_nms(tile)?;
+        quantise(f64::from(h), f64::from(crate::tiles::WHEEL_LSB_NMS)).map(Some)
+    }
+
+    /// The coils' current sense is the attitude node's own (not on the tile bus): no time-out;
+    /// a bus burst fails it as it fails the coils' commands ([`faults::Faults::coil`]).
+    fn read_coil_dipole(&mut self, coil: usize) -> Result<Option<i16>, ErrorKind> {
+        self.faults.coil(self.truth.t_s, coil, 0.0)?;
+        let m = self.coil_dipole_am2(coil).ok_or(ErrorKind::DeviceAbsent)?;
+        quantise(m, f64::from(crate::tiles::COIL_LSB_AM2)).map(Some)
+    }
+
     fn delay_us(&mut self, _: u32) {}
 }
 

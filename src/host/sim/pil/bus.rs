@@ -12,6 +12,9 @@
 //! | `TILE_GYRO` | [`Readings::gyro`] | `[i16; 6]`, 12 |
 //! | `TILE_READ_ERRORS` | [`Readings::read_errors`] (bits `i`, `8 + i`, `16 + i`: sun, magnetometer, gyro of tile `i` fail) | `u32`, 4 |
 //! | `ACTUATOR_REFUSE` | [`Readings::refuse`] (bits `i`, `8 + c`: wheel `i`, coil `c` refuse) | `u16`, 2 |
+//! | `TILE_WHEEL` | [`Readings::wheel`] (the wheels' momentum read-back, 1e-7 kg·m²/s) | `[i16; 6]`, 12 |
+//! | `COIL_READ` | [`Readings::coil`] (the coils' dipole read-back, 1e-5 A·m²) | `[i16; 3]`, 6 |
+//! | `READBACK_ERRORS` | [`Readings::readback_errors`] (bits `i`, `8 + c`: the read-back of wheel `i`, coil `c` fails) | `u16`, 2 |
 //! | `CMD_WHEEL_NMS` | [`Commands::wheel_nms`] | `[f32; 6]`, 24 |
 //! | `CMD_DIPOLE_AM2` | [`Commands::dipole_am2`] | `[f32; 3]`, 12 |
 //!
@@ -44,6 +47,13 @@ pub struct Readings {
     pub read_errors: u32,
     /// Actuators that refused: bits `i` (wheel of tile `i`) and `8 + c` (coil `c`).
     pub refuse: u16,
+    /// The wheels' momentum read-back, 1e-7 kg·m²/s (0 where not read).
+    pub wheel: [i16; TILES],
+    /// The coils' dipole read-back, 1e-5 A·m² (0 where not read).
+    pub coil: [i16; COILS],
+    /// Read-backs that failed (or were not read): bits `i` (wheel of tile `i`) and `8 + c`
+    /// (coil `c`).
+    pub readback_errors: u16,
 }
 
 impl Default for Readings {
@@ -59,6 +69,9 @@ impl Default for Readings {
             gyro: [0; TILES],
             read_errors: tiles | tiles << 8 | tiles << 16,
             refuse: 0,
+            wheel: [0; TILES],
+            coil: [0; COILS],
+            readback_errors: ((1u16 << COILS) - 1) << 8 | tiles as u16,
         }
     }
 }
@@ -70,7 +83,7 @@ fn i16_bytes(values: impl IntoIterator<Item = i16>) -> Vec<u8> {
 impl Readings {
     /// The mailbox contents: (symbol, little-endian bytes), in the order of the
     /// [module docs](self).
-    pub fn mailboxes(&self) -> [(&'static str, Vec<u8>); 6] {
+    pub fn mailboxes(&self) -> [(&'static str, Vec<u8>); 9] {
         [
             ("TILE_SUN", i16_bytes(self.sun.iter().flatten().copied())),
             ("TILE_SUN_SEEN", self.sun_seen.to_le_bytes().to_vec()),
@@ -78,6 +91,12 @@ impl Readings {
             ("TILE_GYRO", i16_bytes(self.gyro.iter().copied())),
             ("TILE_READ_ERRORS", self.read_errors.to_le_bytes().to_vec()),
             ("ACTUATOR_REFUSE", self.refuse.to_le_bytes().to_vec()),
+            ("TILE_WHEEL", i16_bytes(self.wheel.iter().copied())),
+            ("COIL_READ", i16_bytes(self.coil.iter().copied())),
+            (
+                "READBACK_ERRORS",
+                self.readback_errors.to_le_bytes().to_vec(),
+            ),
         ]
     }
 }
@@ -117,7 +136,7 @@ impl Commands {
 pub enum RecordError {
     /// A device was read twice in one step (the mailbox holds one value).
     ReadTwice {
-        /// `"sun sensor"`, `"magnetometer"` or `"gyro"`.
+        /// `"sun sensor"`, `"magnetometer"`, `"gyro"`, `"wheel read-back"` or `"coil read-back"`.
         device: &'static str,
         /// Tile index.
         tile: usize,
@@ -156,6 +175,8 @@ pub struct Recorder<'a, B: TileBus> {
     readings: Readings,
     /// Devices read this step (the bit layout of [`Readings::read_errors`]).
     read: u32,
+    /// Read-backs made this step (the bit layout of [`Readings::readback_errors`]).
+    read_back: u16,
     accepted: u16,
     refused: u16,
     error: Option<RecordError>,
@@ -178,6 +199,7 @@ impl<'a, B: TileBus> Recorder<'a, B> {
             commands,
             readings: Readings::default(),
             read: 0,
+            read_back: 0,
             accepted: 0,
             refused: 0,
             error: None,
@@ -302,8 +324,56 @@ impl<B: TileBus> TileBus for Recorder<'_, B> {
         r
     }
 
+    fn read_wheel_momentum(&mut self, tile: usize) -> Result<Option<i16>, ErrorKind> {
+        if tile >= TILES {
+            return Err(ErrorKind::DeviceAbsent);
+        }
+        let r = self.bus.read_wheel_momentum(tile);
+        if let Ok(Some(w)) = self.first_read_back(tile, "wheel read-back", r) {
+            self.readings.wheel[tile] = w;
+        }
+        r
+    }
+
+    fn read_coil_dipole(&mut self, coil: usize) -> Result<Option<i16>, ErrorKind> {
+        if coil >= COILS {
+            return Err(ErrorKind::DeviceAbsent);
+        }
+        let r = self.bus.read_coil_dipole(coil);
+        if let Ok(Some(m)) = self.first_read_back(8 + coil, "coil read-back", r) {
+            self.readings.coil[coil] = m;
+        }
+        r
+    }
+
     fn delay_us(&mut self, us: u32) {
         self.bus.delay_us(us);
+    }
+}
+
+impl<B: TileBus> Recorder<'_, B> {
+    /// Marks read-back bit `b` read and, if the bus gave a word, clears its error bit; the
+    /// result to record (`Err` if it was read before: an error kept). A bus without the
+    /// read-back (`Ok(None)`) leaves the error bit: the image's bus always has one.
+    fn first_read_back(
+        &mut self,
+        b: usize,
+        device: &'static str,
+        r: Result<Option<i16>, ErrorKind>,
+    ) -> Result<Option<i16>, ErrorKind> {
+        let mask = bit(b) as u16;
+        if self.read_back & mask != 0 {
+            self.error.get_or_insert(RecordError::ReadTwice {
+                device,
+                tile: b % 8,
+            });
+            return Err(ErrorKind::Other);
+        }
+        self.read_back |= mask;
+        if let Ok(Some(_)) = r {
+            self.readings.readback_errors &= !mask;
+        }
+        r
     }
 }
 

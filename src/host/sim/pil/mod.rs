@@ -156,7 +156,7 @@ pub const NODE_MAILBOXES: [(&str, usize); 9] = [
 ];
 
 /// The attitude image's tile mailboxes (`firmware/src/tiles.rs`, [`bus`]) and their sizes.
-pub const TILE_MAILBOXES: [(&str, usize); 8] = [
+pub const TILE_MAILBOXES: [(&str, usize); 11] = [
     ("TILE_SUN", 4 * TILES),
     ("TILE_SUN_SEEN", 2),
     ("TILE_MAG", 4 * TILES),
@@ -165,6 +165,9 @@ pub const TILE_MAILBOXES: [(&str, usize); 8] = [
     ("ACTUATOR_REFUSE", 2),
     ("CMD_WHEEL_NMS", 4 * TILES),
     ("CMD_DIPOLE_AM2", 4 * COILS),
+    ("TILE_WHEEL", 2 * TILES),
+    ("COIL_READ", 2 * COILS),
+    ("READBACK_ERRORS", 2),
 ];
 
 /// The mailboxes of `node`'s image: [`NODE_MAILBOXES`], and for the attitude node

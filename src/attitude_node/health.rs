@@ -1,0 +1,308 @@
+//! The actuators' health from their read-back (issue #31, item 1): a wheel that does not follow
+//! its command (stopped, running away, or refusing it) and a coil whose dipole is not the one
+//! commanded (open, left on, or refusing) are taken out of their allocation and reported, until
+//! the ground returns them to service.
+//!
+//! # The checks
+//! - **Wheel** (read each step with the tiles, [`crate::hal::TileBus::read_wheel_momentum`]):
+//!   a *strike* is a step in which its command was refused, or in which its momentum read back
+//!   is more than [`WHEEL_LAG`] of the wheel limit from the momentum commanded and has come
+//!   closer to it by less than [`WHEEL_PROGRESS`] of the limit since the step before (a stopped
+//!   or running-away wheel; a word pinned at either end of the `i16` range is one too). A wheel
+//!   slewing at its torque limit towards a new command is not a strike: the flight wheel's
+//!   0.23 mN·m move 23 % of the limit in a one-second period, and the law never integrates more
+//!   than the wheels deliver ([`crate::acs_loop::AcsConfig::wheel_torque_nm`]).
+//! - **Coil** (read at the start of a step, before the coils are switched off,
+//!   [`crate::hal::TileBus::read_coil_dipole`]: the dipole of the previous step's command,
+//!   settled for a period against its 0.39 ms time constant): a strike is a read-back more than
+//!   [`COIL_TOLERANCE_AM2`] + [`COIL_TOLERANCE_FRACTION`] × |command| from the command (the
+//!   tolerance holds the flight coil's 3 % 1σ scale factor at 5σ and its 8-bit PWM quantum),
+//!   or a refused command. A step whose command and read-back are both within
+//!   [`COIL_TOLERANCE_AM2`] of zero says nothing of an open coil and leaves the count alone.
+//! - [`STRIKES_TO_FAIL`] (3) strikes in a row and the actuator is failed: from then on every
+//!   step reports [`Faults::actuator`] until the ground returns it to service. A failed wheel
+//!   leaves its allocation if another working wheel shares its axis ([`has_twin`]: the others
+//!   take its share, and it is commanded to rest); the sole wheel of an axis (the flight cube's
+//!   on U) and a coil (each of the three is alone on its axis) stay in, reported: taking one
+//!   out would give up its axis for good, also after a transient fault clears. The ground takes
+//!   an actuator out with `MARK_FAILED`. A passing check clears the count.
+//! - A read-back that fails is reported ([`Faults::device_read`]) and checks nothing that step;
+//!   a device without read-back (`Ok(None)`) is never checked.
+//! - The ground's `RESTORE` returns a wheel to service with its tile, and a coil by its index
+//!   ([`crate::uplink`]); `MARK_FAILED` of a coil fails it and takes it out.
+//!
+//! The one-image loop ([`crate::acs_loop::AcsLoop`]) and the attitude node hold one
+//! [`ActuatorHealth`] each and call the same checks, so the two stay bit for bit the same.
+
+use super::Faults;
+use crate::acs_loop::MAX_COILS;
+use crate::hal::ErrorKind;
+use crate::tiles::Tile;
+use crate::tiles::{COIL_LSB_AM2, WHEEL_LSB_NMS};
+
+/// Strikes in a row that fail an actuator.
+pub const STRIKES_TO_FAIL: u8 = 3;
+/// A wheel further than this fraction of its limit from its command is lagging.
+pub const WHEEL_LAG: f32 = 0.2;
+/// A lagging wheel that comes closer to its command by less than this fraction of its limit in
+/// a step is not following it.
+pub const WHEEL_PROGRESS: f32 = 0.05;
+/// A coil's read-back may differ from its command by this much, A·m² (0.5 % of the flight
+/// limit, 2.6 quanta of its 8-bit PWM)…
+pub const COIL_TOLERANCE_AM2: f32 = 0.001;
+/// …plus this fraction of the command.
+pub const COIL_TOLERANCE_FRACTION: f32 = 0.15;
+
+/// Bit `i` as a mask (0 beyond 31).
+fn mask(i: usize) -> u32 {
+    1u32.checked_shl(i as u32).unwrap_or(0)
+}
+
+/// A word pinned at either end of the `i16` range.
+fn pinned(x: i16) -> bool {
+    x == i16::MAX || x == i16::MIN
+}
+
+/// The cosine above which two wheels share an axis (8.1°).
+const TWIN_COSINE: f32 = 0.99;
+
+/// True if a tile other than `tile` with a wheel `working(j, tile_j)` has its wheel on the same
+/// axis line (parallel or opposite: the flight cube's +V and −V).
+pub fn has_twin(tiles: &[Tile], tile: usize, working: impl Fn(usize, &Tile) -> bool) -> bool {
+    let Some(n) = tiles.get(tile).map(Tile::normal_body) else {
+        return false;
+    };
+    tiles.iter().enumerate().any(|(j, t)| {
+        j != tile && working(j, t) && crate::fmath::abs(t.normal_body().dot(&n)) > TWIN_COSINE
+    })
+}
+
+/// The wheels' and coils' health for at most `N` ≤ 32 tiles (see the [module docs](self)).
+#[derive(Clone, Debug)]
+pub struct ActuatorHealth<const N: usize> {
+    /// Bit `i`: tile `i`'s wheel is failed; bit `24 + c`: coil `c` is.
+    failed: u32,
+    /// Bit `i`: tile `i`'s wheel is out of the allocation; bit `24 + c`: coil `c` is.
+    out: u32,
+    /// Bit `i`: tile `i`'s wheel refused its last command; bit `24 + c`: coil `c` did.
+    refused: u32,
+    /// Strikes in a row of each wheel.
+    wheel_strikes: [u8; N],
+    /// Strikes in a row of each coil.
+    coil_strikes: [u8; MAX_COILS],
+    /// Each wheel's read-back at its last check ([`UNKNOWN`]: none).
+    wheel_read: [i16; N],
+    /// Each coil's last accepted command, A·m² (the coils-off of every step included).
+    coil_am2: [f32; MAX_COILS],
+}
+
+/// A word no check compares with (no read-back yet): `i16::MIN`, which a valid read-back never
+/// is.
+const UNKNOWN: i16 = i16::MIN;
+
+impl<const N: usize> Default for ActuatorHealth<N> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<const N: usize> ActuatorHealth<N> {
+    /// Every actuator in its allocation, nothing known yet.
+    pub const fn new() -> Self {
+        Self {
+            failed: 0,
+            out: 0,
+            refused: 0,
+            wheel_strikes: [0; N],
+            coil_strikes: [0; MAX_COILS],
+            wheel_read: [UNKNOWN; N],
+            coil_am2: [0.0; MAX_COILS],
+        }
+    }
+
+    /// True if tile `tile`'s wheel is in its allocation.
+    pub fn wheel_in(&self, tile: usize) -> bool {
+        self.out & mask(tile) == 0
+    }
+
+    /// True if coil `coil` is in its allocation.
+    pub fn coil_in(&self, coil: usize) -> bool {
+        self.out & mask(24 + coil) == 0
+    }
+
+    /// True if tile `tile`'s wheel is failed (in its allocation or not).
+    pub fn wheel_failed(&self, tile: usize) -> bool {
+        self.failed & mask(tile) != 0
+    }
+
+    /// True if coil `coil` is failed (in its allocation or not).
+    pub fn coil_failed(&self, coil: usize) -> bool {
+        self.failed & mask(24 + coil) != 0
+    }
+
+    /// True if any actuator is failed.
+    pub fn any_failed(&self) -> bool {
+        self.failed != 0
+    }
+
+    /// Takes tile `tile`'s (failed) wheel out of its allocation.
+    pub fn take_wheel_out(&mut self, tile: usize) {
+        self.out |= mask(tile);
+    }
+
+    /// Returns tile `tile`'s wheel to service (with the tile, [`crate::uplink`]).
+    pub fn restore_wheel(&mut self, tile: usize) {
+        self.out &= !mask(tile);
+        self.failed &= !mask(tile);
+        if let Some(s) = self.wheel_strikes.get_mut(tile) {
+            *s = 0;
+        }
+    }
+
+    /// Fails coil `coil` and takes it out of its allocation (`failed`, the ground's
+    /// `MARK_FAILED`), or returns it to service (`RESTORE`).
+    pub fn set_coil_failed(&mut self, coil: usize, failed: bool) {
+        let bit = mask(24 + coil);
+        if failed {
+            self.out |= bit;
+            self.failed |= bit;
+        } else {
+            self.out &= !bit;
+            self.failed &= !bit;
+        }
+        if let Some(s) = self.coil_strikes.get_mut(coil) {
+            *s = 0;
+        }
+    }
+
+    /// Records that tile `tile`'s wheel accepted (`true`) or refused its command this step.
+    pub fn wheel_commanded(&mut self, tile: usize, accepted: bool) {
+        self.set_refused(mask(tile), !accepted);
+    }
+
+    /// Records coil `coil`'s command `m_am2` and whether it was accepted.
+    pub fn coil_commanded(&mut self, coil: usize, m_am2: f32, accepted: bool) {
+        self.set_refused(mask(24 + coil), !accepted);
+        if let Some(m) = self.coil_am2.get_mut(coil) {
+            // after a refusal the coil's state is not known: the refusal is the strike
+            *m = m_am2;
+        }
+    }
+
+    fn set_refused(&mut self, bit: u32, refused: bool) {
+        if refused {
+            self.refused |= bit;
+        } else {
+            self.refused &= !bit;
+        }
+    }
+
+    /// Checks tile `tile`'s wheel (in its allocation) from its read-back `read`, its command
+    /// in force `commanded_nms` and the wheels' limit `limit_nms`; true if this check failed it
+    /// (the caller decides whether it leaves its allocation, [`keeps_rank`]).
+    pub fn check_wheel(
+        &mut self,
+        tile: usize,
+        read: Result<Option<i16>, ErrorKind>,
+        commanded_nms: f32,
+        limit_nms: f32,
+        faults: &mut Faults,
+    ) -> bool {
+        let refused = self.refused & mask(tile) != 0;
+        let (Some(strikes), Some(last)) = (
+            self.wheel_strikes.get_mut(tile),
+            self.wheel_read.get_mut(tile),
+        ) else {
+            return false;
+        };
+        let strike = match read {
+            Ok(None) => refused,
+            Err(_) => {
+                faults.device_read = true;
+                return false;
+            }
+            Ok(Some(w)) => {
+                // how far from the command in force now, and how much closer than at the last
+                // read (none: no progress)
+                let lag = |w: i16| crate::fmath::abs(commanded_nms - f32::from(w) * WHEEL_LSB_NMS);
+                let now = lag(w);
+                let closer = if *last == UNKNOWN {
+                    0.0
+                } else {
+                    lag(*last) - now
+                };
+                *last = w;
+                let lagging =
+                    now > WHEEL_LAG * limit_nms && !(closer >= WHEEL_PROGRESS * limit_nms);
+                refused || pinned(w) || lagging
+            }
+        };
+        if strike {
+            *strikes = strikes.saturating_add(1);
+            let n = *strikes;
+            self.fail(n, mask(tile))
+        } else {
+            *strikes = 0;
+            false
+        }
+    }
+
+    /// Fails actuator bit `bit` at [`STRIKES_TO_FAIL`] strikes; true if it was not failed.
+    fn fail(&mut self, strikes: u8, bit: u32) -> bool {
+        let newly = strikes >= STRIKES_TO_FAIL && self.failed & bit == 0;
+        if newly {
+            self.failed |= bit;
+        }
+        newly
+    }
+
+    /// Checks coil `coil` (in its allocation) from its read-back `read` at the start of a step;
+    /// true if this check failed it.
+    pub fn check_coil(
+        &mut self,
+        coil: usize,
+        read: Result<Option<i16>, ErrorKind>,
+        faults: &mut Faults,
+    ) -> bool {
+        let refused = self.refused & mask(24 + coil) != 0;
+        let (Some(strikes), Some(&m_cmd)) =
+            (self.coil_strikes.get_mut(coil), self.coil_am2.get(coil))
+        else {
+            return false;
+        };
+        let strike = match read {
+            Ok(None) => Some(refused),
+            Err(_) => {
+                faults.device_read = true;
+                return false;
+            }
+            Ok(Some(w)) => {
+                let m_read = f32::from(w) * COIL_LSB_AM2;
+                let tolerance =
+                    COIL_TOLERANCE_AM2 + COIL_TOLERANCE_FRACTION * crate::fmath::abs(m_cmd);
+                if refused || pinned(w) || crate::fmath::abs(m_cmd - m_read) > tolerance {
+                    Some(true)
+                } else if crate::fmath::abs(m_cmd) > COIL_TOLERANCE_AM2
+                    || crate::fmath::abs(m_read) > COIL_TOLERANCE_AM2
+                {
+                    Some(false)
+                } else {
+                    // nothing commanded, nothing read: says nothing of an open coil
+                    None
+                }
+            }
+        };
+        match strike {
+            Some(true) => {
+                *strikes = strikes.saturating_add(1);
+                let n = *strikes;
+                self.fail(n, mask(24 + coil))
+            }
+            Some(false) => {
+                *strikes = 0;
+                false
+            }
+            None => false,
+        }
+    }
+}
