@@ -688,9 +688,13 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
     }
 
     /// Fails coil `coil` and takes it out of its allocation (`failed`), or returns it to
-    /// service.
-    pub fn set_coil_failed(&mut self, coil: usize, failed: bool) {
-        self.health.set_coil_failed(coil, failed);
+    /// service; false (nothing changed) if there is no such coil.
+    pub fn set_coil_failed(&mut self, coil: usize, failed: bool) -> bool {
+        let exists = self.config.coils.len() > coil;
+        if exists {
+            self.health.set_coil_failed(coil, failed);
+        }
+        exists
     }
 
     /// Marks a tile failed (ground command or fault detection); its devices are no longer used
@@ -787,8 +791,17 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
 
     /// Puts every actuator in the safe state: coils off, wheels hold their momentum.
     pub fn safe<B: TileBus>(&mut self, bus: &mut B) -> Faults {
+        self.coils_off(bus, false)
+    }
+
+    /// Switches the coils off; with `check`, each coil in its allocation is first checked from
+    /// its read-back ([`crate::attitude_node::health`]).
+    fn coils_off<B: TileBus>(&mut self, bus: &mut B, check: bool) -> Faults {
         let mut faults = Faults::default();
         for i in 0..self.config.coils.len() {
+            if check && self.health.coil_in(i) {
+                self.health.check_coil(i, bus.read_coil_dipole(i), &mut faults);
+            }
             let accepted = bus.set_dipole(i, 0.0).is_ok();
             self.health.coil_commanded(i, 0.0, accepted);
             faults.actuator |= !accepted;
@@ -913,14 +926,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         dt_s: f32,
         report: &mut StepReport,
     ) {
-        let mut faults = Faults::default();
-        for i in 0..self.config.coils.len() {
-            if self.health.coil_in(i) {
-                self.health
-                    .check_coil(i, bus.read_coil_dipole(i), &mut faults);
-            }
-        }
-        faults.actuator |= self.safe(bus).actuator;
+        let mut faults = self.coils_off(bus, true);
         // The models first: the tiles are read after them, so the readings live only under
         // the determination (and the magnetometers see the coils' field decay meanwhile).
         let models = self.models(&now, &mut faults);

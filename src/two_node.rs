@@ -129,6 +129,17 @@ impl<'c, const N: usize, const F: usize> TwoNodeLoop<'c, N, F> {
         self.attitude.restore(tile);
     }
 
+    /// The wheels' and coils' health ([`crate::attitude_node::health`]).
+    pub fn health(&self) -> &crate::attitude_node::health::ActuatorHealth<N> {
+        self.attitude.health()
+    }
+
+    /// Fails coil `coil` and takes it out of its allocation (`failed`), or returns it to
+    /// service ([`AttitudeNode::set_coil_failed`]); false if there is no such coil.
+    pub fn set_coil_failed(&mut self, coil: usize, failed: bool) -> bool {
+        self.attitude.set_coil_failed(coil, failed)
+    }
+
     /// Accepts a ground command, at the node that owns it (module docs); it takes effect at the
     /// next step. A slew is planned from the last determined attitude (`attitude`, reference →
     /// body), so it needs one.

@@ -10,7 +10,7 @@
 //! | [`kind::SLEW`] (3) | slew, then track | 0–3: quaternion; 4: time allowed, s (f32 bits) |
 //! | [`kind::ELEMENTS`] (4) | new element set | 0–57: the words of [`Sgp4::to_words`] (`acs elements`) |
 //! | [`kind::CLOCK`] (5) | set the clock (UTC) | 0: days since 2000-01-01 (i32); 1: second of day; 2: nanoseconds |
-//! | [`kind::MARK_FAILED`] (6) / [`kind::RESTORE`] (7) | mark a tile failed / restore it | 0: tile index |
+//! | [`kind::MARK_FAILED`] (6) / [`kind::RESTORE`] (7) | mark a tile or a coil failed / restore it | 0: tile (or coil) index; 1: 0 a tile (with its devices and its wheel), 1 a coil ([`crate::attitude_node::health`]) |
 //!
 //! [`apply`] checks the arguments completely before it changes anything: a refused command
 //! (a quaternion that is not finite or zero, a time out of range, an unknown tile, an element
@@ -125,6 +125,8 @@ pub trait UplinkTarget {
     fn mark_failed(&mut self, tile: usize);
     /// Returns a tile to service.
     fn restore(&mut self, tile: usize);
+    /// Fails a coil (`failed`) or returns it to service; false if there is no such coil.
+    fn set_coil_failed(&mut self, coil: usize, failed: bool) -> bool;
     /// A ground command (`attitude`: the last filtered attitude, reference TEME → body, which
     /// a slew is planned from; `now`: the next step's UTC).
     fn command(
@@ -149,6 +151,9 @@ macro_rules! uplink_target {
             }
             fn restore(&mut self, tile: usize) {
                 $loop::restore(self, tile);
+            }
+            fn set_coil_failed(&mut self, coil: usize, failed: bool) -> bool {
+                $loop::set_coil_failed(self, coil, failed)
             }
             fn command(
                 &mut self,
@@ -256,8 +261,16 @@ pub fn apply_attitude<const N: usize>(
 ) -> Result<(), UplinkError> {
     match code {
         kind::SUN_SAFE => node.sun_safe(),
-        kind::MARK_FAILED => node.mark_failed(tile(args, node.tiles().len())?),
-        kind::RESTORE => node.restore(tile(args, node.tiles().len())?),
+        kind::MARK_FAILED | kind::RESTORE => {
+            let failed = code == kind::MARK_FAILED;
+            let [a0, a1, ..] = *args;
+            match a1 {
+                0 if failed => node.mark_failed(tile(args, node.tiles().len())?),
+                0 => node.restore(tile(args, node.tiles().len())?),
+                1 if usize::try_from(a0).is_ok_and(|c| node.set_coil_failed(c, failed)) => {}
+                _ => return Err(UplinkError::InvalidArgument),
+            }
+        }
         kind::TRACK | kind::SLEW | kind::ELEMENTS | kind::CLOCK => {
             return Err(UplinkError::NotThisNode(code))
         }
@@ -300,14 +313,18 @@ pub fn apply<A: UplinkTarget>(
             return Ok(());
         }
         kind::MARK_FAILED | kind::RESTORE => {
-            let tile = usize::try_from(a0).map_err(|_| UplinkError::InvalidArgument)?;
-            if acs.tile_state(tile).is_none() {
-                return Err(UplinkError::InvalidArgument);
-            }
-            if code == kind::MARK_FAILED {
-                acs.mark_failed(tile);
-            } else {
-                acs.restore(tile);
+            let failed = code == kind::MARK_FAILED;
+            let index = usize::try_from(a0).map_err(|_| UplinkError::InvalidArgument)?;
+            match a1 {
+                0 if acs.tile_state(index).is_some() => {
+                    if failed {
+                        acs.mark_failed(index);
+                    } else {
+                        acs.restore(index);
+                    }
+                }
+                1 if acs.set_coil_failed(index, failed) => {}
+                _ => return Err(UplinkError::InvalidArgument),
             }
             return Ok(());
         }

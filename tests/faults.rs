@@ -74,7 +74,8 @@ enum Ground {
     ClockJump(f64),
     /// The ground sets the on-board clock to UTC (uplink `CLOCK` with the true time).
     SetClock,
-    /// Restore every tile the telemetry shows failed (uplink `RESTORE`).
+    /// Restore every tile the telemetry shows failed or whose wheel it shows failed, and every
+    /// coil it shows failed (uplink `RESTORE`).
     RestoreFailed,
     /// Uplink `TRACK` of the scenario's target.
     Track,
@@ -198,8 +199,15 @@ fn fly_on(
                 }
                 Ground::RestoreFailed => {
                     for tile in 0..acs.tiles().len() {
-                        if acs.tile_state(tile) == Some(TileState::Failed) {
+                        if acs.tile_state(tile) == Some(TileState::Failed)
+                            || acs.health().wheel_failed(tile)
+                        {
                             up(kind::RESTORE, &[tile as u32], &mut clock, &mut acs);
+                        }
+                    }
+                    for coil in 0..CONFIG.coils.len() {
+                        if acs.health().coil_failed(coil) {
+                            up(kind::RESTORE, &[coil as u32, 1], &mut clock, &mut acs);
                         }
                     }
                 }
@@ -706,6 +714,34 @@ fn wheel_stopped_is_reported() {
     let (run, _, end) = wheel_stopped_run(3);
     assert!(every_step(&run, FAULT_AT + 5.0, end, ACTUATOR));
     assert!(!every_step(&run, FAULT_AT - 10.0, FAULT_AT, ACTUATOR));
+}
+
+/// A refusing wheel with a twin on its axis (tile 2, +W; tile 5 is −W) is failed after three
+/// refusals and taken out of the allocation (issue #31): tile 5 holds W alone; the ground's
+/// `RESTORE` 10 s after the fault clears returns it, and the reports stop.
+#[test]
+fn refusing_wheel_leaves_the_allocation_until_restored() {
+    let (clear, end) = (FAULT_AT + 120.0, 1200.0);
+    let f = [(
+        Fault::WheelRefuses { tile: 2 },
+        FAULT_AT,
+        clear,
+    )];
+    let run = fly(&f, &[(clear + 10.0, Ground::RestoreFailed)], end);
+    let back = summary("wheel refuses, restored", &run, clear, end);
+    assert!(every_step(&run, FAULT_AT, clear + 10.0, ACTUATOR));
+    let restored = run
+        .uplinks
+        .iter()
+        .filter(|(t, code, r)| *t >= clear && *code == kind::RESTORE && r.is_ok())
+        .count();
+    assert_eq!(restored, 1);
+    assert!(!run
+        .samples
+        .iter()
+        .filter(|s| s.t_s >= clear + 11.0)
+        .any(|s| s.report.faults.bits() & ACTUATOR != 0));
+    recovered("wheel refuses, restored", back);
 }
 
 /// A wheel that refuses commands: tile 2's (+W) wheel fails every command for 120 s.

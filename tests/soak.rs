@@ -17,6 +17,7 @@ use acs::attitude::Quaternion;
 use acs::flight::{FlightLoop, CONFIG};
 use acs::hal::{ErrorKind, TileBus};
 use acs::orbit::sgp4::{words_checksum, Gravity, Sgp4, ELEMENT_WORDS};
+use acs::tiles::{COIL_LSB_AM2, WHEEL_LSB_NMS};
 use acs::time::{Epoch, TimeSpan, Utc};
 use acs::tle::Tle;
 use acs::uplink::{self, ARG_WORDS};
@@ -79,6 +80,10 @@ struct RandomBus {
     field: [[i16; 2]; 6],
     rate: [i16; 6],
     commands: u64,
+    /// The last command of each wheel and coil as read-back words (issue #31): what a healthy
+    /// actuator reads back.
+    wheel_words: [i16; 6],
+    coil_words: [i16; 3],
     /// Commands above their limit (finite): count and the largest excess, in units of the
     /// limit's last place.
     over_limit: u64,
@@ -138,7 +143,11 @@ impl TileBus for RandomBus {
         assert!(h_nms.is_finite(), "wheel {tile} commanded {h_nms}");
         self.check_limit(h_nms, CONFIG.wheel_limit_nms);
         self.commands += 1;
-        self.error().map_or(Ok(()), Err)
+        let r = self.error().map_or(Ok(()), Err);
+        if r.is_ok() {
+            self.wheel_words[tile % 6] = (h_nms / WHEEL_LSB_NMS) as i16;
+        }
+        r
     }
     fn set_dipole(&mut self, coil: usize, m_am2: f32) -> Result<(), ErrorKind> {
         let limit = CONFIG.coils.get(coil).map(|c| c.limit);
@@ -146,7 +155,33 @@ impl TileBus for RandomBus {
         assert!(m_am2.is_finite(), "coil {coil} commanded {m_am2}");
         self.check_limit(m_am2, limit.unwrap_or(0.0));
         self.commands += 1;
-        self.error().map_or(Ok(()), Err)
+        let r = self.error().map_or(Ok(()), Err);
+        if r.is_ok() {
+            self.coil_words[coil % 3] = (m_am2 / COIL_LSB_AM2) as i16;
+        }
+        r
+    }
+    /// The read-backs: errors, no read-back (`None`), the last command within a few words, or
+    /// anything (extremes included: a stopped, running-away or stuck actuator).
+    fn read_wheel_momentum(&mut self, tile: usize) -> Result<Option<i16>, ErrorKind> {
+        if let Some(e) = self.error() {
+            return Err(e);
+        }
+        if self.rng.chance(0.05) {
+            return Ok(None);
+        }
+        let w = self.wheel_words[tile % 6];
+        Ok(Some(self.rng.word(w, 200)))
+    }
+    fn read_coil_dipole(&mut self, coil: usize) -> Result<Option<i16>, ErrorKind> {
+        if let Some(e) = self.error() {
+            return Err(e);
+        }
+        if self.rng.chance(0.05) {
+            return Ok(None);
+        }
+        let m = self.coil_words[coil % 3];
+        Ok(Some(self.rng.word(m, 100)))
     }
     fn delay_us(&mut self, _: u32) {}
 }
@@ -209,6 +244,8 @@ fn soak(steps: u64, seed: u64) -> Figures {
         field: [[0; 2]; 6],
         rate: [0; 6],
         commands: 0,
+        wheel_words: [0; 6],
+        coil_words: [0; 3],
         over_limit: 0,
         worst_excess_ulp: 0,
     };
@@ -256,7 +293,9 @@ fn soak(steps: u64, seed: u64) -> Figures {
                         rng.any_f32().abs().to_bits(),
                     ]);
                     if code == uplink::kind::MARK_FAILED || code == uplink::kind::RESTORE {
+                        // a tile (0), a coil (1) or neither (2)
                         args[0] = rng.below(8) as u32;
+                        args[1] = rng.below(3) as u32;
                     }
                 }
                 _ => args.iter_mut().for_each(|w| *w = rng.next() as u32),

@@ -204,7 +204,7 @@ fn compare<const N: usize, const F: usize>(
         // the composition reads its coils back (`b`), switches every coil off (the thesis
         // satellite has none), waits once, then reads (the one-image loop makes the same calls
         // without the wait: its models ran between the two)
-        let after_coils = replay.order.trim_start_matches('b').trim_start_matches('c');
+        let after_coils = replay.order.trim_start_matches(['b', 'c']);
         assert!(
             after_coils.starts_with("wr"),
             "{}: step {step}: {}",

@@ -90,6 +90,18 @@ fn commands_apply_and_refusals_change_nothing() {
     assert_eq!(acs.tile_state(2), Some(TileState::Failed));
     assert!(apply(kind::RESTORE, &words(&[2]), &mut acs, &mut clock, None).is_ok());
     assert_eq!(acs.tile_state(2), Some(TileState::Working));
+    // a coil (word 1 = 1): failed and out of its allocation, then back (issue #31)
+    assert!(apply(kind::MARK_FAILED, &words(&[2, 1]), &mut acs, &mut clock, None).is_ok());
+    assert!(acs.health().coil_failed(2) && !acs.health().coil_in(2));
+    assert_eq!(acs.tile_state(2), Some(TileState::Working));
+    assert!(apply(kind::RESTORE, &words(&[2, 1]), &mut acs, &mut clock, None).is_ok());
+    assert!(!acs.health().any_failed() && acs.health().coil_in(2));
+    // no coil 3, no class 2, no coil beyond the index range: refused, nothing changed
+    for bad in [[3u32, 1], [0, 2], [u32::MAX, 1], [65_537, 1]] {
+        let e = refused(&mut acs, &mut clock, kind::MARK_FAILED, &bad);
+        assert_eq!(e, UplinkError::InvalidArgument);
+        assert!(!acs.health().any_failed());
+    }
     assert!(apply(kind::TRACK, &words(&qw), &mut acs, &mut clock, None).is_ok());
     // the reference node's guidance: the attitude node takes it at the next step
     assert_eq!(acs.guidance().kind, GuidanceKind::Track);

@@ -87,6 +87,21 @@ impl TileBus for FuzzBus<'_> {
         assert!(within(m_am2, COIL_LIMIT_AM2), "coil {coil}: {m_am2} A·m²");
         self.outcome()
     }
+
+    fn read_wheel_momentum(&mut self, tile: usize) -> Result<Option<i16>, ErrorKind> {
+        assert!(
+            tile < TILES && CONFIG.tiles[tile].equipment.reaction_wheel,
+            "no wheel on tile {tile}"
+        );
+        self.outcome()?;
+        Ok(self.u.arbitrary::<bool>().unwrap_or(false).then(|| self.raw()))
+    }
+
+    fn read_coil_dipole(&mut self, coil: usize) -> Result<Option<i16>, ErrorKind> {
+        assert!(coil < CONFIG.coils.len(), "no coil {coil}");
+        self.outcome()?;
+        Ok(self.u.arbitrary::<bool>().unwrap_or(false).then(|| self.raw()))
+    }
     fn delay_us(&mut self, _: u32) {}
 }
 

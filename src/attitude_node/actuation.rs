@@ -44,23 +44,23 @@ impl<const N: usize> AttitudeNode<'_, N> {
 
     /// Puts every actuator in the safe state: coils off, wheels hold their momentum.
     pub fn safe<B: TileBus>(&mut self, bus: &mut B) -> Faults {
+        self.coils_off(bus, false)
+    }
+
+    /// Switches the coils off; with `check`, each coil in its allocation is first checked from
+    /// its read-back, the dipole of the previous step's command (step phase 1,
+    /// [`super::health`]).
+    pub(super) fn coils_off<B: TileBus>(&mut self, bus: &mut B, check: bool) -> Faults {
         let mut faults = Faults::default();
         for i in 0..self.config.coils.len() {
+            if check && self.health.coil_in(i) {
+                self.health.check_coil(i, bus.read_coil_dipole(i), &mut faults);
+            }
             let accepted = bus.set_dipole(i, 0.0).is_ok();
             self.health.coil_commanded(i, 0.0, accepted);
             faults.actuator |= !accepted;
         }
         faults
-    }
-
-    /// Step phase 1: each coil in its allocation checked from its read-back, the dipole of the
-    /// previous step's command ([`super::health`]).
-    pub(super) fn check_coils<B: TileBus>(&mut self, bus: &mut B, faults: &mut Faults) {
-        for i in 0..self.config.coils.len() {
-            if self.health.coil_in(i) {
-                self.health.check_coil(i, bus.read_coil_dipole(i), faults);
-            }
-        }
     }
 
     /// Step phase 5c: wheel momentum (the target, or the momentum in force re-sent: it stops

@@ -212,9 +212,14 @@ impl<'c, const N: usize> AttitudeNode<'c, N> {
     }
 
     /// Fails coil `coil` and takes it out of its allocation (`failed`, the ground's
-    /// `MARK_FAILED` of a coil), or returns it to service (`RESTORE`).
-    pub fn set_coil_failed(&mut self, coil: usize, failed: bool) {
-        self.health.set_coil_failed(coil, failed);
+    /// `MARK_FAILED` of a coil), or returns it to service (`RESTORE`); false (nothing changed) if
+    /// there is no such coil.
+    pub fn set_coil_failed(&mut self, coil: usize, failed: bool) -> bool {
+        let exists = self.config.coils.len() > coil;
+        if exists {
+            self.health.set_coil_failed(coil, failed);
+        }
+        exists
     }
 
     /// Marks a tile failed (ground command or fault detection); its devices are no longer used
@@ -313,9 +318,7 @@ impl<'c, const N: usize> AttitudeNode<'c, N> {
         dt_s: f32,
         report: &mut StepReport,
     ) -> Status {
-        let mut faults = Faults::default();
-        self.check_coils(bus, &mut faults);
-        faults.actuator |= self.safe(bus).actuator;
+        let mut faults = self.coils_off(bus, true);
         bus.delay_us(COIL_DECAY_US);
         let reference = reference.filter(|r| r.usable_at(self.step));
         match reference {
