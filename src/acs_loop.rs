@@ -800,7 +800,8 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         let mut faults = Faults::default();
         for i in 0..self.config.coils.len() {
             if check && self.health.coil_in(i) {
-                self.health.check_coil(i, bus.read_coil_dipole(i), &mut faults);
+                self.health
+                    .check_coil(i, bus.read_coil_dipole(i), &mut faults);
             }
             let accepted = bus.set_dipole(i, 0.0).is_ok();
             self.health.coil_commanded(i, 0.0, accepted);

@@ -722,11 +722,7 @@ fn wheel_stopped_is_reported() {
 #[test]
 fn refusing_wheel_leaves_the_allocation_until_restored() {
     let (clear, end) = (FAULT_AT + 120.0, 1200.0);
-    let f = [(
-        Fault::WheelRefuses { tile: 2 },
-        FAULT_AT,
-        clear,
-    )];
+    let f = [(Fault::WheelRefuses { tile: 2 }, FAULT_AT, clear)];
     let run = fly(&f, &[(clear + 10.0, Ground::RestoreFailed)], end);
     let back = summary("wheel refuses, restored", &run, clear, end);
     assert!(every_step(&run, FAULT_AT, clear + 10.0, ACTUATOR));

@@ -44,7 +44,7 @@ fn sensor_bus() -> (Handle, UsciI2c<Handle>) {
             .slaves
             .push(Slave::new(SUN).with_words(0x00, &[1, 2500, -1200]));
     }
-    let bus = UsciI2c::new(h.clone(), I2cConfig::FLIGHT);
+    let bus = UsciI2c::new(h.clone(), &I2cConfig::FLIGHT);
     (h, bus)
 }
 
@@ -113,12 +113,12 @@ fn magnetometer_gyro_and_sun_sensor_read_through_the_usci() {
     expected.push(Event::Stop);
     assert_eq!(events(&h), expected);
 
-    let mut gyro = I2cGyro::new(UsciI2c::attach(h.clone(), I2cConfig::FLIGHT), GYRO, 0x10);
+    let mut gyro = I2cGyro::new(UsciI2c::attach(h.clone(), &I2cConfig::FLIGHT), GYRO, 0x10);
     assert_eq!(acs::hal::Gyro::read_rate_raw(&mut gyro), Ok(-312));
     let e = events(&h);
     assert_eq!(e.len(), 3 + 2 + 1, "{e:?}");
 
-    let mut sun = I2cSunSensor::new(UsciI2c::attach(h.clone(), I2cConfig::FLIGHT), SUN, 0x00);
+    let mut sun = I2cSunSensor::new(UsciI2c::attach(h.clone(), &I2cConfig::FLIGHT), SUN, 0x00);
     assert_eq!(
         acs::hal::SunSensor::read_sun_raw(&mut sun),
         Ok(Some([2500, -1200]))
@@ -263,7 +263,7 @@ fn an_absent_device_is_an_address_nack_and_the_bus_recovers() {
     // the master released the bus with a STOP
     assert_eq!(events(&h), vec![w(0x55), Event::Nack, Event::Stop]);
     // and a read of an absent magnetometer is DeviceAbsent for the loop
-    let mut absent = I2cMagnetometer::new(UsciI2c::attach(h.clone(), I2cConfig::FLIGHT), 0x55, 3);
+    let mut absent = I2cMagnetometer::new(UsciI2c::attach(h.clone(), &I2cConfig::FLIGHT), 0x55, 3);
     assert_eq!(absent.read_field_raw(), Err(ErrorKind::DeviceAbsent));
     let _ = events(&h);
     // the next transaction works
@@ -437,7 +437,7 @@ fn the_pwm_coil_driver_commands_a_coil_through_timer_b() {
 #[test]
 fn device_bus_runs_on_the_msp430_drivers() {
     let (h, bus) = sensor_bus();
-    let cfg = I2cConfig::FLIGHT;
+    let cfg = &I2cConfig::FLIGHT;
     let tile = TileDevices::none()
         .with_magnetometer(I2cMagnetometer::new(bus, MAG, 0x03))
         .with_gyro(I2cGyro::new(UsciI2c::attach(h.clone(), cfg), GYRO, 0x10))
@@ -1096,7 +1096,7 @@ fn flight_part() -> (Handle, AttitudeBus<Handle, NoopDelay>) {
     }
     let bus = tile_bus::attitude_bus(
         h.clone(),
-        I2cConfig::FLIGHT,
+        &I2cConfig::FLIGHT,
         PwmConfig::FLIGHT,
         NoopDelay::new(),
     );

@@ -91,7 +91,14 @@ fn commands_apply_and_refusals_change_nothing() {
     assert!(apply(kind::RESTORE, &words(&[2]), &mut acs, &mut clock, None).is_ok());
     assert_eq!(acs.tile_state(2), Some(TileState::Working));
     // a coil (word 1 = 1): failed and out of its allocation, then back (issue #31)
-    assert!(apply(kind::MARK_FAILED, &words(&[2, 1]), &mut acs, &mut clock, None).is_ok());
+    assert!(apply(
+        kind::MARK_FAILED,
+        &words(&[2, 1]),
+        &mut acs,
+        &mut clock,
+        None
+    )
+    .is_ok());
     assert!(acs.health().coil_failed(2) && !acs.health().coil_in(2));
     assert_eq!(acs.tile_state(2), Some(TileState::Working));
     assert!(apply(kind::RESTORE, &words(&[2, 1]), &mut acs, &mut clock, None).is_ok());

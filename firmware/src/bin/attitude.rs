@@ -87,7 +87,7 @@ fn run() -> ! {
     periph::init_clocks();
     let mut bus = tile_bus::attitude_bus(
         Mmio,
-        I2cConfig::FLIGHT,
+        &I2cConfig::FLIGHT,
         PwmConfig::FLIGHT,
         acs_firmware::CycleDelay,
     );

@@ -88,7 +88,7 @@ impl<const ANSWER: bool> Registers for Instant<ANSWER> {
 #[no_mangle]
 #[inline(never)]
 fn cycles() {
-    let mut bus = UsciI2c::new(Instant::<true>, I2cConfig::FLIGHT);
+    let mut bus = UsciI2c::new(Instant::<true>, &I2cConfig::FLIGHT);
     let mut four = [0u8; 4];
     drivers_mark(10);
     keep(bus.write_read(keep(0x1E), &[keep(0x03)], &mut four).is_ok());
@@ -106,7 +106,7 @@ fn cycles() {
     let mut timer = PeriodTimer::start(Mmio, Period::ONE_SECOND, 1_000);
     keep(timer.wait_period().is_ok());
     drivers_mark(15);
-    let mut stuck = UsciI2c::new(Instant::<false>, I2cConfig::FLIGHT);
+    let mut stuck = UsciI2c::new(Instant::<false>, &I2cConfig::FLIGHT);
     drivers_mark(16);
     keep(
         stuck
@@ -124,7 +124,7 @@ fn cycles() {
 #[no_mangle]
 #[inline(never)]
 fn measure_i2c() {
-    let mut bus = UsciI2c::new(Mmio, I2cConfig::FLIGHT);
+    let mut bus = UsciI2c::new(Mmio, &I2cConfig::FLIGHT);
     let mut four = [0u8; 4];
     keep(bus.write_read(keep(0x1E), &[keep(0x03)], &mut four).is_ok());
     keep(four);

@@ -208,7 +208,7 @@ pub type AttitudeBus<R, D> = DeviceBus<
 >;
 
 /// The devices of tile `tile` at their addresses of the map (tile < 8).
-fn tile_devices<R: Registers + Clone>(regs: &R, config: I2cConfig, tile: u8) -> Tile<R> {
+fn tile_devices<R: Registers + Clone>(regs: &R, config: &'static I2cConfig, tile: u8) -> Tile<R> {
     let bus = || UsciI2c::attach(regs.clone(), config);
     let t = tile & 7;
     TileDevices::new(
@@ -230,7 +230,7 @@ fn tile_devices<R: Registers + Clone>(regs: &R, config: I2cConfig, tile: u8) -> 
 /// is the loop's first read.
 pub fn attitude_bus<R: Registers + Clone, D>(
     regs: R,
-    i2c: I2cConfig,
+    i2c: &'static I2cConfig,
     pwm: PwmConfig,
     delay: D,
 ) -> AttitudeBus<R, D> {
