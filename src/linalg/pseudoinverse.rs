@@ -144,16 +144,18 @@ pub fn symmetric_pseudoinverse(
         });
     }
     let scale = power_of_two_scale(trace_g).ok_or(PseudoinverseError::OutOfRange)?;
-    // A = s·G (exact)
-    let [a11, a12, a13, a22, a23, a33] = entries.map(|x| x * scale);
+    // A = s·G (exact). The entry-wise formulas below are loops over the packed entries and
+    // tables of indices (one copy of each formula in the MSP430 code, not six), with the
+    // operations of each entry in the order the formulas give
+    let mut a = entries;
+    for x in &mut a {
+        *x *= scale;
+    }
+    let [a11, _, _, a22, _, a33] = a;
     let trace = a11 + a22 + a33;
-    // C = adj A: the cofactors (C = Cᵀ)
-    let c11 = a22 * a33 - a23 * a23;
-    let c22 = a11 * a33 - a13 * a13;
-    let c33 = a11 * a22 - a12 * a12;
-    let c12 = a13 * a23 - a12 * a33;
-    let c13 = a12 * a23 - a13 * a22;
-    let c23 = a12 * a13 - a11 * a23;
+    // C = adj A: the cofactors (C = Cᵀ), c = a_i·a_j − a_k·a_l by COFACTORS
+    let c = COFACTORS.map(|[i, j, k, l]| entry(&a, i) * entry(&a, j) - entry(&a, k) * entry(&a, l));
+    let [c11, c12, c13, c22, c23, c33] = c;
     // first pivot d₁ = a_pp (the largest diagonal entry; d₁ ≥ t/3 > 0) and the cofactors of
     // the other two indices: S = [c_rr −c_qr; −c_qr c_qq]/d₁
     let (d1, cqq, crr, cqr) = if a11 >= a22 && a11 >= a33 {
@@ -176,45 +178,80 @@ pub fn symmetric_pseudoinverse(
     } else {
         1
     };
-    let (x, divisor) = match rank {
+    let (mut x, divisor) = match rank {
         1 => {
             // A⁺ = A / t²
-            ([a11, a12, a13, a22, a23, a33], trace * trace)
+            (a, trace * trace)
         }
         2 => {
             // A⁺ = (t·P − A)/m, P = I − c cᵀ/(cᵀc), c the largest column of C
-            let [n1, n2, n3] = if c11 >= c22 && c11 >= c33 {
-                [c11, c12, c13]
+            let column = if c11 >= c22 && c11 >= c33 {
+                0
             } else if c22 >= c33 {
-                [c12, c22, c23]
+                1
             } else {
-                [c13, c23, c33]
+                2
             };
-            // t·P − A = t·I − k·c cᵀ − A, k = t/(cᵀc)
+            let n = COLUMNS
+                .get(column)
+                .copied()
+                .unwrap_or_default()
+                .map(|i| entry(&c, i));
+            let [n1, n2, n3] = n;
+            // t·P − A = t·I − k·c cᵀ − A, k = t/(cᵀc): entry (i, j) is
+            // t − kᵢ·n_j − a_ij on the diagonal, −(kᵢ·n_j) − a_ij off it
             let k = trace / (n1 * n1 + n2 * n2 + n3 * n3);
-            let (k1, k2, k3) = (k * n1, k * n2, k * n3);
-            (
-                [
-                    trace - k1 * n1 - a11,
-                    -(k1 * n2) - a12,
-                    -(k1 * n3) - a13,
-                    trace - k2 * n2 - a22,
-                    -(k2 * n3) - a23,
-                    trace - k3 * n3 - a33,
-                ],
-                c11 + c22 + c33,
-            )
+            let kn = n.map(|ni| k * ni);
+            let x = PACKED.map(|[p, i, j]| {
+                let kinj = entry(&kn, i) * entry(&n, j);
+                let t_p = if i == j { trace - kinj } else { -kinj };
+                t_p - entry(&a, p)
+            });
+            (x, c11 + c22 + c33)
         }
         _ => {
             // A⁻¹ = C / det A
-            ([c11, c12, c13, c22, c23, c33], d1_det / d1)
+            (c, d1_det / d1)
         }
     };
     // G⁺ = s·A⁺ (the multiplication by s is exact)
+    for xij in &mut x {
+        *xij = *xij / divisor * scale;
+    }
     Ok(SymPseudoinverse {
-        pinv: SymMat3(x.map(|xij| xij / divisor * scale)),
+        pinv: SymMat3(x),
         rank,
     })
+}
+
+/// The packed index, row and column of each entry of a symmetric 3×3 matrix, in the order of
+/// [`SymMat3`] (`m11, m12, m13, m22, m23, m33`).
+const PACKED: [[usize; 3]; 6] = [
+    [0, 0, 0],
+    [1, 0, 1],
+    [2, 0, 2],
+    [3, 1, 1],
+    [4, 1, 2],
+    [5, 2, 2],
+];
+
+/// The packed indices of column 0, 1, 2 of a symmetric 3×3 matrix.
+const COLUMNS: [[usize; 3]; 3] = [[0, 1, 2], [1, 3, 4], [2, 4, 5]];
+
+/// The cofactors of a symmetric 3×3 matrix, packed: `c = a_i·a_j − a_k·a_l` for `[i, j, k, l]`
+/// (indices of packed entries).
+const COFACTORS: [[usize; 4]; 6] = [
+    [3, 5, 4, 4], // c11 = a22·a33 − a23·a23
+    [2, 4, 1, 5], // c12 = a13·a23 − a12·a33
+    [1, 4, 2, 3], // c13 = a12·a23 − a13·a22
+    [0, 5, 2, 2], // c22 = a11·a33 − a13·a13
+    [1, 2, 0, 4], // c23 = a12·a13 − a11·a23
+    [0, 3, 1, 1], // c33 = a11·a22 − a12·a12
+];
+
+/// Entry `i` of `v` (the indices come from the tables above: always in range).
+fn entry<const N: usize>(v: &[f32; N], i: usize) -> f32 {
+    v.get(i).copied().unwrap_or(0.0)
 }
 
 #[cfg(test)]

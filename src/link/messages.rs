@@ -309,6 +309,17 @@ impl Reader<'_> {
         let v = Vec3::new(self.f32(), self.f32(), self.f32());
         valid.then_some(v)
     }
+    /// Three f32 into `out`.
+    fn vec3_into(&mut self, out: &mut Vec3) {
+        out.x = self.f32();
+        out.y = self.f32();
+        out.z = self.f32();
+    }
+    /// Three f32 into `out`, `None` unless `valid` (read all the same).
+    #[cfg_attr(target_arch = "msp430", inline(never))]
+    fn vec3_option(&mut self, out: &mut Option<Vec3>, valid: bool) {
+        *out = self.vec3(valid);
+    }
     fn quaternion(&mut self) -> Quaternion {
         Quaternion {
             q0: self.f32(),
@@ -479,12 +490,34 @@ impl Reference {
         if bytes.len() != Self::BYTES {
             return Err(MessageError::Length);
         }
-        let mut r = Reader { bytes, at: 0 };
-        let step = r.u32();
-        let utc = r.epoch(true)?.ok_or(MessageError::Field)?;
+        let mut m = Self {
+            step: 0,
+            utc: Epoch::DAY0,
+            clock_valid: false,
+            elements_valid: false,
+            r_teme_km: None,
+            sun_teme: None,
+            illumination: None,
+            b_teme_nt: None,
+            albedo_teme: None,
+            guidance: Guidance::NONE,
+            faults: 0,
+        };
+        m.read(&mut Reader { bytes, at: 0 })?;
+        Ok(m)
+    }
+
+    /// [`Reference::from_bytes`]'s fields, read in order into `self` (out of line, through
+    /// `&mut self`: each field is stored as it is read, not held and copied).
+    #[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
+    fn read(&mut self, r: &mut Reader) -> Result<(), MessageError> {
+        self.step = r.u32();
+        self.utc = r.epoch(true)?.ok_or(MessageError::Field)?;
         let flags = r.u8();
-        let r_teme_km = r.vec3(flag(flags, 2));
-        let sun_teme = r.vec3(flag(flags, 3));
+        self.clock_valid = flag(flags, 0);
+        self.elements_valid = flag(flags, 1);
+        r.vec3_option(&mut self.r_teme_km, flag(flags, 2));
+        r.vec3_option(&mut self.sun_teme, flag(flags, 3));
         let fraction = r.f32();
         let shadow = match r.u8() {
             0 => Shadow::Sunlit,
@@ -493,40 +526,24 @@ impl Reference {
             3 => Shadow::Antumbra,
             _ => return Err(MessageError::Field),
         };
-        let b_teme_nt = r.vec3(flag(flags, 5));
-        let albedo_teme = r.vec3(flag(flags, 6));
-        let id = r.u16();
-        let kind = match r.u8() {
+        self.illumination = flag(flags, 4).then_some(Illumination { fraction, shadow });
+        r.vec3_option(&mut self.b_teme_nt, flag(flags, 5));
+        r.vec3_option(&mut self.albedo_teme, flag(flags, 6));
+        let g = &mut self.guidance;
+        g.id = r.u16();
+        g.kind = match r.u8() {
             0 => GuidanceKind::None,
             1 => GuidanceKind::Track,
             2 => GuidanceKind::Slew,
             _ => return Err(MessageError::Field),
         };
-        let target = r.quaternion();
-        let rate_body_radps = r.vec3(true).unwrap_or_else(Vec3::zeros);
-        let h_ff_body_nms = r.vec3(true).unwrap_or_else(Vec3::zeros);
-        let faults = r.u16();
+        g.target = r.quaternion();
+        r.vec3_into(&mut g.rate_body_radps);
+        r.vec3_into(&mut g.h_ff_body_nms);
+        self.faults = r.u16();
         if flags > 0x7F {
             return Err(MessageError::Field);
         }
-        Ok(Self {
-            step,
-            utc,
-            clock_valid: flag(flags, 0),
-            elements_valid: flag(flags, 1),
-            r_teme_km,
-            sun_teme,
-            illumination: flag(flags, 4).then_some(Illumination { fraction, shadow }),
-            b_teme_nt,
-            albedo_teme,
-            guidance: Guidance {
-                id,
-                kind,
-                target,
-                rate_body_radps,
-                h_ff_body_nms,
-            },
-            faults,
-        })
+        Ok(())
     }
 }

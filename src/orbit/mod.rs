@@ -70,6 +70,13 @@ pub(crate) struct Phase {
 }
 
 impl Phase {
+    /// The zero phase (a placeholder before the parts are read).
+    pub(crate) const ZERO: Self = Self {
+        at_epoch: 0,
+        rate_fx: 0,
+        rate_turns: 0.0,
+    };
+
     /// A phase from its epoch value (rad) and rate (rad per time unit), computed in f64 at
     /// initialisation. Non-finite inputs give a zero phase; callers validate them first.
     pub(crate) fn new(at_epoch_rad: f64, rate_rad_per_unit: f64) -> Self {

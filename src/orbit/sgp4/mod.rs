@@ -317,6 +317,24 @@ struct FullDrag {
     sinmao: f32,
 }
 
+impl FullDrag {
+    /// All terms zero (the words of an element set without them).
+    const ZERO: Self = Self {
+        d2: 0.0,
+        d3: 0.0,
+        d4: 0.0,
+        t3cof: 0.0,
+        t4cof: 0.0,
+        t5cof: 0.0,
+        cc5: 0.0,
+        omgcof: 0.0,
+        xmcof: 0.0,
+        eta: 0.0,
+        delmo: 0.0,
+        sinmao: 0.0,
+    };
+}
+
 /// An initialised near-Earth SGP4 propagator for one element set (Vallado's `elsetrec`).
 ///
 /// Immutable after [`Sgp4::new`]: propagation is a pure function of the time since epoch.

@@ -10,6 +10,9 @@ pub const ELEMENT_WORDS: usize = 58;
 /// Format tag of [`Sgp4::to_words`] (word 0): "S4", layout version 1.
 const WORDS_TAG: u32 = 0x5334_0001;
 
+/// Index of the full-drag flag word (0 or 1).
+const FLAG_WORD: usize = 44;
+
 /// Checksum of words `0..ELEMENT_WORDS − 1` of [`Sgp4::to_words`] (the last word): each word
 /// rotated in by 5 bits, `c ← rotl(c, 5) ⊕ w` from `0x0acc5a7e` (a corrupted or truncated
 /// uplink is refused; the link layer's CRC is the real protection). A change δ of word k
@@ -147,20 +150,7 @@ impl Sgp4 {
             w.f32(x);
         }
         w.word(u32::from(self.full_drag.is_some()));
-        let d = self.full_drag.unwrap_or(FullDrag {
-            d2: 0.0,
-            d3: 0.0,
-            d4: 0.0,
-            t3cof: 0.0,
-            t4cof: 0.0,
-            t5cof: 0.0,
-            cc5: 0.0,
-            omgcof: 0.0,
-            xmcof: 0.0,
-            eta: 0.0,
-            delmo: 0.0,
-            sinmao: 0.0,
-        });
+        let d = self.full_drag.unwrap_or(FullDrag::ZERO);
         for x in [
             d.d2, d.d3, d.d4, d.t3cof, d.t4cof, d.t5cof, d.cc5, d.omgcof, d.xmcof, d.eta, d.delmo,
             d.sinmao,
@@ -198,62 +188,48 @@ impl Sgp4 {
         let (day, second, nano) = (r.word() as i32, r.word(), r.word());
         let epoch = crate::time::Epoch::from_parts(day, second, nano)
             .map_err(|_| Sgp4Error::Words { index: 1 })?;
-        // Each field read straight into the result, in the words' order (struct expressions
-        // evaluate their fields as written): no intermediate copies (on the MSP430, 2 B of
-        // code per word moved).
         let phase_index = r.index + 5;
+        let flag_index = FLAG_WORD as u8;
+        let flag = words[FLAG_WORD];
+        // the fields read in the words' order into a zeroed set, the drag terms always (the
+        // flag word drops them below)
         let mut orbit = Self {
             epoch,
-            radius_km: r.f32(),
-            xke: r.f32(),
-            j2: r.f32(),
-            ao_km: r.f32(),
-            v_scale_kmps: r.f32(),
-            mean_anomaly: r.phase(),
-            arg_perigee: r.phase(),
-            node: r.phase(),
-            arg_latitude: r.phase(),
-            no: r.f32(),
-            ao: r.f32(),
-            ecco: r.f32(),
-            bstar: r.f32(),
-            cosio: r.f32(),
-            sinio: r.f32(),
-            con41: r.f32(),
-            x1mth2: r.f32(),
-            x7thm1: r.f32(),
-            cc1: r.f32(),
-            cc4: r.f32(),
-            nodecf: r.f32(),
-            t2cof: r.f32(),
-            xlcof: r.f32(),
-            aycof: r.f32(),
+            radius_km: 0.0,
+            xke: 0.0,
+            j2: 0.0,
+            ao_km: 0.0,
+            v_scale_kmps: 0.0,
+            mean_anomaly: Phase::ZERO,
+            arg_perigee: Phase::ZERO,
+            node: Phase::ZERO,
+            arg_latitude: Phase::ZERO,
+            no: 0.0,
+            ao: 0.0,
+            ecco: 0.0,
+            bstar: 0.0,
+            cosio: 0.0,
+            sinio: 0.0,
+            con41: 0.0,
+            x1mth2: 0.0,
+            x7thm1: 0.0,
+            cc1: 0.0,
+            cc4: 0.0,
+            nodecf: 0.0,
+            t2cof: 0.0,
+            xlcof: 0.0,
+            aycof: 0.0,
             full_drag: None,
         };
-        let flag_index = r.index;
-        let flag = r.word();
-        let drag = FullDrag {
-            d2: r.f32(),
-            d3: r.f32(),
-            d4: r.f32(),
-            t3cof: r.f32(),
-            t4cof: r.f32(),
-            t5cof: r.f32(),
-            cc5: r.f32(),
-            omgcof: r.f32(),
-            xmcof: r.f32(),
-            eta: r.f32(),
-            delmo: r.f32(),
-            sinmao: r.f32(),
-        };
+        orbit.read_fields(&mut r);
         if let Some(index) = r.bad {
             return Err(Sgp4Error::Words { index });
         }
-        orbit.full_drag = match flag {
-            0 => None,
-            1 => Some(drag),
+        match flag {
+            0 => orbit.full_drag = None,
+            1 => {}
             _ => return Err(Sgp4Error::Words { index: flag_index }),
-        };
+        }
         let phases_ok = [
             &orbit.mean_anomaly,
             &orbit.arg_perigee,
@@ -266,5 +242,54 @@ impl Sgp4 {
             return Err(Sgp4Error::Words { index: phase_index });
         }
         Ok(orbit)
+    }
+
+    /// Reads the fields after the epoch in the words' order (the reader marks a non-finite
+    /// f32) into `self`, the drag terms always (set to `Some`).
+    ///
+    /// Out of line and through `&mut self`, each field is stored as soon as it is read: built
+    /// as one struct expression, the MSP430 code held every field on the stack and then copied
+    /// it (16 B more code per f32; reference image −426 B).
+    #[cfg_attr(target_arch = "msp430", inline(never))]
+    fn read_fields(&mut self, r: &mut WordReader) {
+        let o = self;
+        o.radius_km = r.f32();
+        o.xke = r.f32();
+        o.j2 = r.f32();
+        o.ao_km = r.f32();
+        o.v_scale_kmps = r.f32();
+        o.mean_anomaly = r.phase();
+        o.arg_perigee = r.phase();
+        o.node = r.phase();
+        o.arg_latitude = r.phase();
+        o.no = r.f32();
+        o.ao = r.f32();
+        o.ecco = r.f32();
+        o.bstar = r.f32();
+        o.cosio = r.f32();
+        o.sinio = r.f32();
+        o.con41 = r.f32();
+        o.x1mth2 = r.f32();
+        o.x7thm1 = r.f32();
+        o.cc1 = r.f32();
+        o.cc4 = r.f32();
+        o.nodecf = r.f32();
+        o.t2cof = r.f32();
+        o.xlcof = r.f32();
+        o.aycof = r.f32();
+        let _flag = r.word();
+        let d = o.full_drag.insert(FullDrag::ZERO);
+        d.d2 = r.f32();
+        d.d3 = r.f32();
+        d.d4 = r.f32();
+        d.t3cof = r.f32();
+        d.t4cof = r.f32();
+        d.t5cof = r.f32();
+        d.cc5 = r.f32();
+        d.omgcof = r.f32();
+        d.xmcof = r.f32();
+        d.eta = r.f32();
+        d.delmo = r.f32();
+        d.sinmao = r.f32();
     }
 }
