@@ -54,6 +54,7 @@ FLIGHT = [
     "src/attitude_node/laws.rs",
     "src/attitude_node/modes.rs",
     "src/attitude_node/sensing.rs",
+    "src/attitude_node/health.rs",
     "src/link/mod.rs",
     "src/link/messages.rs",
     "src/two_node.rs",

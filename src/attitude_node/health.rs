@@ -199,7 +199,7 @@ impl<const N: usize> ActuatorHealth<N> {
 
     /// Checks tile `tile`'s wheel (in its allocation) from its read-back `read`, its command
     /// in force `commanded_nms` and the wheels' limit `limit_nms`; true if this check failed it
-    /// (the caller decides whether it leaves its allocation, [`keeps_rank`]).
+    /// (the caller decides whether it leaves its allocation, [`has_twin`]).
     pub fn check_wheel(
         &mut self,
         tile: usize,

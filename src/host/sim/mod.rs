@@ -1362,7 +1362,7 @@ impl TileBus for Simulator {
     }
 
     /// The coils' current sense is the attitude node's own (not on the tile bus): no time-out;
-    /// a bus burst fails it as it fails the coils' commands ([`faults::Faults::coil`]).
+    /// a bus burst fails it as it fails the coils' commands ([`faults::Injections::coil`]).
     fn read_coil_dipole(&mut self, coil: usize) -> Result<Option<i16>, ErrorKind> {
         self.faults.coil(self.truth.t_s, coil, 0.0)?;
         let m = self.coil_dipole_am2(coil).ok_or(ErrorKind::DeviceAbsent)?;
