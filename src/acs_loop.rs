@@ -794,20 +794,10 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         self.coils_off(bus, false)
     }
 
-    /// Switches the coils off; with `check`, each coil in its allocation is first checked from
-    /// its read-back ([`crate::attitude_node::health`]).
+    /// Switches the coils off; with `check`, each coil is first checked from its read-back
+    /// ([`ActuatorHealth::coils_off`]).
     fn coils_off<B: TileBus>(&mut self, bus: &mut B, check: bool) -> Faults {
-        let mut faults = Faults::default();
-        for i in 0..self.config.coils.len() {
-            if check && self.health.coil_in(i) {
-                self.health
-                    .check_coil(i, bus.read_coil_dipole(i), &mut faults);
-            }
-            let accepted = bus.set_dipole(i, 0.0).is_ok();
-            self.health.coil_commanded(i, 0.0, accepted);
-            faults.actuator |= !accepted;
-        }
-        faults
+        self.health.coils_off(self.config.coils.len(), bus, check)
     }
 
     /// Step phase 3: reads every working tile (see the module docs), counting read failures. A

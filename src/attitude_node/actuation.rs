@@ -47,21 +47,10 @@ impl<const N: usize> AttitudeNode<'_, N> {
         self.coils_off(bus, false)
     }
 
-    /// Switches the coils off; with `check`, each coil in its allocation is first checked from
-    /// its read-back, the dipole of the previous step's command (step phase 1,
-    /// [`super::health`]).
+    /// Switches the coils off; with `check`, each coil is first checked from its read-back
+    /// (step phase 1, [`super::health::ActuatorHealth::coils_off`]).
     pub(super) fn coils_off<B: TileBus>(&mut self, bus: &mut B, check: bool) -> Faults {
-        let mut faults = Faults::default();
-        for i in 0..self.config.coils.len() {
-            if check && self.health.coil_in(i) {
-                self.health
-                    .check_coil(i, bus.read_coil_dipole(i), &mut faults);
-            }
-            let accepted = bus.set_dipole(i, 0.0).is_ok();
-            self.health.coil_commanded(i, 0.0, accepted);
-            faults.actuator |= !accepted;
-        }
-        faults
+        self.health.coils_off(self.config.coils.len(), bus, check)
     }
 
     /// Step phase 5c: wheel momentum (the target, or the momentum in force re-sent: it stops

@@ -36,7 +36,7 @@
 
 use super::Faults;
 use crate::acs_loop::MAX_COILS;
-use crate::hal::ErrorKind;
+use crate::hal::{ErrorKind, TileBus};
 use crate::tiles::Tile;
 use crate::tiles::{COIL_LSB_AM2, WHEEL_LSB_NMS};
 
@@ -304,5 +304,138 @@ impl<const N: usize> ActuatorHealth<N> {
             }
             None => false,
         }
+    }
+
+    /// Switches the `coils` coils off through `bus`; with `check`, each coil in its allocation
+    /// is first checked from its read-back, the dipole of the previous step's command (step
+    /// phase 1). The coils' commands that failed are reported in the faults returned.
+    pub fn coils_off<B: TileBus>(&mut self, coils: usize, bus: &mut B, check: bool) -> Faults {
+        let mut faults = Faults::default();
+        for i in 0..coils {
+            if check && self.coil_in(i) {
+                self.check_coil(i, bus.read_coil_dipole(i), &mut faults);
+            }
+            let accepted = bus.set_dipole(i, 0.0).is_ok();
+            self.coil_commanded(i, 0.0, accepted);
+            faults.actuator |= !accepted;
+        }
+        faults
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::tiles::cube_thesis;
+
+    const LIMIT: f32 = 1.0e-3;
+
+    fn word(h_nms: f32) -> Result<Option<i16>, ErrorKind> {
+        Ok(Some((h_nms / WHEEL_LSB_NMS) as i16))
+    }
+
+    /// A wheel that follows, slews towards its command at its torque limit, or lags once is
+    /// never failed; one that stays more than 20 % of its limit away and does not come 5 %
+    /// closer a step is failed at the third such step; a passing check clears the count.
+    #[test]
+    fn wheel_lagging_three_steps_is_failed() {
+        let mut h = ActuatorHealth::<2>::new();
+        let mut f = Faults::default();
+        // following, then a step command slewed at 23 % of the limit a step
+        assert!(!h.check_wheel(0, word(1e-4), 1e-4, LIMIT, &mut f));
+        for k in 0..4 {
+            let read = 1e-4 + 2.3e-4 * k as f32;
+            assert!(!h.check_wheel(0, word(read), 1e-3, LIMIT, &mut f), "{k}");
+        }
+        // stopped: 0 read against 8e-4 commanded
+        assert!(!h.check_wheel(0, word(0.0), 8e-4, LIMIT, &mut f));
+        assert!(!h.check_wheel(0, word(0.0), 8e-4, LIMIT, &mut f));
+        assert!(h.check_wheel(0, word(0.0), 8e-4, LIMIT, &mut f));
+        assert!(h.wheel_failed(0) && h.any_failed() && h.wheel_in(0));
+        // failed once: not again
+        assert!(!h.check_wheel(0, word(0.0), 8e-4, LIMIT, &mut f));
+        h.take_wheel_out(0);
+        assert!(!h.wheel_in(0));
+        h.restore_wheel(0);
+        assert!(h.wheel_in(0) && !h.any_failed());
+        // two lagging steps, then one that follows: the count starts again
+        assert!(!h.check_wheel(1, word(0.0), 8e-4, LIMIT, &mut f));
+        assert!(!h.check_wheel(1, word(0.0), 8e-4, LIMIT, &mut f));
+        assert!(!h.check_wheel(1, word(8e-4), 8e-4, LIMIT, &mut f));
+        assert!(!h.check_wheel(1, word(0.0), 8e-4, LIMIT, &mut f));
+        assert!(!h.check_wheel(1, word(0.0), 8e-4, LIMIT, &mut f));
+        assert!(!h.wheel_failed(1));
+        assert!(!f.device_read);
+    }
+
+    /// Refusals strike with or without a read-back; a failed read-back is reported and checks
+    /// nothing (the refusal waits for the next read); a word at the range's end strikes.
+    #[test]
+    fn refusals_failed_reads_and_pinned_words() {
+        let mut h = ActuatorHealth::<1>::new();
+        let mut f = Faults::default();
+        for k in 0..3 {
+            h.wheel_commanded(0, false);
+            if k == 1 {
+                assert!(!h.check_wheel(0, Err(ErrorKind::Bus), 0.0, LIMIT, &mut f));
+                assert!(f.device_read);
+            }
+            assert_eq!(
+                h.check_wheel(0, Ok(None), 0.0, LIMIT, &mut f),
+                k == 2,
+                "{k}"
+            );
+        }
+        let mut h = ActuatorHealth::<1>::new();
+        for _ in 0..2 {
+            assert!(!h.check_wheel(0, Ok(Some(i16::MAX)), 0.0, LIMIT, &mut f));
+        }
+        assert!(h.check_wheel(0, Ok(Some(i16::MIN)), 0.0, LIMIT, &mut f));
+    }
+
+    fn dipole(m_am2: f32) -> Result<Option<i16>, ErrorKind> {
+        Ok(Some((m_am2 / COIL_LSB_AM2) as i16))
+    }
+
+    /// A coil within its tolerance (0.001 A·m² + 15 %) passes; an open or left-on coil strikes
+    /// when the command or the read-back says something; steps with neither leave the count.
+    #[test]
+    fn coil_open_and_left_on() {
+        let mut h = ActuatorHealth::<1>::new();
+        let mut f = Faults::default();
+        // 14 % scale error and a quantum: passes
+        h.coil_commanded(0, 0.1, true);
+        assert!(!h.check_coil(0, dipole(0.1 * 1.14 + 0.0008), &mut f));
+        // open: 0.01 commanded, nothing read; steps with nothing commanded in between
+        for k in 0..3 {
+            h.coil_commanded(0, 0.01, true);
+            assert_eq!(h.check_coil(0, dipole(0.0), &mut f), k == 2, "{k}");
+            h.coil_commanded(0, 0.0, true);
+            assert!(!h.check_coil(0, dipole(0.0), &mut f));
+        }
+        assert!(h.coil_failed(0) && h.coil_in(0));
+        h.set_coil_failed(0, false);
+        assert!(!h.any_failed());
+        // left on: 0.2 read with nothing commanded
+        for k in 0..3 {
+            h.coil_commanded(0, 0.0, true);
+            assert_eq!(h.check_coil(0, dipole(0.2), &mut f), k == 2, "{k}");
+        }
+        // the ground's MARK_FAILED takes it out
+        h.set_coil_failed(0, true);
+        assert!(!h.coil_in(0) && h.coil_failed(0));
+    }
+
+    /// On the thesis cube the −U wheel (tile 3) has no twin; +V/−V and +W/−W are twins; a
+    /// twin out of service does not count.
+    #[test]
+    fn twins_on_the_thesis_cube() {
+        let tiles = cube_thesis();
+        let all = |_: usize, t: &Tile| t.equipment.reaction_wheel;
+        assert!(!has_twin(&tiles, 3, all));
+        assert!(has_twin(&tiles, 1, all) && has_twin(&tiles, 4, all));
+        assert!(has_twin(&tiles, 2, all) && has_twin(&tiles, 5, all));
+        assert!(!has_twin(&tiles, 1, |j, t| all(j, t) && j != 4));
+        assert!(!has_twin(&tiles, 9, all));
     }
 }
