@@ -122,7 +122,7 @@ pub struct AcsConfig<const N: usize = MAX_TILES> {
     /// Torque the wheels deliver about each body axis, N·m: a torque law's body torque is
     /// scaled, keeping its direction, so that no axis asks more before it is integrated into
     /// the wheels' momentum (`ḣ = −τ`). Without it the loop commands a momentum the wheels
-    /// cannot follow and, having no read-back, falls into a limit cycle (finding 8,
+    /// cannot follow and, integrating the commanded momentum, falls into a limit cycle (finding 8,
     /// `docs/faults.md`). If any component is not a positive finite number the torque is not
     /// limited at all (infinity: no limit; the flight value is checked at compile time).
     pub wheel_torque_nm: Vec3,
@@ -1249,7 +1249,8 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         if let Some(tau) = torque {
             if self.have_wheels() {
                 // no more than the wheels deliver: a momentum they cannot follow is never
-                // commanded (the loop has no read-back). The coils' per-axis scaling keeping
+                // commanded (the laws integrate the commanded momentum: the read-back only
+                // checks the wheels, `attitude_node::health`). The coils' per-axis scaling keeping
                 // the direction; it refuses a limit that is not positive and finite: none
                 let tau = crate::control::magnetorquer::saturate_dipole(
                     &tau,

@@ -164,7 +164,8 @@ impl<const N: usize> AttitudeNode<'_, N> {
         if let Some(tau) = torque {
             if self.have_wheels() {
                 // no more than the wheels deliver: a momentum they cannot follow is never
-                // commanded (the loop has no read-back). The coils' per-axis scaling keeping
+                // commanded (the laws integrate the commanded momentum: the read-back only
+                // checks the wheels, `attitude_node::health`). The coils' per-axis scaling keeping
                 // the direction; it refuses a limit that is not positive and finite: none
                 let tau = crate::control::magnetorquer::saturate_dipole(
                     &tau,
