@@ -1,7 +1,14 @@
 //! The actuators' health from their read-back (issue #31, item 1): a wheel that does not follow
 //! its command (stopped, running away, or refusing it) and a coil whose dipole is not the one
-//! commanded (open, left on, or refusing) are taken out of their allocation and reported, until
-//! the ground returns them to service.
+//! commanded (open, left on, or refusing) are failed and reported, until the ground returns them
+//! to service; a failed wheel that has a twin on its axis leaves its allocation.
+//!
+//! Where the read-backs come from: the simulator and the processor-in-the-loop images give both
+//! (`Simulator`, the PIL mailboxes); a board's drivers through [`crate::hal::bus::DeviceBus`]
+//! ([`crate::hal::ReactionWheel::read_momentum_raw`],
+//! [`crate::hal::Magnetorquer::read_dipole_raw`]). The flight image's drivers
+//! ([`crate::hal::msp430::tile_bus`]) have none yet (the wheel controller's speed register and
+//! the coils' current sense are not wired): on that image only refusals are checked.
 //!
 //! # The checks
 //! - **Wheel** (read each step with the tiles, [`crate::hal::TileBus::read_wheel_momentum`]):
@@ -37,8 +44,7 @@
 use super::Faults;
 use crate::acs_loop::MAX_COILS;
 use crate::hal::{ErrorKind, TileBus};
-use crate::tiles::Tile;
-use crate::tiles::{COIL_LSB_AM2, WHEEL_LSB_NMS};
+use crate::tiles::{Tile, COIL_LSB_AM2, WHEEL_LSB_NMS};
 
 /// Strikes in a row that fail an actuator.
 pub const STRIKES_TO_FAIL: u8 = 3;
@@ -48,7 +54,7 @@ pub const WHEEL_LAG: f32 = 0.2;
 /// a step is not following it.
 pub const WHEEL_PROGRESS: f32 = 0.05;
 /// A coil's read-back may differ from its command by this much, A·m² (0.5 % of the flight
-/// limit, 2.6 quanta of its 8-bit PWM)…
+/// limit, 1.3 quanta of its 8-bit PWM)…
 pub const COIL_TOLERANCE_AM2: f32 = 0.001;
 /// …plus this fraction of the command.
 pub const COIL_TOLERANCE_FRACTION: f32 = 0.15;
