@@ -24,7 +24,7 @@
 //! |---|---|
 //! | [`modes`] | the modes and their one transition function |
 //! | [`faults`] | the step's faults and their telemetry word |
-//! | [`health`] | the wheels' and coils' read-back checks, actuators taken out of allocation |
+//! | [`health`] | the wheels' and coils' read-back checks: actuators failed, reported, and (a wheel with a twin) taken out of its allocation |
 //! | [`sensing`] | tile reads, tiles taken out of service |
 //! | [`estimation`] | field, rate, Sun, the TRIAD start, the filter, the node's clock |
 //! | [`laws`] | mode events, B-dot, sun-safe, slew momentum, tracking |
@@ -206,7 +206,8 @@ impl<'c, const N: usize> AttitudeNode<'c, N> {
         t.equipment.reaction_wheel && self.is_working(tile) && self.health.wheel_in(tile)
     }
 
-    /// The wheels' and coils' health ([`health`]): which are out of their allocation.
+    /// The wheels' and coils' health ([`health`]): which are failed, which out of their
+    /// allocation.
     pub fn health(&self) -> &ActuatorHealth<N> {
         &self.health
     }
