@@ -690,11 +690,8 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
     /// Fails coil `coil` and takes it out of its allocation (`failed`), or returns it to
     /// service; false (nothing changed) if there is no such coil.
     pub fn set_coil_failed(&mut self, coil: usize, failed: bool) -> bool {
-        let exists = self.config.coils.len() > coil;
-        if exists {
-            self.health.set_coil_failed(coil, failed);
-        }
-        exists
+        self.health
+            .set_coil_failed(coil, failed, self.config.coils.len())
     }
 
     /// Marks a tile failed (ground command or fault detection); its devices are no longer used

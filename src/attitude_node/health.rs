@@ -41,6 +41,7 @@
 //! The one-image loop ([`crate::acs_loop::AcsLoop`]) and the attitude node hold one
 //! [`ActuatorHealth`] each and call the same checks, so the two stay bit for bit the same.
 
+use super::sensing::pinned;
 use super::Faults;
 use crate::acs_loop::MAX_COILS;
 use crate::hal::{ErrorKind, TileBus};
@@ -62,11 +63,6 @@ pub const COIL_TOLERANCE_FRACTION: f32 = 0.15;
 /// Bit `i` as a mask (0 beyond 31).
 fn mask(i: usize) -> u32 {
     1u32.checked_shl(i as u32).unwrap_or(0)
-}
-
-/// A word pinned at either end of the `i16` range.
-fn pinned(x: i16) -> bool {
-    x == i16::MAX || x == i16::MIN
 }
 
 /// The cosine above which two wheels share an axis (8.1°).
@@ -165,9 +161,13 @@ impl<const N: usize> ActuatorHealth<N> {
         }
     }
 
-    /// Fails coil `coil` and takes it out of its allocation (`failed`, the ground's
-    /// `MARK_FAILED`), or returns it to service (`RESTORE`).
-    pub fn set_coil_failed(&mut self, coil: usize, failed: bool) {
+    /// Fails coil `coil` of the `coils` the satellite has and takes it out of its allocation
+    /// (`failed`, the ground's `MARK_FAILED`), or returns it to service (`RESTORE`); false
+    /// (nothing changed) if there is no such coil.
+    pub fn set_coil_failed(&mut self, coil: usize, failed: bool, coils: usize) -> bool {
+        if coil >= coils {
+            return false;
+        }
         let bit = mask(24 + coil);
         if failed {
             self.out |= bit;
@@ -179,6 +179,7 @@ impl<const N: usize> ActuatorHealth<N> {
         if let Some(s) = self.coil_strikes.get_mut(coil) {
             *s = 0;
         }
+        true
     }
 
     /// Records that tile `tile`'s wheel accepted (`true`) or refused its command this step.
@@ -420,7 +421,7 @@ mod tests {
             assert!(!h.check_coil(0, dipole(0.0), &mut f));
         }
         assert!(h.coil_failed(0) && h.coil_in(0));
-        h.set_coil_failed(0, false);
+        assert!(h.set_coil_failed(0, false, 1));
         assert!(!h.any_failed());
         // left on: 0.2 read with nothing commanded
         for k in 0..3 {
@@ -428,7 +429,8 @@ mod tests {
             assert_eq!(h.check_coil(0, dipole(0.2), &mut f), k == 2, "{k}");
         }
         // the ground's MARK_FAILED takes it out
-        h.set_coil_failed(0, true);
+        assert!(h.set_coil_failed(0, true, 1));
+        assert!(!h.set_coil_failed(1, true, 1));
         assert!(!h.coil_in(0) && h.coil_failed(0));
     }
 

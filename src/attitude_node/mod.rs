@@ -216,11 +216,8 @@ impl<'c, const N: usize> AttitudeNode<'c, N> {
     /// `MARK_FAILED` of a coil), or returns it to service (`RESTORE`); false (nothing changed) if
     /// there is no such coil.
     pub fn set_coil_failed(&mut self, coil: usize, failed: bool) -> bool {
-        let exists = self.config.coils.len() > coil;
-        if exists {
-            self.health.set_coil_failed(coil, failed);
-        }
-        exists
+        self.health
+            .set_coil_failed(coil, failed, self.config.coils.len())
     }
 
     /// Marks a tile failed (ground command or fault detection); its devices are no longer used

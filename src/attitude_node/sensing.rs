@@ -23,8 +23,9 @@ pub(super) struct Readings<const N: usize> {
     pub(super) gyro_read: u32,
 }
 
-/// A raw word at either end of the `i16` range.
-fn pinned(x: i16) -> bool {
+/// A raw word at either end of the `i16` range (a failed read, and an actuator's read-back that
+/// strikes: [`super::health`]).
+pub(super) fn pinned(x: i16) -> bool {
     x == i16::MAX || x == i16::MIN
 }
 

@@ -246,10 +246,15 @@ impl Injections {
     /// The dipole coil `coil` takes at `t_s` when commanded `m_am2`: `Err` if the bus fails,
     /// else the dipole it gives (zero if open, the stuck value if left on).
     pub fn coil(&self, t_s: f64, coil: usize, m_am2: f64) -> Result<f64, ErrorKind> {
-        if self.any(t_s, |f| matches!(f, Fault::BusErrors)) {
+        if self.bus_burst(t_s) {
             return Err(ErrorKind::Bus);
         }
         Ok(self.coil_forced(t_s, coil).unwrap_or(m_am2))
+    }
+
+    /// True if every bus transaction fails at `t_s` ([`Fault::BusErrors`]).
+    pub fn bus_burst(&self, t_s: f64) -> bool {
+        self.any(t_s, |f| matches!(f, Fault::BusErrors))
     }
 
     /// The dipole coil `coil` is forced to at `t_s` (open: zero; left on: its value), if any.

@@ -1362,9 +1362,11 @@ impl TileBus for Simulator {
     }
 
     /// The coils' current sense is the attitude node's own (not on the tile bus): no time-out;
-    /// a bus burst fails it as it fails the coils' commands ([`faults::Injections::coil`]).
+    /// a bus burst fails it as it fails the coils' commands ([`faults::Injections::bus_burst`]).
     fn read_coil_dipole(&mut self, coil: usize) -> Result<Option<i16>, ErrorKind> {
-        self.faults.coil(self.truth.t_s, coil, 0.0)?;
+        if self.faults.bus_burst(self.truth.t_s) {
+            return Err(ErrorKind::Bus);
+        }
         let m = self.coil_dipole_am2(coil).ok_or(ErrorKind::DeviceAbsent)?;
         quantise(m, f64::from(crate::tiles::COIL_LSB_AM2)).map(Some)
     }
