@@ -60,5 +60,6 @@
 pub mod cobs;
 pub mod crc16;
 pub mod messages;
+pub mod pus;
 pub mod sequence;
 pub mod space_packet;

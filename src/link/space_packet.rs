@@ -210,13 +210,54 @@ const UNSEGMENTED: u16 = 0b11;
 /// bytes), [`PacketError::OutputTooSmall`] (`out` shorter than the packet). On error `out` is
 /// unchanged.
 pub fn encode(header: &PacketHeader, data: &[u8], out: &mut [u8]) -> Result<usize, PacketError> {
+    let len = encoded_len(header, data.len(), out.len())?;
+    if let Some(body) = out.get_mut(PRIMARY_HEADER_LEN..len - CRC_LEN) {
+        for (o, d) in body.iter_mut().zip(data) {
+            *o = *d;
+        }
+    }
+    encode_in_place(header, data.len(), out)
+}
+
+/// The length of the packet of `header` with `data_len` bytes of user data
+/// ([`packet_len`]`(data_len)`), if [`encode`] can write it into a buffer of `out_len` bytes;
+/// else [`encode`]'s error, checked in the same order. For a message layer that writes its user
+/// data into the packet buffer itself ([`encode_in_place`]) and wants to know first.
+pub fn encoded_len(
+    header: &PacketHeader,
+    data_len: usize,
+    out_len: usize,
+) -> Result<usize, PacketError> {
     if header.sequence_count > MAX_SEQUENCE_COUNT {
         return Err(PacketError::SequenceCountTooLarge(header.sequence_count));
     }
-    // data field bytes − 1 = user data + CRC − 1
+    if data_len > MAX_DATA_LEN {
+        return Err(PacketError::DataTooLong { len: data_len });
+    }
+    let len = data_len + OVERHEAD;
+    if len > out_len {
+        return Err(PacketError::OutputTooSmall {
+            needed: len,
+            len: out_len,
+        });
+    }
+    Ok(len)
+}
+
+/// [`encode`] for user data already in place: `out[6..6 + data_len]` holds the `data_len`
+/// bytes of user data (a message layer wrote them there, as [`crate::link::pus`] does with its
+/// secondary header and application data, so no second buffer is needed); this writes the
+/// primary header before them and the CRC after them, and returns the packet's length. Errors
+/// as [`encode`] ([`encoded_len`]); on error `out` is unchanged.
+pub fn encode_in_place(
+    header: &PacketHeader,
+    data_len: usize,
+    out: &mut [u8],
+) -> Result<usize, PacketError> {
+    let len = encoded_len(header, data_len, out.len())?;
+    // data field bytes − 1 = user data + CRC − 1 (≤ 65 535: encoded_len checked the length)
     let length_field =
-        u16::try_from(data.len() + 1).map_err(|_| PacketError::DataTooLong { len: data.len() })?;
-    let len = data.len() + OVERHEAD;
+        u16::try_from(data_len + 1).map_err(|_| PacketError::DataTooLong { len: data_len })?;
     let too_small = PacketError::OutputTooSmall {
         needed: len,
         len: out.len(),
@@ -237,9 +278,6 @@ pub fn encode(header: &PacketHeader, data: &[u8], out: &mut [u8]) -> Result<usiz
     let [s0, s1] = sequence.to_be_bytes();
     let [l0, l1] = length_field.to_be_bytes();
     *head = [i0, i1, s0, s1, l0, l1];
-    for (o, d) in body.iter_mut().zip(data) {
-        *o = *d;
-    }
     *crc = crc16_update(crc16(head), body).to_be_bytes();
     Ok(len)
 }
