@@ -498,10 +498,26 @@ fn every_telecommand_refusal() {
         assert_eq!(e, PusError::Version(version));
         assert_eq!(e.failure_code(), failure::PUS_VERSION);
     }
-    let unknown = PusError::UnknownMessageType {
-        service: 200,
-        subtype: 1,
-    };
+    let unknown = decode_tc(
+        &tc(
+            &TcHeader {
+                service: 200,
+                subtype: 1,
+                ..tc_header()
+            },
+            &[],
+        ),
+        a,
+    )
+    .expect("decodes")
+    .not_served();
+    assert_eq!(
+        unknown,
+        PusError::UnknownMessageType {
+            service: 200,
+            subtype: 1
+        }
+    );
     assert_eq!(unknown.failure_code(), failure::MESSAGE_TYPE);
     assert_eq!(unknown.to_string(), "TC[200,1] not served");
 }
