@@ -54,7 +54,7 @@
 //! 1 568 B, no constant tables, and RAM for the deframer's `N` bytes, 6 of state, and the
 //! caller's packet buffers.
 //!
-//! The PUS layer above the packets ([`pus`]) has its own table in its module docs: 1.7–2.1 KB
+//! The PUS layer above the packets ([`pus`]) has its own table in its module docs: 1.5–1.9 KB
 //! on a node with its calls.
 //!
 //! [`FramedLink`]: crate::hal::link::FramedLink

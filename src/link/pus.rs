@@ -121,14 +121,13 @@
 //! each node's link path decodes every packet it receives with [`decode_tc`], answers with
 //! TM\[1,1\] and TM\[1,7\] or with a TM\[1,2\] naming the reason, then sends one TM\[3,25\]
 //! and one TM\[5,2\] a period, each call through an `#[inline(never)]` wrapper. Bytes are
-//! symbol sizes against the same images without the probe (45 138 and 45 264 B):
+//! symbol sizes against the same images without the probe (45 130 and 45 256 B, as on main):
 //!
 //! | function | code, B |
 //! |---|---:|
 //! | [`decode_tc`] (its checks, the [`Telecommand`] written out) | 272 |
 //! | [`space_packet::decode`], now called from two places instead of inlined into the node's message decoding | +156 (reference), +150 (attitude) |
-//! | [`encode_tm`] (shared by the three report builders) | 412 |
-//! | [`space_packet::encode_in_place`], likewise out of line now | +158 |
+//! | [`encode_tm`], [`space_packet::encode_in_place`] inlined (shared by the three report builders) | 434 |
 //! | [`verification_report`] | 150 |
 //! | [`housekeeping_report`] | 56 |
 //! | [`event_report`] | 52 |
@@ -136,16 +135,16 @@
 //!
 //! | image | without | decoder and service 1 | all of the above | share of 57 024 B |
 //! |---|---:|---:|---:|---:|
-//! | reference node | 45 138 | 46 824 (+1 686) | 47 188 (+2 050) | 82.8 % |
-//! | attitude node | 45 264 | 46 916 (+1 652) | 47 280 (+2 016) | 82.9 % |
+//! | reference node | 45 130 | 46 696 (+1 566) | 47 044 (+1 914) | 82.5 % |
+//! | attitude node | 45 256 | 46 788 (+1 532) | 47 136 (+1 880) | 82.7 % |
 //!
 //! With the decoder and service 1 alone, [`encode_tm`] is inlined into
-//! [`verification_report`] (452 B together); services 3 and 5 then add 364 B with their calls.
+//! [`verification_report`] (490 B together); services 3 and 5 then add 348 B with their calls.
 //! No constant tables; RAM: none of its own, the caller's packet buffers. Stack under the
-//! caller: 46 B for [`decode_tc`], 80 B for a verification report, 62 B for a housekeeping or
-//! event report (the CRC's 2 B included); the nodes' worst-case stack did not move (2 482 and
-//! 2 798 B with the probe, 2 478 and 2 796 B without: the reports run beside the step, not
-//! under it).
+//! caller: 44–46 B for [`decode_tc`], 62 B for a verification report, 44 B for a housekeeping
+//! or event report (the CRC's 2 B included); the nodes' worst-case stack moved by 4 and 2 B
+//! (2 482 and 2 798 B with the probe, 2 478 and 2 796 B without: the reports run beside the
+//! step, not under it).
 //!
 //! [`space_packet`]: crate::link::space_packet
 //! [`space_packet::decode`]: crate::link::space_packet::decode
