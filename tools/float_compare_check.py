@@ -116,6 +116,7 @@ FLIGHT = [
     "src/link/mod.rs",
     "src/link/cobs.rs",
     "src/link/crc16.rs",
+    "src/link/pus.rs",
     "src/link/sequence.rs",
     "src/link/space_packet.rs",
     "src/orbit/mod.rs",

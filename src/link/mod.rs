@@ -14,6 +14,7 @@
 //! | framing | the packet as a COBS frame ended by 0x00 on the byte stream; resynchronises at the next 0x00 | Cheshire & Baker 1999 | [`cobs`] |
 //! | node link | send one packet, receive one packet (non-blocking); over any byte stream with [`FramedLink`] | — | [`crate::hal::link`] |
 //! | messages | STATUS and REF: their layout, their APIDs and the two nodes' timing contract | — | [`messages`] |
+//! | PUS | the ground's telecommands in (TC secondary header), the nodes' reports out: request verification, housekeeping, events | ECSS-E-ST-70-41C §7.4, services 1, 3, 5 | [`pus`] |
 //! | host link | two in-memory ends with deterministic faults (drop, corrupt, delay, reorder) for tests and the simulator | — | `crate::host::link` (feature `host`) |
 //!
 //! A node sends: [`sequence::SequenceCounter::next_count`], [`space_packet::encode`] into a
@@ -53,6 +54,9 @@
 //! 1 568 B, no constant tables, and RAM for the deframer's `N` bytes, 6 of state, and the
 //! caller's packet buffers.
 //!
+//! The PUS layer above the packets ([`pus`]) has its own table in its module docs: 1.5–1.9 KB
+//! on a node with its calls.
+//!
 //! [`FramedLink`]: crate::hal::link::FramedLink
 //! [`NodeLink::send`]: crate::hal::link::NodeLink::send
 //! [`NodeLink::receive`]: crate::hal::link::NodeLink::receive
@@ -60,5 +64,6 @@
 pub mod cobs;
 pub mod crc16;
 pub mod messages;
+pub mod pus;
 pub mod sequence;
 pub mod space_packet;

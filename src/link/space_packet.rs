@@ -210,13 +210,82 @@ const UNSEGMENTED: u16 = 0b11;
 /// bytes), [`PacketError::OutputTooSmall`] (`out` shorter than the packet). On error `out` is
 /// unchanged.
 pub fn encode(header: &PacketHeader, data: &[u8], out: &mut [u8]) -> Result<usize, PacketError> {
+    let (len, length_field, head, body, crc) = split_packet(header, data.len(), out)?;
+    *head = primary_header(header, length_field);
+    for (o, d) in body.iter_mut().zip(data) {
+        *o = *d;
+    }
+    *crc = crc16_update(crc16(head), body).to_be_bytes();
+    Ok(len)
+}
+
+/// [`encode`] for user data already in place: `out[6..6 + data_len]` holds the `data_len`
+/// bytes of user data (a message layer wrote them there, as [`crate::link::pus`] does with its
+/// secondary header and application data, so no second buffer is needed); this writes the
+/// primary header before them and the CRC after them, and returns the packet's length. Errors
+/// as [`encode`] ([`encoded_len`]); on error `out` is unchanged.
+pub fn encode_in_place(
+    header: &PacketHeader,
+    data_len: usize,
+    out: &mut [u8],
+) -> Result<usize, PacketError> {
+    let (len, length_field, head, body, crc) = split_packet(header, data_len, out)?;
+    *head = primary_header(header, length_field);
+    *crc = crc16_update(crc16(head), body).to_be_bytes();
+    Ok(len)
+}
+
+/// The length of the packet of `header` with `data_len` bytes of user data
+/// ([`packet_len`]`(data_len)`), if [`encode`] can write it into a buffer of `out_len` bytes;
+/// else [`encode`]'s error, checked in the same order. For a message layer that writes its user
+/// data into the packet buffer itself ([`encode_in_place`]) and wants to know first.
+pub fn encoded_len(
+    header: &PacketHeader,
+    data_len: usize,
+    out_len: usize,
+) -> Result<usize, PacketError> {
+    if header.sequence_count > MAX_SEQUENCE_COUNT {
+        return Err(PacketError::SequenceCountTooLarge(header.sequence_count));
+    }
+    if data_len > MAX_DATA_LEN {
+        return Err(PacketError::DataTooLong { len: data_len });
+    }
+    let len = data_len + OVERHEAD;
+    if len > out_len {
+        return Err(PacketError::OutputTooSmall {
+            needed: len,
+            len: out_len,
+        });
+    }
+    Ok(len)
+}
+
+/// The packet of `data_len` bytes of user data in `out`: its length, its data length field and
+/// its primary header, user data and CRC as parts of `out`; or [`encode`]'s error, checked in
+/// its order (as [`encoded_len`]).
+type Parts<'a> = (
+    usize,
+    u16,
+    &'a mut [u8; PRIMARY_HEADER_LEN],
+    &'a mut [u8],
+    &'a mut [u8; CRC_LEN],
+);
+
+/// Splits `out` into the parts of the packet of `header` with `data_len` bytes of user data
+/// ([`Parts`]), the checks of [`encode`] on the way. Inlined: each encoder keeps its one body.
+#[inline(always)]
+fn split_packet<'a>(
+    header: &PacketHeader,
+    data_len: usize,
+    out: &'a mut [u8],
+) -> Result<Parts<'a>, PacketError> {
     if header.sequence_count > MAX_SEQUENCE_COUNT {
         return Err(PacketError::SequenceCountTooLarge(header.sequence_count));
     }
     // data field bytes − 1 = user data + CRC − 1
     let length_field =
-        u16::try_from(data.len() + 1).map_err(|_| PacketError::DataTooLong { len: data.len() })?;
-    let len = data.len() + OVERHEAD;
+        u16::try_from(data_len + 1).map_err(|_| PacketError::DataTooLong { len: data_len })?;
+    let len = data_len + OVERHEAD;
     let too_small = PacketError::OutputTooSmall {
         needed: len,
         len: out.len(),
@@ -226,6 +295,14 @@ pub fn encode(header: &PacketHeader, data: &[u8], out: &mut [u8]) -> Result<usiz
         .and_then(|p| p.split_first_chunk_mut::<PRIMARY_HEADER_LEN>())
         .ok_or(too_small)?;
     let (body, crc) = rest.split_last_chunk_mut::<CRC_LEN>().ok_or(too_small)?;
+    Ok((len, length_field, head, body, crc))
+}
+
+/// The six bytes of the primary header of `header` with data length field `length_field`:
+/// version 000, the type, the secondary header flag, the APID; unsegmented, the count; the
+/// length.
+#[inline(always)]
+fn primary_header(header: &PacketHeader, length_field: u16) -> [u8; PRIMARY_HEADER_LEN] {
     // version 000 | type | secondary header flag | APID
     let type_bit = match header.packet_type {
         PacketType::Telemetry => 0,
@@ -236,12 +313,7 @@ pub fn encode(header: &PacketHeader, data: &[u8], out: &mut [u8]) -> Result<usiz
     let [i0, i1] = identification.to_be_bytes();
     let [s0, s1] = sequence.to_be_bytes();
     let [l0, l1] = length_field.to_be_bytes();
-    *head = [i0, i1, s0, s1, l0, l1];
-    for (o, d) in body.iter_mut().zip(data) {
-        *o = *d;
-    }
-    *crc = crc16_update(crc16(head), body).to_be_bytes();
-    Ok(len)
+    [i0, i1, s0, s1, l0, l1]
 }
 
 /// The header and the user data of the packet `bytes` (exactly one packet, as the framing
