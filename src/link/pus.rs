@@ -36,6 +36,10 @@
 //! Clause numbers of ECSS-E-ST-70-41C: 7.4.3 the TM packet, 7.4.4 the TC packet (their
 //! requirement letters in field order), clause 6 the services' requirements (6.1 request
 //! verification, 6.3 housekeeping, 6.5 event reporting), clause 8 their messages (8.1, 8.3, 8.5).
+//! The standard's text was not at hand when this was written: the clause numbers are those an
+//! independent implementation cites for the same fields (its PUS version at 7.4.3.1c and
+//! 7.4.4.1c, its acknowledgement flags at 7.4.4.1d with acceptance in the last bit), not read
+//! from the standard; the field layouts are checked against `spacepackets` (`tests/pus.rs`).
 //!
 //! ## Why the time field is CUC 4+2
 //! CCSDS 301.0-B-4 §3.2's unsegmented code (CUC) is a binary count of seconds and binary
