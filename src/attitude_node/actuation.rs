@@ -127,7 +127,7 @@ impl<const N: usize> AttitudeNode<'_, N> {
         // the allocator gives the wheels −W⁺L: ask for the body momentum −h so they hold +h;
         // with no working wheel every wheel is commanded to stop; on any other refusal (a NaN
         // target...) no wheel is commanded: they hold the momentum in force, reported
-        let alloc = match cached_allocation(&mut self.wheel_allocator, &wheels, &(-h)) {
+        let alloc = match cached_allocation(&mut self.wheel_allocator, &wheels, &(-*h)) {
             Ok(a) => Some(a),
             Err(WheelError::NoWorkingWheel) => None,
             Err(_) => {
@@ -179,7 +179,7 @@ impl<const N: usize> AttitudeNode<'_, N> {
                 ..*cfg
             };
         }
-        let alloc = match cached_allocation(&mut self.coil_allocator, &coils, &(-m)) {
+        let alloc = match cached_allocation(&mut self.coil_allocator, &coils, &(-*m)) {
             Ok(a) => a,
             Err(e) => {
                 // the coils stay off (`safe`); a refused dipole is reported

@@ -75,7 +75,9 @@ pub fn has_twin(tiles: &[Tile], tile: usize, working: impl Fn(usize, &Tile) -> b
         return false;
     };
     tiles.iter().enumerate().any(|(j, t)| {
-        j != tile && working(j, t) && crate::fmath::abs(t.normal_body().dot(&n)) > TWIN_COSINE
+        j != tile
+            && working(j, t)
+            && crate::fmath::abs(crate::linalg::dot(&t.normal_body(), &n)) > TWIN_COSINE
     })
 }
 

@@ -228,7 +228,7 @@ impl Allocator {
         let mut realised = Vec3::zeros(); // W Wᵀ y
         for (h, w) in wheel.iter_mut().zip(wheels.iter()) {
             if w.working {
-                let along = w.axis_body.dot(&y);
+                let along = crate::linalg::dot(&w.axis_body, &y);
                 *h = -along;
                 realised += w.axis_body * along;
             }
