@@ -171,7 +171,7 @@ impl Allocator {
             if i >= 32 {
                 return Err(WheelError::InvalidWheel(i as u8));
             }
-            if w.axis_body.iter().any(|x| !x.is_finite()) || !w.limit.is_finite() {
+            if !crate::linalg::finite3(&w.axis_body) || !w.limit.is_finite() {
                 return Err(WheelError::NotFinite);
             }
             // finite axis: its square is finite or +∞ (then the pseudoinverse refuses it)
@@ -216,7 +216,7 @@ impl Allocator {
         wheels: &[Wheel; N],
         l_body: &Vec3,
     ) -> Result<WheelAllocation<N>, WheelError> {
-        if l_body.iter().any(|x| !x.is_finite()) {
+        if !crate::linalg::finite3(l_body) {
             return Err(WheelError::NotFinite);
         }
         if !self.is_for(wheels) {
