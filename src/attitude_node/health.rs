@@ -60,8 +60,10 @@ pub const COIL_TOLERANCE_AM2: f32 = 0.001;
 /// …plus this fraction of the command.
 pub const COIL_TOLERANCE_FRACTION: f32 = 0.15;
 
-/// Bit `i` as a mask (0 beyond 31).
-fn mask(i: usize) -> u32 {
+/// Bit `i` as a mask (0 beyond 31). Out of line on the MSP430 (a 32-bit shift is a helper
+/// call there): one copy for the node's tile, wheel and coil masks.
+#[cfg_attr(target_arch = "msp430", inline(never))]
+pub(super) fn mask(i: usize) -> u32 {
     1u32.checked_shl(i as u32).unwrap_or(0)
 }
 
