@@ -39,7 +39,9 @@ impl<const N: usize> AttitudeNode<'_, N> {
             .zip(self.wheel_h.iter())
             .enumerate()
             .filter(|(i, (t, _))| self.has_working_wheel(*i, t))
-            .fold(Vec3::zeros(), |acc, (_, (t, h))| acc + t.normal_body() * *h)
+            .fold(Vec3::zeros(), |acc, (_, (t, h))| {
+                acc + crate::linalg::scale(&t.normal_body(), *h)
+            })
     }
 
     /// Puts every actuator in the safe state: coils off, wheels hold their momentum.
@@ -196,7 +198,7 @@ impl<const N: usize> AttitudeNode<'_, N> {
                 let accepted = bus.set_dipole(i, *value).is_ok();
                 self.health.coil_commanded(i, *value, accepted);
                 faults.actuator |= !accepted;
-                produced += coil.axis_body * *value;
+                produced += crate::linalg::scale(&coil.axis_body, *value);
             }
         }
         produced

@@ -230,7 +230,7 @@ impl Allocator {
             if w.working {
                 let along = crate::linalg::dot(&w.axis_body, &y);
                 *h = -along;
-                realised += w.axis_body * along;
+                realised += crate::linalg::scale(&w.axis_body, along);
             }
         }
         // saturation keeping the direction (a NaN limit is refused: `!(mag <= limit)`)

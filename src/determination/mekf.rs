@@ -87,7 +87,7 @@
 
 use crate::attitude::Quaternion;
 use crate::fmath;
-use crate::linalg::{cross, div, dot, finite3, lin2, mat_vec, sub_scaled, Vec3};
+use crate::linalg::{cross, div, dot, finite3, lin2, mat_vec, scale, sub_scaled, Vec3};
 
 /// Error states: attitude (3), gyro bias (3), magnetometer bias (3), the Earth's albedo (1).
 pub const STATES: usize = 10;
@@ -576,7 +576,7 @@ impl Mekf {
     #[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
     pub fn propagate(&mut self, config: &MekfConfig, omega_body_radps: &Vec3, dt_s: f32) -> bool {
         let w = self.rate_body_radps(omega_body_radps);
-        let half = w * (0.5 * dt_s);
+        let half = scale(&w, 0.5 * dt_s);
         let dq = Quaternion {
             q0: 1.0,
             q1: half.x,
@@ -589,7 +589,7 @@ impl Mekf {
         };
         self.attitude = q;
         // Φ P: the attitude rows become x − (ω̂Δt) × x − Δt·(gyro-bias rows), column by column
-        let w_dt = w * dt_s;
+        let w_dt = scale(&w, dt_s);
         let mut rows = [[0.0f32; STATES]; 3];
         let [r0, r1, r2] = &mut rows;
         for (j, ((e0, e1), e2)) in r0
