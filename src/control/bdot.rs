@@ -75,7 +75,7 @@ impl BdotState {
         let Some(prev) = previous else {
             return Ok(None);
         };
-        let b_dot_t_per_s = linalg::scale(&(b_body_nt - prev), NT_TO_T / dt_s);
+        let b_dot_t_per_s = linalg::scale(&linalg::sub(b_body_nt, &prev), NT_TO_T / dt_s);
         let m = linalg::scale(&linalg::neg(&b_dot_t_per_s), config.gain);
         saturate_dipole(&m, &config.max_dipole_am2).map(|(m, _)| Some(m))
     }

@@ -250,7 +250,7 @@ impl SlewFollower {
     /// The wheels' momentum with `reference`'s feed-forward, kg·m²/s (body): the momentum they
     /// hold less the body's feed-forward momentum.
     pub fn h_wheels_nms(&self, reference: &SlewReference) -> Vec3 {
-        self.h_base_nms - reference.h_ff_body_nms
+        crate::linalg::sub(&self.h_base_nms, &reference.h_ff_body_nms)
     }
 }
 

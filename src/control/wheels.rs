@@ -259,7 +259,7 @@ impl Allocator {
         Ok(WheelAllocation {
             wheel,
             scale,
-            unrealised: l_body - realised,
+            unrealised: crate::linalg::sub(l_body, &realised),
             rank: self.rank,
         })
     }

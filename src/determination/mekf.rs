@@ -489,7 +489,7 @@ impl Mekf {
 
     /// The gyros' rate less the estimated bias, rad/s (body).
     pub fn rate_body_radps(&self, omega_body_radps: &Vec3) -> Vec3 {
-        omega_body_radps - self.gyro_bias_radps
+        crate::linalg::sub(omega_body_radps, &self.gyro_bias_radps)
     }
 
     /// The bias estimates of the magnetometers (`mag`) or the gyros (`!mag`) no longer apply
