@@ -33,15 +33,19 @@ impl<const N: usize> AttitudeNode<'_, N> {
     /// Total commanded wheel momentum in body axes, kg·m²/s.
     #[cfg_attr(target_arch = "msp430", optimize(size))]
     pub(super) fn wheels_body(&self) -> Vec3 {
-        self.config
+        let mut acc = Vec3::zeros();
+        for (i, (t, h)) in self
+            .config
             .tiles
             .iter()
             .zip(self.wheel_h.iter())
             .enumerate()
-            .filter(|(i, (t, _))| self.has_working_wheel(*i, t))
-            .fold(Vec3::zeros(), |acc, (_, (t, h))| {
-                acc + crate::linalg::scale(&t.normal_body(), *h)
-            })
+        {
+            if self.has_working_wheel(i, t) {
+                acc += crate::linalg::scale(&t.normal_body(), *h);
+            }
+        }
+        acc
     }
 
     /// Puts every actuator in the safe state: coils off, wheels hold their momentum.
