@@ -169,8 +169,8 @@ impl<const N: usize> AcsConfig<N> {
     pub fn slew_gains(&self) -> TrackingGains {
         let k = self.slew_gain_factor;
         TrackingGains {
-            kp_nm: self.tracking.kp_nm * (k * k),
-            kd_nms: self.tracking.kd_nms * k,
+            kp_nm: crate::linalg::scale(&self.tracking.kp_nm, k * k),
+            kd_nms: crate::linalg::scale(&self.tracking.kd_nms, k),
         }
     }
 

@@ -119,13 +119,17 @@ impl Tile {
         }
     }
 
-    /// The tile's x̂ axis (first magnetometer axis) in the body frame: row 1 of `A_m`.
+    /// The tile's x̂ axis (first magnetometer axis) in the body frame: row 1 of `A_m`. Out of
+    /// line on the MSP430, as [`Tile::y_body`] and [`Tile::normal_body`]: a row of the
+    /// column-major matrix is three strided copies, about 50 B inlined at each use.
+    #[cfg_attr(target_arch = "msp430", inline(never))]
     pub fn x_body(&self) -> Vec3 {
         let m = self.body_to_tile.matrix();
         Vec3::new(m.m11, m.m12, m.m13)
     }
 
     /// The tile's ŷ axis (second magnetometer axis) in the body frame: row 2 of `A_m`.
+    #[cfg_attr(target_arch = "msp430", inline(never))]
     pub fn y_body(&self) -> Vec3 {
         let m = self.body_to_tile.matrix();
         Vec3::new(m.m21, m.m22, m.m23)
@@ -133,7 +137,16 @@ impl Tile {
 
     /// The tile's outward normal ẑ (gyro and wheel axis) in the body frame: row 3 of `A_m`
     /// (eq. 8.4).
+    #[cfg_attr(target_arch = "msp430", inline(never))]
     pub fn normal_body(&self) -> Vec3 {
+        self.normal_body_inline()
+    }
+
+    /// [`Tile::normal_body`] inlined: for the reference node's albedo loop
+    /// ([`crate::env::albedo::seen_by_lit_sensors`], its only use there), whose bytes and cycles
+    /// it keeps.
+    #[inline(always)]
+    pub(crate) fn normal_body_inline(&self) -> Vec3 {
         let m = self.body_to_tile.matrix();
         Vec3::new(m.m31, m.m32, m.m33)
     }

@@ -33,13 +33,19 @@ impl<const N: usize> AttitudeNode<'_, N> {
     /// Total commanded wheel momentum in body axes, kg·m²/s.
     #[cfg_attr(target_arch = "msp430", optimize(size))]
     pub(super) fn wheels_body(&self) -> Vec3 {
-        self.config
+        let mut acc = Vec3::zeros();
+        for (i, (t, h)) in self
+            .config
             .tiles
             .iter()
             .zip(self.wheel_h.iter())
             .enumerate()
-            .filter(|(i, (t, _))| self.has_working_wheel(*i, t))
-            .fold(Vec3::zeros(), |acc, (_, (t, h))| acc + t.normal_body() * *h)
+        {
+            if self.has_working_wheel(i, t) {
+                acc += crate::linalg::scale(&t.normal_body(), *h);
+            }
+        }
+        acc
     }
 
     /// Puts every actuator in the safe state: coils off, wheels hold their momentum.
@@ -127,14 +133,15 @@ impl<const N: usize> AttitudeNode<'_, N> {
         // the allocator gives the wheels −W⁺L: ask for the body momentum −h so they hold +h;
         // with no working wheel every wheel is commanded to stop; on any other refusal (a NaN
         // target...) no wheel is commanded: they hold the momentum in force, reported
-        let alloc = match cached_allocation(&mut self.wheel_allocator, &wheels, &(-h)) {
-            Ok(a) => Some(a),
-            Err(WheelError::NoWorkingWheel) => None,
-            Err(_) => {
-                faults.law = true;
-                return false;
-            }
-        };
+        let alloc =
+            match cached_allocation(&mut self.wheel_allocator, &wheels, &crate::linalg::neg(h)) {
+                Ok(a) => Some(a),
+                Err(WheelError::NoWorkingWheel) => None,
+                Err(_) => {
+                    faults.law = true;
+                    return false;
+                }
+            };
         let mut saturated = false;
         for (i, (cmd, (tile, wheel))) in self
             .wheel_h
@@ -179,14 +186,15 @@ impl<const N: usize> AttitudeNode<'_, N> {
                 ..*cfg
             };
         }
-        let alloc = match cached_allocation(&mut self.coil_allocator, &coils, &(-m)) {
-            Ok(a) => a,
-            Err(e) => {
-                // the coils stay off (`safe`); a refused dipole is reported
-                faults.law |= !matches!(e, WheelError::NoWorkingWheel);
-                return Vec3::zeros();
-            }
-        };
+        let alloc =
+            match cached_allocation(&mut self.coil_allocator, &coils, &crate::linalg::neg(m)) {
+                Ok(a) => a,
+                Err(e) => {
+                    // the coils stay off (`safe`); a refused dipole is reported
+                    faults.law |= !matches!(e, WheelError::NoWorkingWheel);
+                    return Vec3::zeros();
+                }
+            };
         faults.saturated |= !(alloc.scale >= 1.0);
         let mut produced = Vec3::zeros();
         for (i, (value, coil)) in alloc.wheel.iter().zip(coils.iter()).enumerate() {
@@ -194,7 +202,7 @@ impl<const N: usize> AttitudeNode<'_, N> {
                 let accepted = bus.set_dipole(i, *value).is_ok();
                 self.health.coil_commanded(i, *value, accepted);
                 faults.actuator |= !accepted;
-                produced += coil.axis_body * *value;
+                produced += crate::linalg::scale(&coil.axis_body, *value);
             }
         }
         produced

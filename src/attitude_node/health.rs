@@ -60,8 +60,10 @@ pub const COIL_TOLERANCE_AM2: f32 = 0.001;
 /// …plus this fraction of the command.
 pub const COIL_TOLERANCE_FRACTION: f32 = 0.15;
 
-/// Bit `i` as a mask (0 beyond 31).
-fn mask(i: usize) -> u32 {
+/// Bit `i` as a mask (0 beyond 31). Out of line on the MSP430 (a 32-bit shift is a helper
+/// call there): one copy for the node's tile, wheel and coil masks.
+#[cfg_attr(target_arch = "msp430", inline(never))]
+pub(super) fn mask(i: usize) -> u32 {
     1u32.checked_shl(i as u32).unwrap_or(0)
 }
 
@@ -75,7 +77,9 @@ pub fn has_twin(tiles: &[Tile], tile: usize, working: impl Fn(usize, &Tile) -> b
         return false;
     };
     tiles.iter().enumerate().any(|(j, t)| {
-        j != tile && working(j, t) && crate::fmath::abs(t.normal_body().dot(&n)) > TWIN_COSINE
+        j != tile
+            && working(j, t)
+            && crate::fmath::abs(crate::linalg::dot(&t.normal_body(), &n)) > TWIN_COSINE
     })
 }
 

@@ -134,9 +134,7 @@ impl<'c, const N: usize> AttitudeNode<'c, N> {
             .iter()
             .enumerate()
             .filter(|(_, t)| !t.is_working())
-            .fold(0u32, |m, (i, _)| {
-                m | 1u32.checked_shl(i as u32).unwrap_or(0)
-            });
+            .fold(0u32, |m, (i, _)| m | health::mask(i));
         Ok(Self {
             config,
             failed,
@@ -197,11 +195,12 @@ impl<'c, const N: usize> AttitudeNode<'c, N> {
 
     /// True if tile `tile` is in service at run time.
     fn is_working(&self, tile: usize) -> bool {
-        self.failed & 1u32.checked_shl(tile as u32).unwrap_or(0) == 0
+        self.failed & health::mask(tile) == 0
     }
 
     /// True if tile `tile` carries a wheel, is in service, and its wheel is in the allocation
     /// ([`health`]).
+    #[cfg_attr(target_arch = "msp430", inline(never))]
     fn has_working_wheel(&self, tile: usize, t: &Tile) -> bool {
         t.equipment.reaction_wheel && self.is_working(tile) && self.health.wheel_in(tile)
     }
@@ -225,7 +224,7 @@ impl<'c, const N: usize> AttitudeNode<'c, N> {
     #[cfg_attr(target_arch = "msp430", optimize(size))]
     pub fn mark_failed(&mut self, tile: usize) {
         if self.config.tiles.len() > tile {
-            self.failed |= 1u32.checked_shl(tile as u32).unwrap_or(0);
+            self.failed |= health::mask(tile);
         }
     }
 
@@ -236,7 +235,7 @@ impl<'c, const N: usize> AttitudeNode<'c, N> {
     #[cfg_attr(target_arch = "msp430", optimize(size))]
     pub fn restore(&mut self, tile: usize) {
         self.health.restore_wheel(tile);
-        self.failed &= !1u32.checked_shl(tile as u32).unwrap_or(0);
+        self.failed &= !health::mask(tile);
         if let Some(count) = self.failures.get_mut(tile) {
             *count = 0;
         }

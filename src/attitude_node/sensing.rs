@@ -31,7 +31,7 @@ pub(super) fn pinned(x: i16) -> bool {
 
 /// Bit `i` of `mask` (false beyond 31).
 pub(super) fn bit(mask: u32, i: usize) -> bool {
-    mask & 1u32.checked_shl(i as u32).unwrap_or(0) != 0
+    mask & super::health::mask(i) != 0
 }
 
 impl<const N: usize> Readings<N> {
@@ -105,7 +105,7 @@ impl<const N: usize> AttitudeNode<'_, N> {
             if !self.is_working(i) {
                 continue;
             }
-            let here = 1u32.checked_shl(i as u32).unwrap_or(0);
+            let here = super::health::mask(i);
             let mut failed = false;
             // a word pinned at either end of the i16 range is no reading (a saturated device
             // or a stuck line: no physical Sun angle, field or rate reaches it): a failed read

@@ -63,8 +63,7 @@ impl BdotState {
         b_body_nt: &Vec3,
         dt_s: f32,
     ) -> Result<Option<Vec3>, MagnetorquerError> {
-        if !b_body_nt.iter().all(|x| x.is_finite()) || !dt_s.is_finite() || !config.gain.is_finite()
-        {
+        if !linalg::finite3(b_body_nt) || !dt_s.is_finite() || !config.gain.is_finite() {
             self.reset();
             return Err(MagnetorquerError::NotFinite);
         }
@@ -76,8 +75,8 @@ impl BdotState {
         let Some(prev) = previous else {
             return Ok(None);
         };
-        let b_dot_t_per_s = (b_body_nt - prev) * (NT_TO_T / dt_s);
-        let m = -b_dot_t_per_s * config.gain;
+        let b_dot_t_per_s = linalg::scale(&linalg::sub(b_body_nt, &prev), NT_TO_T / dt_s);
+        let m = linalg::scale(&linalg::neg(&b_dot_t_per_s), config.gain);
         saturate_dipole(&m, &config.max_dipole_am2).map(|(m, _)| Some(m))
     }
 }
@@ -88,11 +87,7 @@ pub fn bdot_from_rates(
     omega_body_radps: &Vec3,
     b_body_nt: &Vec3,
 ) -> Result<Vec3, MagnetorquerError> {
-    if !omega_body_radps
-        .iter()
-        .chain(b_body_nt.iter())
-        .all(|x| x.is_finite())
-        || !config.gain.is_finite()
+    if !linalg::finite3(omega_body_radps) || !linalg::finite3(b_body_nt) || !config.gain.is_finite()
     {
         return Err(MagnetorquerError::NotFinite);
     }

@@ -192,6 +192,6 @@ pub fn dumping_dipole(
     if !(gain_per_s > 0.0) {
         return Err(MagnetorquerError::InvalidParameter);
     }
-    let torque = -(h_wheels - h_target) * gain_per_s;
+    let torque = linalg::scale(&linalg::neg(&linalg::sub(h_wheels, h_target)), gain_per_s);
     dipole_for_torque(&torque, b_body_nt)
 }

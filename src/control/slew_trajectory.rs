@@ -178,7 +178,7 @@ pub fn turned(q: &Quaternion, rotation_rad: &Vec3) -> Quaternion {
         return *q;
     }
     let (sin, cos) = fmath::sincos(0.5 * angle);
-    let v = *rotation_rad * (sin / angle);
+    let v = crate::linalg::scale(rotation_rad, sin / angle);
     q.mul(&Quaternion {
         q0: cos,
         q1: v.x,
@@ -230,12 +230,15 @@ impl SlewFollower {
         }
         let w = self.rate_body_radps;
         let attitude = match (&self.attitude, estimate) {
-            (Some(q), _) => turned(q, &(w * dt_s)),
+            (Some(q), _) => turned(q, &crate::linalg::scale(&w, dt_s)),
             (None, Some(q)) => *q,
             (None, None) => return None,
         };
         self.attitude = Some(attitude);
-        Some(turned(&attitude, &(w * (-TORQUE_FRACTION * 0.5 * dt_s))))
+        Some(turned(
+            &attitude,
+            &crate::linalg::scale(&w, -TORQUE_FRACTION * 0.5 * dt_s),
+        ))
     }
 
     /// The feedback's torque `torque_nm` (body, N·m; [`feedback_torque`]) held for `dt_s`,
@@ -247,7 +250,7 @@ impl SlewFollower {
     /// The wheels' momentum with `reference`'s feed-forward, kg·m²/s (body): the momentum they
     /// hold less the body's feed-forward momentum.
     pub fn h_wheels_nms(&self, reference: &SlewReference) -> Vec3 {
-        self.h_base_nms - reference.h_ff_body_nms
+        crate::linalg::sub(&self.h_base_nms, &reference.h_ff_body_nms)
     }
 }
 
@@ -279,7 +282,7 @@ pub fn feedback_torque(
     )?;
     // the coils' per-axis scaling keeping the direction; a limit that is not positive and
     // finite (refused there) leaves the torque as it is
-    let limit = *torque_nm * (1.0 - TORQUE_FRACTION);
+    let limit = crate::linalg::scale(torque_nm, 1.0 - TORQUE_FRACTION);
     Ok(saturate_dipole(&tau, &limit).map_or(tau, |(t, _)| t))
 }
 

@@ -44,7 +44,7 @@ pub fn sun_safe_torque(
     let Some(a) = unit(axis_body) else {
         return Err(TrackingError::NotFinite);
     };
-    let damping = -omega_body_radps * gains.kd_nms;
+    let damping = linalg::scale(&linalg::neg(omega_body_radps), gains.kd_nms);
     let tau = match sun_body {
         None => damping,
         Some(s) => {

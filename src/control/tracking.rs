@@ -110,10 +110,14 @@ pub fn tracking_torque(
     // result, not of the 32 inputs (156 B less of MSP430 code)
     let e = attitude_error(q, q_target);
     let e_vec = Vec3::new(e.q1, e.q2, e.q3);
-    let omega_e = omega_body_radps - e.to_dcm().to_body(omega_target_radps);
-    let gyroscopic = omega_body_radps.cross(&(mat_vec(inertia_body, omega_body_radps) + h_wheels));
-    let tau =
-        -gains.kp_nm.component_mul(&e_vec) - gains.kd_nms.component_mul(&omega_e) + gyroscopic;
+    let omega_e = crate::linalg::sub(omega_body_radps, &e.to_dcm().to_body(omega_target_radps));
+    let gyroscopic = crate::linalg::cross(
+        omega_body_radps,
+        &(mat_vec(inertia_body, omega_body_radps) + h_wheels),
+    );
+    let tau = crate::linalg::neg(&gains.kp_nm.component_mul(&e_vec))
+        - gains.kd_nms.component_mul(&omega_e)
+        + gyroscopic;
     if !(tau.x.is_finite() && tau.y.is_finite() && tau.z.is_finite()) {
         return Err(TrackingError::NotFinite);
     }

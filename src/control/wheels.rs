@@ -171,7 +171,7 @@ impl Allocator {
             if i >= 32 {
                 return Err(WheelError::InvalidWheel(i as u8));
             }
-            if w.axis_body.iter().any(|x| !x.is_finite()) || !w.limit.is_finite() {
+            if !crate::linalg::finite3(&w.axis_body) || !w.limit.is_finite() {
                 return Err(WheelError::NotFinite);
             }
             // finite axis: its square is finite or +∞ (then the pseudoinverse refuses it)
@@ -216,7 +216,7 @@ impl Allocator {
         wheels: &[Wheel; N],
         l_body: &Vec3,
     ) -> Result<WheelAllocation<N>, WheelError> {
-        if l_body.iter().any(|x| !x.is_finite()) {
+        if !crate::linalg::finite3(l_body) {
             return Err(WheelError::NotFinite);
         }
         if !self.is_for(wheels) {
@@ -228,9 +228,9 @@ impl Allocator {
         let mut realised = Vec3::zeros(); // W Wᵀ y
         for (h, w) in wheel.iter_mut().zip(wheels.iter()) {
             if w.working {
-                let along = w.axis_body.dot(&y);
+                let along = crate::linalg::dot(&w.axis_body, &y);
                 *h = -along;
-                realised += w.axis_body * along;
+                realised += crate::linalg::scale(&w.axis_body, along);
             }
         }
         // saturation keeping the direction (a NaN limit is refused: `!(mag <= limit)`)
@@ -259,7 +259,7 @@ impl Allocator {
         Ok(WheelAllocation {
             wheel,
             scale,
-            unrealised: l_body - realised,
+            unrealised: crate::linalg::sub(l_body, &realised),
             rank: self.rank,
         })
     }

@@ -87,7 +87,7 @@
 
 use crate::attitude::Quaternion;
 use crate::fmath;
-use crate::linalg::{cross, div, dot, finite3, lin2, mat_vec, sub_scaled, Vec3};
+use crate::linalg::{cross, div, dot, finite3, lin2, mat_vec, scale, sub_scaled, Vec3};
 
 /// Error states: attitude (3), gyro bias (3), magnetometer bias (3), the Earth's albedo (1).
 pub const STATES: usize = 10;
@@ -489,7 +489,7 @@ impl Mekf {
 
     /// The gyros' rate less the estimated bias, rad/s (body).
     pub fn rate_body_radps(&self, omega_body_radps: &Vec3) -> Vec3 {
-        omega_body_radps - self.gyro_bias_radps
+        crate::linalg::sub(omega_body_radps, &self.gyro_bias_radps)
     }
 
     /// The bias estimates of the magnetometers (`mag`) or the gyros (`!mag`) no longer apply
@@ -576,7 +576,7 @@ impl Mekf {
     #[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
     pub fn propagate(&mut self, config: &MekfConfig, omega_body_radps: &Vec3, dt_s: f32) -> bool {
         let w = self.rate_body_radps(omega_body_radps);
-        let half = w * (0.5 * dt_s);
+        let half = scale(&w, 0.5 * dt_s);
         let dq = Quaternion {
             q0: 1.0,
             q1: half.x,
@@ -589,7 +589,7 @@ impl Mekf {
         };
         self.attitude = q;
         // Φ P: the attitude rows become x − (ω̂Δt) × x − Δt·(gyro-bias rows), column by column
-        let w_dt = w * dt_s;
+        let w_dt = scale(&w, dt_s);
         let mut rows = [[0.0f32; STATES]; 3];
         let [r0, r1, r2] = &mut rows;
         for (j, ((e0, e1), e2)) in r0
@@ -605,13 +605,14 @@ impl Mekf {
         }
         // (Φ P) Φᵀ: the same on the attitude columns; rows beyond the attitude's are P's own
         for (i, row) in rows.iter().enumerate() {
-            for (j, e) in row.iter().enumerate().skip(GYRO_BIAS) {
+            // `filter`, not `skip`: `Skip`'s `next` is 102 B of MSP430 code of its own
+            for (j, e) in row.iter().enumerate().filter(|(j, _)| *j >= GYRO_BIAS) {
                 self.set(i, j, *e);
             }
             let x = Vec3::new(row[0], row[1], row[2]);
             let b = Vec3::new(row[3], row[4], row[5]);
             let y = phi(&x, &b, &w_dt, dt_s);
-            for (j, e) in [y.x, y.y, y.z].iter().enumerate().skip(i) {
+            for (j, e) in [y.x, y.y, y.z].iter().enumerate().filter(|(j, _)| *j >= i) {
                 self.set(i, j, *e);
             }
         }

@@ -162,7 +162,7 @@ pub fn seen_by_lit_sensors(
     let sun_body = a.to_body(sun);
     let (mut sum, mut n) = (Vec3::zeros(), 0.0f32);
     for tile in tiles.iter().filter(|t| t.has_working_sun_sensor()) {
-        let normal = tile.normal_body();
+        let normal = tile.normal_body_inline();
         if dot(&normal, &sun_body) >= cos_half_fov {
             let fov = FieldOfView {
                 boresight: a.to_reference(&normal),

@@ -36,20 +36,36 @@ fn read_words<I: I2c, const N: usize>(
     address: u8,
     register: u8,
 ) -> Result<[i16; N], ErrorKind> {
+    let mut words = [0i16; N];
+    read_words_into(i2c, address, register, &mut words)?;
+    Ok(words)
+}
+
+/// Reads `words.len()` (at most 4) big-endian `i16` words starting at `register` into `words`.
+/// Out of line on the MSP430: one copy for the sun sensor's, magnetometer's and gyro's reads
+/// instead of one inlined per word count.
+#[cfg_attr(target_arch = "msp430", inline(never))]
+fn read_words_into<I: I2c>(
+    i2c: &mut I,
+    address: u8,
+    register: u8,
+    words: &mut [i16],
+) -> Result<(), ErrorKind> {
     let mut bytes = [0u8; 8];
-    let buf = bytes.get_mut(..2 * N).ok_or(ErrorKind::Other)?;
+    let buf = bytes.get_mut(..2 * words.len()).ok_or(ErrorKind::Other)?;
     i2c.write_read(address, &[register], buf)
         .map_err(|e| i2c_kind(&e))?;
-    let mut words = [0i16; N];
     for (w, pair) in words.iter_mut().zip(buf.chunks_exact(2)) {
         if let [hi, lo] = pair {
             *w = i16::from_be_bytes([*hi, *lo]);
         }
     }
-    Ok(words)
+    Ok(())
 }
 
-/// A raw word at either end of the `i16` range means the sensor saturated.
+/// A raw word at either end of the `i16` range means the sensor saturated. Out of line on the
+/// MSP430, as [`read_words_into`]: one copy for the three sensors' reads.
+#[cfg_attr(target_arch = "msp430", inline(never))]
 fn check_saturation(words: &[i16]) -> Result<(), ErrorKind> {
     if words.iter().any(|w| *w == i16::MIN || *w == i16::MAX) {
         Err(ErrorKind::OutOfRange)

@@ -52,6 +52,18 @@ pub(crate) fn cross(a: &Vec3, b: &Vec3) -> Vec3 {
     )
 }
 
+/// `−v` (nalgebra's `-v`: each component's sign flipped, exact).
+#[cfg_attr(target_arch = "msp430", inline(never))]
+pub(crate) fn neg(v: &Vec3) -> Vec3 {
+    Vec3::new(-v.x, -v.y, -v.z)
+}
+
+/// `a − b` (nalgebra's `a - b`).
+#[cfg_attr(target_arch = "msp430", inline(never))]
+pub(crate) fn sub(a: &Vec3, b: &Vec3) -> Vec3 {
+    Vec3::new(a.x - b.x, a.y - b.y, a.z - b.z)
+}
+
 /// `v/k`, one division per component (nalgebra's `v / k`).
 #[cfg_attr(target_arch = "msp430", inline(never))]
 pub(crate) fn div(v: &Vec3, k: f32) -> Vec3 {
@@ -209,6 +221,8 @@ mod tests {
                 assert_eq!(bits(&div(&a, x)), bits(&(a / x)));
             }
             assert_eq!(bits(&scale(&a, x)), bits(&(a * x)));
+            assert_eq!(bits(&neg(&a)), bits(&(-a)));
+            assert_eq!(bits(&sub(&a, &b)), bits(&(a - b)));
             assert_eq!(bits(&lin2(&a, x, &b, y)), bits(&(a * x + b * y)));
             assert_eq!(bits(&lin2(&a, x, &b, -y)), bits(&(a * x - b * y)));
             assert_eq!(bits(&sub_scaled(&a, &b, x)), bits(&(a - b * x)));

@@ -154,7 +154,11 @@ pub fn symmetric_pseudoinverse(
     let [a11, _, _, a22, _, a33] = a;
     let trace = a11 + a22 + a33;
     // C = adj A: the cofactors (C = Cᵀ), c = a_i·a_j − a_k·a_l by COFACTORS
-    let c = COFACTORS.map(|[i, j, k, l]| entry(&a, i) * entry(&a, j) - entry(&a, k) * entry(&a, l));
+    // (a `for` loop: `array::map` is unrolled, six copies of the formula)
+    let mut c = [0.0f32; 6];
+    for (cp, [i, j, k, l]) in c.iter_mut().zip(COFACTORS.iter()) {
+        *cp = entry(&a, *i) * entry(&a, *j) - entry(&a, *k) * entry(&a, *l);
+    }
     let [c11, c12, c13, c22, c23, c33] = c;
     // first pivot d₁ = a_pp (the largest diagonal entry; d₁ ≥ t/3 > 0) and the cofactors of
     // the other two indices: S = [c_rr −c_qr; −c_qr c_qq]/d₁
@@ -202,11 +206,12 @@ pub fn symmetric_pseudoinverse(
             // t − kᵢ·n_j − a_ij on the diagonal, −(kᵢ·n_j) − a_ij off it
             let k = trace / (n1 * n1 + n2 * n2 + n3 * n3);
             let kn = n.map(|ni| k * ni);
-            let x = PACKED.map(|[p, i, j]| {
-                let kinj = entry(&kn, i) * entry(&n, j);
+            let mut x = [0.0f32; 6];
+            for (xp, [p, i, j]) in x.iter_mut().zip(PACKED.iter()) {
+                let kinj = entry(&kn, *i) * entry(&n, *j);
                 let t_p = if i == j { trace - kinj } else { -kinj };
-                t_p - entry(&a, p)
-            });
+                *xp = t_p - entry(&a, *p);
+            }
             (x, c11 + c22 + c33)
         }
         _ => {
