@@ -948,7 +948,6 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         report: &mut StepReport,
     ) -> f32 {
         let readings = self.read_tiles(bus, faults);
-        faults.device_read |= self.stuck.observe(&readings.gyro, readings.gyro_read);
         self.determine(&readings, models, now, dt_s, faults, report)
     }
 
@@ -1072,13 +1071,15 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
         // 0.01°; about a gyro held as stuck, the filter's bias is the rate
         // ([`crate::attitude_node::stuck`])
         report.omega_body_radps = omega;
-        let outcome = self.stuck.filter_step(
+        let (outcome, held) = self.stuck.filter_step(
             self.config.tiles.as_slice(),
+            (&readings.gyro, readings.gyro_read),
             &self.config.filter,
             &mut self.estimate,
             &inputs,
             &mut report.omega_body_radps,
         );
+        faults.device_read |= held;
         let estimate = self.estimate.as_ref();
         let attitude = estimate.map(|e| e.attitude);
         faults.attitude = attitude.is_none();

@@ -137,13 +137,15 @@ impl<const N: usize> AttitudeNode<'_, N> {
         // 0.01°; about a gyro held as stuck, the filter's bias is the rate
         // ([`crate::attitude_node::stuck`])
         report.omega_body_radps = omega;
-        let outcome = self.stuck.filter_step(
+        let (outcome, held) = self.stuck.filter_step(
             self.config.tiles.as_slice(),
+            (&readings.gyro, readings.gyro_read),
             &self.config.filter,
             &mut self.estimate,
             &inputs,
             &mut report.omega_body_radps,
         );
+        faults.device_read |= held;
         let estimate = self.estimate.as_ref();
         let attitude = estimate.map(|e| e.attitude);
         faults.attitude = attitude.is_none();

@@ -373,7 +373,6 @@ impl<'c, const N: usize> AttitudeNode<'c, N> {
         report: &mut StepReport,
     ) -> f32 {
         let readings = self.read_tiles(bus, faults);
-        faults.device_read |= self.stuck.observe(&readings.gyro, readings.gyro_read);
         self.determine(&readings, reference, dt_s, faults, report)
     }
 }

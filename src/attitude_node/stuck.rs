@@ -9,11 +9,13 @@
 //!   [`Mekf::correction_rad`]).
 //! - **Held** as stuck when the run reaches [`STUCK_REPEATS`] (15) reads and the sum reaches
 //!   [`STUCK_DRIFT_RAD`] (0.1°) in magnitude; **released** when its word changes.
-//! - While held: every step reports [`super::Faults::device_read`]; the reading is kept, but the
-//!   MEKF's gyro-bias covariance along the axis grows by ([`RATE_WALK_RADPS_PER_SQRT_S`],
-//!   2e-2 rad/s/√s)²·Δt a step (the bias state then carries the body rate about that axis,
-//!   driven by the Sun and the field), and the laws get the gyros' rate less the bias component
-//!   along the axis ([`StuckGyros::filter_step`]).
+//! - While held: every step it is read reports [`super::Faults::device_read`]; the reading is
+//!   kept, but the MEKF's gyro-bias covariance along the axis grows by
+//!   ([`RATE_WALK_RADPS_PER_SQRT_S`], 2e-2 rad/s/√s)²·Δt a step (the bias state then carries
+//!   the body rate about that axis, driven by the Sun and the field), and the laws get the
+//!   gyros' rate less the filter's bias ([`StuckGyros::filter_step`]).
+//! - The watch runs once a step, after the filter's step: the step's word, then the step's
+//!   correction, then the limits.
 //!
 //! # The thresholds (measured on branch `stuck`, `tests/stuck_experiment.rs` there, with the
 //! prototype of this watch: `f32` sums of the quaternion difference between the estimate before
@@ -47,14 +49,22 @@
 //! # State
 //! 5 B a tile (30 B for the flight's six tiles; the prototype's `f32` sums and `u32` mask took
 //! 48 B): the last word (`i16`), the run (`u8`, saturating at [`STUCK_REPEATS`]; [`HELD`] once
-//! held: no mask) and the sum (`i16` in [`DRIFT_LSB_RAD`], saturating: ±1.9°); and the filter's
-//! correction of the step, [`Mekf::correction_rad`] (12 B).
+//! held: no mask) and the sum (the upper half of its `f32`, a bfloat16: the sum is added and
+//! compared in `f32`, then stored truncated to 8 significant bits, at most 2⁻⁷ of itself low
+//! each step: over a run to the limit, the stored sum is within 15·2⁻⁷·0.1° ≈ 0.012° of the
+//! `f32` sum); and the filter's correction of the step, [`Mekf::correction_rad`] (12 B).
+//!
+//! # Flash (the attitude node's MSP430 image)
+//! Measured against the shapes tried: the sum as an `i16` count of 1e-6 rad (a saturating
+//! `f32` → `i16` conversion: +208 B), as an `f32` (+12 B of state, the node's stack +54 B, over
+//! its RAM line), and the watch in two passes, the words before the filter and the sums after
+//! (+78 B).
 //!
 //! The one-image loop ([`crate::acs_loop::AcsLoop`]) and the attitude node hold one
 //! [`StuckGyros`] each and call the same functions, so the two stay bit for bit the same.
 
 use crate::determination::mekf::{self, Mekf, MekfConfig, StepInputs, UpdateOutcome};
-use crate::linalg::{dot, sub_scaled, Vec3};
+use crate::linalg::{dot, Vec3};
 use crate::tiles::Tile;
 
 /// Reads in a row repeating a gyro's word before it can be held as stuck.
@@ -62,23 +72,28 @@ pub const STUCK_REPEATS: u8 = 15;
 /// The filter's attitude corrections about a gyro's axis, summed over its run of repeated words,
 /// from which the run is a stuck gyro, not a constant rate, rad (0.1°).
 pub const STUCK_DRIFT_RAD: f32 = 1.745e-3;
-/// The unit of the summed corrections, rad.
-pub const DRIFT_LSB_RAD: f32 = 1.0e-6;
 /// The random walk of the gyro bias along a held gyro's axis, rad/s/√s.
 pub const RATE_WALK_RADPS_PER_SQRT_S: f32 = 2.0e-2;
 /// The run of a held gyro.
 pub const HELD: u8 = u8::MAX;
 
-/// [`STUCK_DRIFT_RAD`] in [`DRIFT_LSB_RAD`].
-const DRIFT_LIMIT: i16 = 1_745;
+/// A sum as stored: the upper half of its `f32` (truncated; see the [module docs](self)).
+fn narrow(sum: f32) -> u16 {
+    (sum.to_bits() >> 16) as u16
+}
+
+/// A stored sum as an `f32` (exact).
+fn widen(stored: u16) -> f32 {
+    f32::from_bits(u32::from(stored) << 16)
+}
 
 /// The stuck-gyro watch of at most `N` tiles (see the [module docs](self)).
 #[derive(Clone, Debug)]
 pub struct StuckGyros<const N: usize> {
     /// Each gyro's last word.
     last: [i16; N],
-    /// Each gyro's corrections summed over its run, [`DRIFT_LSB_RAD`].
-    drift: [i16; N],
+    /// Each gyro's corrections summed over its run, rad, as stored ([`narrow`]).
+    drift: [u16; N],
     /// Each gyro's repeats in a row (0: its last word was new), or [`HELD`].
     repeats: [u8; N],
 }
@@ -104,97 +119,86 @@ impl<const N: usize> StuckGyros<N> {
         self.repeats.get(i) == Some(&HELD)
     }
 
-    /// Counts this step's gyro words (`gyro`, bit `i` of `read`: tile `i`'s was read) against
-    /// the last ones, holds and releases (see the [module docs](self)); true if a gyro read
-    /// this step is held (reported as [`super::Faults::device_read`]).
+    /// The filter's step ([`mekf::step`]) and the watch after it; returns the filter's outcome
+    /// and true if a gyro read this step is held (reported as [`super::Faults::device_read`]).
+    ///
+    /// `gyro` holds the step's gyro words (bit `i` of `read`: tile `i`'s was read); `law_rate`,
+    /// the gyros' rate, becomes the rate the laws use: with a gyro held, less the filter's gyro
+    /// bias ([`Mekf::rate_body_radps`]; with none held the bias, ≤ 1e-4 rad/s, is left in).
+    ///
+    /// After the filter's step, each gyro read this step: a new word starts a new run; a
+    /// repeated one lengthens its run and adds the step's attitude correction about its axis
+    /// ([`Mekf::correction_rad`]; none on a start or without an estimate) to the run's sum, and
+    /// is held when both reach their limits (see the [module docs](self)); a held gyro's
+    /// bias covariance walks ([`Mekf::inflate_gyro_bias`]) for the next step.
+    #[cfg_attr(target_arch = "msp430", inline(always))]
+    pub fn filter_step(
+        &mut self,
+        tiles: &[Tile],
+        (gyro, read): (&[i16; N], u32),
+        config: &MekfConfig,
+        estimate: &mut Option<Mekf>,
+        inputs: &StepInputs,
+        law_rate: &mut Option<Vec3>,
+    ) -> (UpdateOutcome, bool) {
+        let outcome = mekf::step(config, estimate, inputs);
+        let held = self.watch(
+            tiles,
+            (gyro, read),
+            estimate.as_mut().filter(|_| !outcome.started),
+            inputs.dt_s,
+        );
+        if let (true, Some(w), Some(e)) = (held, law_rate.as_mut(), estimate.as_ref()) {
+            *w = e.rate_body_radps(w);
+        }
+        (outcome, held)
+    }
+
+    /// [`Self::filter_step`]'s watch after the filter's step (`estimate`: none on a start).
     #[cfg_attr(target_arch = "msp430", inline(never))]
-    pub fn observe(&mut self, gyro: &[i16; N], read: u32) -> bool {
+    fn watch(
+        &mut self,
+        tiles: &[Tile],
+        (gyro, mut read): (&[i16; N], u32),
+        mut estimate: Option<&mut Mekf>,
+        dt_s: f32,
+    ) -> bool {
+        let walk = RATE_WALK_RADPS_PER_SQRT_S * RATE_WALK_RADPS_PER_SQRT_S * dt_s;
         let mut any = false;
-        let mut read = read;
-        for (word, (last, (drift, repeats))) in gyro.iter().zip(
-            self.last
-                .iter_mut()
-                .zip(self.drift.iter_mut().zip(self.repeats.iter_mut())),
+        for (t, (word, (last, (drift, repeats)))) in tiles.iter().zip(
+            gyro.iter().zip(
+                self.last
+                    .iter_mut()
+                    .zip(self.drift.iter_mut().zip(self.repeats.iter_mut())),
+            ),
         ) {
             let here = read & 1 != 0;
             read >>= 1;
             if !here {
                 continue;
             }
+            let n = t.normal_body();
             if *last != *word {
                 (*last, *drift, *repeats) = (*word, 0, 0);
             } else if *repeats != HELD {
                 *repeats = core::cmp::min(*repeats + 1, STUCK_REPEATS);
-                if *repeats == STUCK_REPEATS && drift.unsigned_abs() >= DRIFT_LIMIT as u16 {
+                let mut sum = widen(*drift);
+                if let Some(e) = estimate.as_deref() {
+                    sum += dot(&e.correction_rad, &n);
+                    *drift = narrow(sum);
+                }
+                if *repeats == STUCK_REPEATS && sum.abs() >= STUCK_DRIFT_RAD {
                     *repeats = HELD;
                 }
             }
-            any |= *repeats == HELD;
-        }
-        any
-    }
-
-    /// The filter's step ([`mekf::step`]) and the watch after it; returns the filter's outcome.
-    /// `law_rate`, the gyros' rate, becomes the rate the laws use: less the filter's gyro bias
-    /// along each held gyro's axis (the rest of the bias, ≤ 1e-4 rad/s, is left in as with no
-    /// gyro held).
-    ///
-    /// After the step, each repeating gyro's sum takes the step's attitude correction about its
-    /// axis ([`Mekf::correction_rad`]; none on a start or without an estimate), and
-    /// the held gyros' bias covariance walks ([`Mekf::inflate_gyro_bias`]) for the next step's
-    /// propagation and updates.
-    #[cfg_attr(target_arch = "msp430", inline(always))]
-    pub fn filter_step(
-        &mut self,
-        tiles: &[Tile],
-        config: &MekfConfig,
-        estimate: &mut Option<Mekf>,
-        inputs: &StepInputs,
-        law_rate: &mut Option<Vec3>,
-    ) -> UpdateOutcome {
-        let outcome = mekf::step(config, estimate, inputs);
-        self.after_step(
-            tiles,
-            estimate.as_mut(),
-            outcome.started,
-            inputs.dt_s,
-            law_rate,
-        );
-        outcome
-    }
-
-    /// [`Self::filter_step`]'s watch after the filter's step.
-    #[cfg_attr(target_arch = "msp430", inline(never))]
-    fn after_step(
-        &mut self,
-        tiles: &[Tile],
-        mut estimate: Option<&mut Mekf>,
-        started: bool,
-        dt_s: f32,
-        law_rate: &mut Option<Vec3>,
-    ) {
-        let walk = RATE_WALK_RADPS_PER_SQRT_S * RATE_WALK_RADPS_PER_SQRT_S * dt_s;
-        for (t, (drift, repeats)) in tiles
-            .iter()
-            .zip(self.drift.iter_mut().zip(self.repeats.iter()))
-        {
-            let n = t.normal_body();
-            // a new word zeroed the sum (`observe`); a held gyro's is not used
-            match (estimate.as_deref_mut(), *repeats) {
-                (Some(e), HELD) => {
-                    if let Some(w) = law_rate {
-                        *w = sub_scaled(w, &n, dot(&n, &e.gyro_bias_radps));
-                    }
+            if *repeats == HELD {
+                any = true;
+                if let Some(e) = estimate.as_deref_mut() {
                     e.inflate_gyro_bias(&n, walk);
                 }
-                (Some(e), 1..) if !started => {
-                    // `as` saturates (NaN: 0)
-                    let c = dot(&e.correction_rad, &n) * (1.0 / DRIFT_LSB_RAD);
-                    *drift = drift.saturating_add(c as i16);
-                }
-                _ => {}
             }
         }
+        any
     }
 }
 
@@ -208,33 +212,45 @@ mod tests {
         assert_eq!(core::mem::size_of::<StuckGyros<6>>(), 30);
     }
 
-    /// [`DRIFT_LIMIT`] is [`STUCK_DRIFT_RAD`] in [`DRIFT_LSB_RAD`].
+    /// A stored sum is its `f32` truncated to 8 significant bits: never larger in magnitude,
+    /// at most 2⁻⁷ of itself smaller; exact on the way back.
     #[test]
-    fn drift_limit() {
-        assert_eq!(
-            DRIFT_LIMIT,
-            (STUCK_DRIFT_RAD / DRIFT_LSB_RAD).round() as i16
-        );
+    fn stored_sum() {
+        let mut x = 1.0e-9_f32;
+        while x < 1.0 {
+            for v in [x, -x] {
+                let back = widen(narrow(v));
+                assert!(
+                    back.abs() <= v.abs() && v.abs() - back.abs() <= v.abs() / 128.0,
+                    "{v}"
+                );
+                assert_eq!(widen(narrow(back)), back);
+            }
+            x *= 1.037;
+        }
+        assert_eq!(widen(narrow(0.0)), 0.0);
     }
 
     /// A run: held at the 15th repeat with the sum past the limit, released by a new word; a
-    /// missed read neither extends nor breaks the run.
+    /// missed read neither extends nor breaks the run; without an estimate the sums stay.
     #[test]
     fn held_and_released() {
+        let tiles = crate::tiles::CUBE_THESIS;
+        let tiles = &tiles[..2];
         let mut w = StuckGyros::<2>::new();
-        assert!(!w.observe(&[5, 7], 0b11));
+        assert!(!w.watch(tiles, (&[5, 7], 0b11), None, 1.0));
         for k in 1..=20u8 {
-            w.drift = [DRIFT_LIMIT, DRIFT_LIMIT - 1];
+            w.drift = [narrow(2.0 * STUCK_DRIFT_RAD), narrow(0.5 * STUCK_DRIFT_RAD)];
             // a missed read of tile 0 every fifth step
             let read = if k % 5 == 0 { 0b10 } else { 0b11 };
-            let any = w.observe(&[5, 7], read);
+            let any = w.watch(tiles, (&[5, 7], read), None, 1.0);
             let reads0 = k - k / 5;
             assert_eq!(w.is_held(0), reads0 >= STUCK_REPEATS, "{k}");
             assert!(!w.is_held(1));
             assert_eq!(any, w.is_held(0) && read & 1 != 0);
         }
         assert!(w.is_held(0));
-        assert!(!w.observe(&[6, 7], 0b11));
+        assert!(!w.watch(tiles, (&[6, 7], 0b11), None, 1.0));
         assert!(!w.is_held(0));
         assert_eq!((w.repeats[0], w.drift[0]), (0, 0));
         assert_eq!(w.repeats[1], STUCK_REPEATS);

@@ -504,9 +504,11 @@ impl Mekf {
     pub fn inflate_gyro_bias(&mut self, axis: &Vec3, variance: f32) {
         let a = [axis.x, axis.y, axis.z];
         for (i, ai) in a.iter().enumerate() {
+            // (variance·aᵢ)·aⱼ
+            let u = variance * ai;
             for (j, aj) in a.iter().enumerate().skip(i) {
                 let (i, j) = (GYRO_BIAS + i, GYRO_BIAS + j);
-                self.set(i, j, self.at(i, j) + variance * ai * aj);
+                self.set(i, j, self.at(i, j) + u * aj);
             }
         }
     }
