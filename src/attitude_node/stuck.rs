@@ -40,11 +40,11 @@
 //!
 //! # Measured (`tests/faults.rs`, this implementation)
 //! Stuck −U gyro (300–600 s): held from 315 s to the clear (`device_read` 285 of 300 steps),
-//! worst pointing 0.891° during, 0.482° after (before: 86.0°, no report); +W (tile 2) from
-//! 329 s, 0.607° / 0.486°; +V (tile 1) from 346 s, 0.593° / 0.505°. No gyro held (a counter on
-//! the hold, not kept) in any of the eight nominal scenarios under either truth, nor in the
-//! first 30 runs (seed 1) of the `tracking` (realistic, ideal), `detumble` (realistic, ideal),
-//! `thesis-slew` (ideal) and `slew` campaigns (1.47 million steps).
+//! worst pointing 0.960° during, 0.491° after (before: 86.0°, no report); +W (tile 2) from
+//! 328 s, 0.611° / 0.505°; +V (tile 1) from 346 s, 0.709° / 0.526°. No gyro held (a print on
+//! the hold, not kept) in any of the eight built-in scenarios under either truth, nor in the
+//! dispersed campaigns (seed 1) `tracking` (200 runs realistic, 100 ideal), `detumble` (50
+//! realistic, 30 ideal), `slew` (100) and `thesis-slew` (100 ideal: noise-free sensors).
 //!
 //! # State
 //! 5 B a tile (30 B for the flight's six tiles; the prototype's `f32` sums and `u32` mask took
