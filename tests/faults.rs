@@ -500,7 +500,7 @@ fn out_of_range_run(sensor: Sensor) -> (Run, f64, f64) {
 /// The invariants hold and the loop ends back on its target (after the ground's `TRACK`) for
 /// each sensor: the gyro at `i16::MAX` (3.28 rad/s), the magnetometer at (`i16::MAX`,
 /// `i16::MIN`) (±327 670 nT), the Sun sensor at (`i16::MAX`, `i16::MIN`) (±3.28 rad). How fast
-/// (the magnetometer's is beyond [`RECOVERY_S`]) and what is reported: the ignored test below.
+/// (the magnetometer's is beyond [`RECOVERY_S`]) and what is reported: the test below (finding 1).
 #[test]
 fn out_of_range_reading() {
     for sensor in [Sensor::Gyro, Sensor::Magnetometer, Sensor::Sun] {
