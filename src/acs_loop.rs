@@ -71,6 +71,7 @@ use core::marker::PhantomData;
 use crate::attitude::{Dcm, Quaternion};
 use crate::attitude_node::health::{has_twin, ActuatorHealth};
 use crate::attitude_node::laws::in_umbra;
+use crate::attitude_node::stuck::StuckGyros;
 use crate::control::bdot::{bdot_from_rates, BdotConfig, BdotState};
 use crate::control::magnetorquer::{dipole_for_torque, dumping_dipole};
 use crate::control::principal_axes::PrincipalAxes;
@@ -470,6 +471,8 @@ pub struct AcsLoop<'c, const N: usize = MAX_TILES, const F: usize = FULL_COEFFS>
     /// tiles giving a reading changes.
     mag_solver: Option<TileSolver>,
     gyro_solver: Option<TileSolver>,
+    /// The stuck-gyro watch ([`crate::attitude_node::stuck`]).
+    stuck: StuckGyros<N>,
     /// Room for the IGRF coefficients at a date, on the stack of the field evaluation only.
     field: PhantomData<[f32; F]>,
 }
@@ -639,6 +642,7 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
             coil_allocator: None,
             mag_solver: None,
             gyro_solver: None,
+            stuck: StuckGyros::new(),
             field: PhantomData,
         })
     }
@@ -1061,16 +1065,25 @@ impl<'c, const N: usize, const F: usize> AcsLoop<'c, N, F> {
             gyro_tiles: self.gyro_solver.as_ref().map_or(0, |s| s.tiles()),
             dt_s: dt,
         };
-        let outcome = mekf::step(&self.config.filter, &mut self.estimate, &inputs);
+        // the gyros' own rate: a law's command must not depend on the filter's state (a REF
+        // lost changes the estimate, not the commands of a mode without attitude); the bias
+        // left in the rate (≤ 1e-4 rad/s) moves the tracking law's equilibrium by ζ·b/ω_n ≈
+        // 0.01°; about a gyro held as stuck, the filter's bias is the rate
+        // ([`crate::attitude_node::stuck`])
+        report.omega_body_radps = omega;
+        let (outcome, held) = self.stuck.filter_step(
+            self.config.tiles.as_slice(),
+            (&readings.gyro, readings.gyro_read),
+            &self.config.filter,
+            &mut self.estimate,
+            &inputs,
+            &mut report.omega_body_radps,
+        );
+        faults.device_read |= held;
         let estimate = self.estimate.as_ref();
         let attitude = estimate.map(|e| e.attitude);
         faults.attitude = attitude.is_none();
         report.b_body_nt = b_body_nt;
-        // the gyros' own rate: a law's command must not depend on the filter's state (a REF
-        // lost changes the estimate, not the commands of a mode without attitude); the bias
-        // left in the rate (≤ 1e-4 rad/s) moves the tracking law's equilibrium by ζ·b/ω_n ≈
-        // 0.01°
-        report.omega_body_radps = omega;
         report.attitude_sigma_rad = estimate.map(|e| e.attitude_sigma_rad());
         report.refused_measurements = outcome.refused;
         report.sun_body = sun_body;

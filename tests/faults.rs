@@ -500,7 +500,7 @@ fn out_of_range_run(sensor: Sensor) -> (Run, f64, f64) {
 /// The invariants hold and the loop ends back on its target (after the ground's `TRACK`) for
 /// each sensor: the gyro at `i16::MAX` (3.28 rad/s), the magnetometer at (`i16::MAX`,
 /// `i16::MIN`) (±327 670 nT), the Sun sensor at (`i16::MAX`, `i16::MIN`) (±3.28 rad). How fast
-/// (the magnetometer's is beyond [`RECOVERY_S`]) and what is reported: the ignored test below.
+/// (the magnetometer's is beyond [`RECOVERY_S`]) and what is reported: the test below (finding 1).
 #[test]
 fn out_of_range_reading() {
     for sensor in [Sensor::Gyro, Sensor::Magnetometer, Sensor::Sun] {
@@ -567,10 +567,15 @@ fn stuck_magnetometer() {
 
 /// A stuck gyro: tile 3's (−U, the only gyro on U) gyro repeats its reading for 300 s.
 fn stuck_gyro_run() -> (Run, f64, f64) {
+    stuck_gyro_run_on(3)
+}
+
+/// A stuck gyro on tile `tile` for 300 s.
+fn stuck_gyro_run_on(tile: usize) -> (Run, f64, f64) {
     let (clear, end) = (FAULT_AT + 300.0, 1200.0);
     let f = [(
         Fault::Stuck {
-            tile: 3,
+            tile,
             sensor: Sensor::Gyro,
         },
         FAULT_AT,
@@ -587,18 +592,60 @@ fn stuck_gyro() {
     recovered("stuck gyro", back);
 }
 
-/// Finding: the stuck gyro is not reported; the loop propagates and damps with a wrong rate
-/// about U and the pointing error grows to tens of degrees.
+/// The first step from the fault with `device_read`, s.
+fn first_device_read(run: &Run, clear: f64) -> Option<f64> {
+    run.samples
+        .iter()
+        .filter(|s| s.t_s >= FAULT_AT && s.t_s < clear)
+        .find(|s| s.report.faults.device_read)
+        .map(|s| s.t_s)
+}
+
+/// Finding 2, fixed: the stuck gyro is reported (`acs::attitude_node::stuck`: 15 repeated
+/// words with the filter's corrections about U past 0.1°), every step until the fault clears.
 #[test]
-#[ignore = "issue 19: a stuck gyro is not detected: the cube has one gyro on U and AcsLoop has no consistency check between the gyro rate and the measured attitude's change, so the stuck rate drives the filter and the tracking law (74.4° pointing error, no fault bit but the wheels' saturation)"]
 fn stuck_gyro_is_reported() {
     let (run, clear, _) = stuck_gyro_run();
+    println!(
+        "STUCK first device_read {:?}",
+        first_device_read(&run, clear)
+    );
     assert!(every_step(
         &run,
-        FAULT_AT + 5.0,
+        FAULT_AT + 15.0,
         clear,
         DEVICE_READ | (1 << 5)
     ));
+}
+
+/// A stuck gyro on an axis with two gyros (tile 2, +W; tile 1, +V): reported, recovered.
+#[test]
+fn stuck_gyro_two_on_the_axis() {
+    for tile in [2, 1] {
+        let (run, clear, end) = stuck_gyro_run_on(tile);
+        let back = summary(&format!("stuck gyro tile {tile}"), &run, clear, end);
+        let first = first_device_read(&run, clear);
+        println!("STUCK tile {tile} first device_read {first:?}");
+        assert!(every_step(&run, FAULT_AT + 60.0, clear, DEVICE_READ));
+        recovered("stuck gyro two", back);
+    }
+}
+
+/// Tile 2's (+W) Sun sensor repeats its reading for 300 s (not watched: no action needed).
+#[test]
+fn stuck_sun() {
+    let (clear, end) = (FAULT_AT + 300.0, 1200.0);
+    let f = [(
+        Fault::Stuck {
+            tile: 2,
+            sensor: Sensor::Sun,
+        },
+        FAULT_AT,
+        clear,
+    )];
+    let run = fly(&f, &[], end);
+    let back = summary("stuck Sun", &run, clear, end);
+    recovered("stuck Sun", back);
 }
 
 /// A dead tile: tile 2 (+W: Sun sensor, magnetometer, gyro, wheel) answers nothing for 60 s;

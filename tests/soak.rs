@@ -1,7 +1,8 @@
 //! The soak (issue 19 item 6): the flight loop (`acs::flight::CONFIG` through `FlightLoop`)
-//! stepped over a bus of random raw readings (any `i16`, the extremes included), random errors
-//! of every kind, `None`s, random actuator refusals, with random faults (tiles marked failed and
-//! restored, clock jumps of any size and sign) and random ground commands in between
+//! stepped over a bus of random raw readings (any `i16`, the extremes included; gyros stuck at
+//! a word for 20–400 reads), random errors of every kind, `None`s, random actuator refusals,
+//! with random faults (tiles marked failed and restored, clock jumps of any size and sign) and
+//! random ground commands in between
 //! (`acs::uplink::apply` with random codes and words, valid and corrupt element sets, and
 //! `AcsLoop::command` with any quaternion, NaN included). Asserted: no panic; every wheel and
 //! coil command finite at every step, and none beyond its limit (`CONFIG.wheel_limit_nms`, the
@@ -84,6 +85,10 @@ struct RandomBus {
     /// actuator reads back.
     wheel_words: [i16; 6],
     coil_words: [i16; 3],
+    /// Each gyro's last word and the reads it still repeats it for (a stuck gyro: the
+    /// stuck-gyro watch, `acs::attitude_node::stuck`).
+    gyro_last: [i16; 6],
+    gyro_stuck: [u16; 6],
     /// Commands above their limit (finite): count and the largest excess, in units of the
     /// limit's last place.
     over_limit: u64,
@@ -132,12 +137,22 @@ impl TileBus for RandomBus {
         let [x, y] = self.field[tile % 6];
         Ok([self.rng.word(x, 300), self.rng.word(y, 300)])
     }
+    /// A plausible rate, or (0.2 % of the reads start it) the last word again for 20–400 reads.
     fn read_gyro(&mut self, tile: usize) -> Result<i16, ErrorKind> {
         if let Some(e) = self.error() {
             return Err(e);
         }
-        let w = self.rate[tile % 6];
-        Ok(self.rng.word(w, 50))
+        let t = tile % 6;
+        if self.gyro_stuck[t] > 0 {
+            self.gyro_stuck[t] -= 1;
+            return Ok(self.gyro_last[t]);
+        }
+        if self.rng.chance(0.002) {
+            self.gyro_stuck[t] = 20 + self.rng.below(381) as u16;
+        }
+        let w = self.rate[t];
+        self.gyro_last[t] = self.rng.word(w, 50);
+        Ok(self.gyro_last[t])
     }
     fn set_wheel_momentum(&mut self, tile: usize, h_nms: f32) -> Result<(), ErrorKind> {
         assert!(h_nms.is_finite(), "wheel {tile} commanded {h_nms}");
@@ -246,6 +261,8 @@ fn soak(steps: u64, seed: u64) -> Figures {
         commands: 0,
         wheel_words: [0; 6],
         coil_words: [0; 3],
+        gyro_last: [0; 6],
+        gyro_stuck: [0; 6],
         over_limit: 0,
         worst_excess_ulp: 0,
     };

@@ -131,16 +131,25 @@ impl<const N: usize> AttitudeNode<'_, N> {
             gyro_tiles: self.gyro_solver.as_ref().map_or(0, |s| s.tiles()),
             dt_s: dt,
         };
-        let outcome = mekf::step(&self.config.filter, &mut self.estimate, &inputs);
+        // the gyros' own rate: a law's command must not depend on the filter's state (a REF
+        // lost changes the estimate, not the commands of a mode without attitude); the bias
+        // left in the rate (≤ 1e-4 rad/s) moves the tracking law's equilibrium by ζ·b/ω_n ≈
+        // 0.01°; about a gyro held as stuck, the filter's bias is the rate
+        // ([`crate::attitude_node::stuck`])
+        report.omega_body_radps = omega;
+        let (outcome, held) = self.stuck.filter_step(
+            self.config.tiles.as_slice(),
+            (&readings.gyro, readings.gyro_read),
+            &self.config.filter,
+            &mut self.estimate,
+            &inputs,
+            &mut report.omega_body_radps,
+        );
+        faults.device_read |= held;
         let estimate = self.estimate.as_ref();
         let attitude = estimate.map(|e| e.attitude);
         faults.attitude = attitude.is_none();
         report.b_body_nt = b_body_nt;
-        // the gyros' own rate: a law's command must not depend on the filter's state (a REF
-        // lost changes the estimate, not the commands of a mode without attitude); the bias
-        // left in the rate (≤ 1e-4 rad/s) moves the tracking law's equilibrium by ζ·b/ω_n ≈
-        // 0.01°
-        report.omega_body_radps = omega;
         report.attitude_sigma_rad = estimate.map(|e| e.attitude_sigma_rad());
         report.refused_measurements = outcome.refused;
         report.sun_body = sun_body;

@@ -26,6 +26,7 @@
 //! | [`faults`] | the step's faults and their telemetry word |
 //! | [`health`] | the wheels' and coils' read-back checks: actuators failed, reported, and (a wheel with a twin) taken out of its allocation |
 //! | [`sensing`] | tile reads, tiles taken out of service |
+//! | [`stuck`] | the stuck-gyro watch: a gyro whose word repeats while the filter corrects about its axis |
 //! | [`estimation`] | field, rate, Sun, the TRIAD start, the filter, the node's clock |
 //! | [`laws`] | mode events, B-dot, sun-safe, slew momentum, tracking |
 //! | [`actuation`] | wheel and coil allocation, saturation, dumping, the safe state |
@@ -47,6 +48,7 @@ pub mod health;
 pub mod laws;
 pub mod modes;
 pub mod sensing;
+pub mod stuck;
 
 pub use estimation::FIELD_MAGNITUDE_TOLERANCE;
 pub use faults::Faults;
@@ -55,6 +57,7 @@ pub use sensing::FAILURES_TO_MARK_FAILED;
 
 use health::ActuatorHealth;
 use modes::{next_mode, Event, ModeState};
+use stuck::StuckGyros;
 
 /// The wait between switching the coils off and reading the tiles, µs: 5 ms, 12.8 time
 /// constants of the flight coil (τ = L/R = 0.39 ms, seed 002 §6.4's coil; the simulator's
@@ -113,6 +116,8 @@ pub struct AttitudeNode<'c, const N: usize = MAX_TILES> {
     /// tiles giving a reading changes.
     mag_solver: Option<TileSolver>,
     gyro_solver: Option<TileSolver>,
+    /// The stuck-gyro watch ([`stuck`]).
+    stuck: StuckGyros<N>,
 }
 
 impl<'c, const N: usize> AttitudeNode<'c, N> {
@@ -159,6 +164,7 @@ impl<'c, const N: usize> AttitudeNode<'c, N> {
             coil_allocator: None,
             mag_solver: None,
             gyro_solver: None,
+            stuck: StuckGyros::new(),
         })
     }
 

@@ -247,6 +247,10 @@ pub struct Mekf {
     /// The last rate the gyros gave (less the bias), rad/s, and the steps in a row without one.
     last_rate_radps: Vec3,
     steps_without_rate: u8,
+    /// The attitude correction of the last step's updates (the error state's `δθ` the Sun's
+    /// and the field's applied, summed), body, rad: the stuck-gyro watch sums it about each
+    /// gyro's axis ([`crate::attitude_node::stuck`]).
+    pub correction_rad: Vec3,
 }
 
 /// Steps in a row a sensor must come from a new set of tiles before the filter takes the set
@@ -384,6 +388,7 @@ impl Mekf {
         gyro_other_steps: 0,
         last_rate_radps: Vec3::new(0.0, 0.0, 0.0),
         steps_without_rate: 0,
+        correction_rad: Vec3::new(0.0, 0.0, 0.0),
     };
 
     /// [`Self::start`] into `slot` in place, for the sensor sets `mag_tiles` and `gyro_tiles`
@@ -492,6 +497,22 @@ impl Mekf {
         crate::linalg::sub(omega_body_radps, &self.gyro_bias_radps)
     }
 
+    /// Adds `variance` (rad²/s²) to the gyro bias's covariance along the unit `axis` (body): a
+    /// gyro held at a stuck word leaves the rate about its axis to the bias state, a random walk
+    /// as fast as the body's rate changes ([`crate::attitude_node::stuck`]).
+    #[cfg_attr(target_arch = "msp430", optimize(size))]
+    pub fn inflate_gyro_bias(&mut self, axis: &Vec3, variance: f32) {
+        let a = [axis.x, axis.y, axis.z];
+        for (i, ai) in a.iter().enumerate() {
+            // (variance·aᵢ)·aⱼ
+            let u = variance * ai;
+            for (j, aj) in a.iter().enumerate().skip(i) {
+                let (i, j) = (GYRO_BIAS + i, GYRO_BIAS + j);
+                self.set(i, j, self.at(i, j) + u * aj);
+            }
+        }
+    }
+
     /// The bias estimates of the magnetometers (`mag`) or the gyros (`!mag`) no longer apply
     /// (the set of tiles read changed): their covariance goes back to the initial 1σ and
     /// loses its correlations, so the next measurements move the bias, not the attitude.
@@ -546,6 +567,7 @@ impl Mekf {
             None => return None,
         }
         let mut outcome = UpdateOutcome::default();
+        self.correction_rad = Vec3::zeros();
         if let Some(sun) = &inputs.sun {
             outcome = self.update_sun(config, sun);
         }
@@ -799,6 +821,7 @@ impl Mekf {
             q2: 0.5 * dx[1],
             q3: 0.5 * dx[2],
         };
+        self.correction_rad += Vec3::new(dx[0], dx[1], dx[2]);
         let q = self.attitude.mul(&dq);
         if let Some(q) = Quaternion::new_normalize(q.q0, q.q1, q.q2, q.q3) {
             self.attitude = q;
