@@ -137,7 +137,9 @@ impl TileBus for RandomBus {
         let [x, y] = self.field[tile % 6];
         Ok([self.rng.word(x, 300), self.rng.word(y, 300)])
     }
-    /// A plausible rate, or (0.2 % of the reads start it) the last word again for 20–400 reads.
+    /// A plausible rate, or (0.2 % of the reads start it) the last word again for 20–400 reads
+    /// (the watch seldom holds them: on these random readings the filter is seldom settled,
+    /// `acs::attitude_node::stuck`; its held path is flown by `tests/faults.rs`).
     fn read_gyro(&mut self, tile: usize) -> Result<i16, ErrorKind> {
         if let Some(e) = self.error() {
             return Err(e);

@@ -9,6 +9,13 @@
 //!   [`Mekf::correction_rad`]).
 //! - **Held** as stuck when the run reaches [`STUCK_REPEATS`] (15) reads and the sum reaches
 //!   [`STUCK_DRIFT_RAD`] (0.1°) in magnitude; **released** when its word changes.
+//! - A step's correction counts only if the filter was *settled* before it: its attitude's
+//!   largest 1σ within the same 0.1° ([`Mekf::attitude_within`]). A correction the filter's own
+//!   uncertainty explains (the first updates after a start from TRIAD, at 0.05 rad; the end of
+//!   an eclipse or of a link outage) is no evidence against a gyro. Without it, a still,
+//!   noise-free gyro (constant words) was held by the first update after a start (0.2–0.37°
+//!   about each axis in `tests/modes.rs`' rig) and its bias walk ended the estimate 16 steps
+//!   later.
 //! - While held: every step it is read reports [`super::Faults::device_read`]; the reading is
 //!   kept, but the MEKF's gyro-bias covariance along the axis grows by
 //!   ([`RATE_WALK_RADPS_PER_SQRT_S`], 2e-2 rad/s/√s)²·Δt a step (the bias state then carries
@@ -55,7 +62,8 @@
 //! `f32` sum); and the filter's correction of the step, [`Mekf::correction_rad`] (12 B).
 //!
 //! # Flash (the attitude node's MSP430 image)
-//! Measured against the shapes tried: the sum as an `i16` count of 1e-6 rad (a saturating
+//! +1 126 B (43 290 → 44 416 B), the node's stack +46 B, its worst step +3 663 cycles without
+//! the multiplier (`firmware/msp430-bench`). Measured against the shapes tried: the sum as an `i16` count of 1e-6 rad (a saturating
 //! `f32` → `i16` conversion: +208 B), as an `f32` (+12 B of state, the node's stack +54 B, over
 //! its RAM line), and the watch in two passes, the words before the filter and the sums after
 //! (+78 B).
@@ -141,11 +149,17 @@ impl<const N: usize> StuckGyros<N> {
         inputs: &StepInputs,
         law_rate: &mut Option<Vec3>,
     ) -> (UpdateOutcome, bool) {
+        // a correction the filter expected (its attitude 1σ before the step past the limit: a
+        // start converging, an eclipse's end) is not evidence against a gyro
+        let settled = estimate
+            .as_ref()
+            .is_some_and(|e| e.attitude_within(STUCK_DRIFT_RAD));
         let outcome = mekf::step(config, estimate, inputs);
         let held = self.watch(
             tiles,
             (gyro, read),
-            estimate.as_mut().filter(|_| !outcome.started),
+            estimate.as_mut(),
+            settled && !outcome.started,
             inputs.dt_s,
         );
         if let (true, Some(w), Some(e)) = (held, law_rate.as_mut(), estimate.as_ref()) {
@@ -154,13 +168,15 @@ impl<const N: usize> StuckGyros<N> {
         (outcome, held)
     }
 
-    /// [`Self::filter_step`]'s watch after the filter's step (`estimate`: none on a start).
+    /// [`Self::filter_step`]'s watch after the filter's step (`count`: the step's correction
+    /// counts towards the sums).
     #[cfg_attr(target_arch = "msp430", inline(never))]
     fn watch(
         &mut self,
         tiles: &[Tile],
         (gyro, mut read): (&[i16; N], u32),
         mut estimate: Option<&mut Mekf>,
+        count: bool,
         dt_s: f32,
     ) -> bool {
         let walk = RATE_WALK_RADPS_PER_SQRT_S * RATE_WALK_RADPS_PER_SQRT_S * dt_s;
@@ -183,7 +199,7 @@ impl<const N: usize> StuckGyros<N> {
             } else if *repeats != HELD {
                 *repeats = core::cmp::min(*repeats + 1, STUCK_REPEATS);
                 let mut sum = widen(*drift);
-                if let Some(e) = estimate.as_deref() {
+                if let (true, Some(e)) = (count, estimate.as_deref()) {
                     sum += dot(&e.correction_rad, &n);
                     *drift = narrow(sum);
                 }
@@ -238,19 +254,19 @@ mod tests {
         let tiles = crate::tiles::CUBE_THESIS;
         let tiles = &tiles[..2];
         let mut w = StuckGyros::<2>::new();
-        assert!(!w.watch(tiles, (&[5, 7], 0b11), None, 1.0));
+        assert!(!w.watch(tiles, (&[5, 7], 0b11), None, true, 1.0));
         for k in 1..=20u8 {
             w.drift = [narrow(2.0 * STUCK_DRIFT_RAD), narrow(0.5 * STUCK_DRIFT_RAD)];
             // a missed read of tile 0 every fifth step
             let read = if k % 5 == 0 { 0b10 } else { 0b11 };
-            let any = w.watch(tiles, (&[5, 7], read), None, 1.0);
+            let any = w.watch(tiles, (&[5, 7], read), None, true, 1.0);
             let reads0 = k - k / 5;
             assert_eq!(w.is_held(0), reads0 >= STUCK_REPEATS, "{k}");
             assert!(!w.is_held(1));
             assert_eq!(any, w.is_held(0) && read & 1 != 0);
         }
         assert!(w.is_held(0));
-        assert!(!w.watch(tiles, (&[6, 7], 0b11), None, 1.0));
+        assert!(!w.watch(tiles, (&[6, 7], 0b11), None, true, 1.0));
         assert!(!w.is_held(0));
         assert_eq!((w.repeats[0], w.drift[0]), (0, 0));
         assert_eq!(w.repeats[1], STUCK_REPEATS);

@@ -489,7 +489,13 @@ impl Mekf {
             && (0..STATES).all(|i| self.at(i, i) > 0.0)
             && finite3(&self.gyro_bias_radps)
             && finite3(&self.mag_bias_nt);
-        healthy && (0..GYRO_BIAS).all(|i| limit * limit >= self.at(i, i))
+        healthy && self.attitude_within(limit)
+    }
+
+    /// True if the attitude's largest 1σ is within `sigma_rad` (its variances within
+    /// `sigma_rad²`; a NaN variance is not).
+    pub fn attitude_within(&self, sigma_rad: f32) -> bool {
+        (0..GYRO_BIAS).all(|i| sigma_rad * sigma_rad >= self.at(i, i))
     }
 
     /// The gyros' rate less the estimated bias, rad/s (body).
