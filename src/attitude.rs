@@ -264,8 +264,15 @@ impl Dcm {
                 q3,
             )
         };
-        let s = if q0 >= 0.0 { 1.0 } else { -1.0 };
-        Quaternion::new_normalize(s * q0, s * q1, s * q2, s * q3).unwrap_or(Quaternion::IDENTITY)
+        // `q0 ≥ 0`: the sign flipped by negation, which is what multiplying by −1 gives bit for
+        // bit (IEEE 754; a NaN, whatever its sign, gives the identity below either way), without
+        // four multiplications (a soft-float library call each on the MSP430)
+        let (q0, q1, q2, q3) = if q0 >= 0.0 {
+            (q0, q1, q2, q3)
+        } else {
+            (-q0, -q1, -q2, -q3)
+        };
+        Quaternion::new_normalize(q0, q1, q2, q3).unwrap_or(Quaternion::IDENTITY)
     }
 
     /// The attitude of 3-2-1 Euler angles, `A = A1(Φ)·A2(θ)·A3(Ψ)` ([`Euler321`]).
