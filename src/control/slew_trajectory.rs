@@ -118,19 +118,21 @@ impl Rotation {
         self.peak_radps = angle / (duration - ramp);
     }
 
-    /// `(s, ṡ)` at `u` seconds from the rotation's start (clamped to `0 ..= T`).
-    fn profile(&self, u: f32) -> (f32, f32) {
+    /// `ṡ` at `u` seconds from the rotation's start (clamped to `0 ..= T`). The angle `s`
+    /// itself (`½ω_p u²/t_r` on the first ramp, `ω_p (u − ½t_r)` at cruise, `α − ½ω_p v²/t_r`
+    /// on the last, `α` after) is not computed: the reference carries rates only.
+    fn rate(&self, u: f32) -> f32 {
         let (t_r, t, w) = (self.ramp_s, self.duration_s, self.peak_radps);
         let u = fmath::max(u, 0.0);
         if !(t > u) || !(t_r > 0.0) {
-            (self.angle_rad, 0.0)
+            0.0
         } else if t_r > u {
-            (0.5 * w * u * u / t_r, w * u / t_r)
+            w * u / t_r
         } else if t - t_r > u {
-            (w * (u - 0.5 * t_r), w)
+            w
         } else {
             let v = t - u;
-            (self.angle_rad - 0.5 * w * v * v / t_r, w * v / t_r)
+            w * v / t_r
         }
     }
 }
@@ -366,8 +368,8 @@ impl SlewTrajectory {
         };
         let u = t_s - self.done_s;
         let half = 0.5 * period_s;
-        let (_, rate) = r.profile(u - half);
-        let (_, mean_rate) = r.profile(u + half);
+        let rate = r.rate(u - half);
+        let mean_rate = r.rate(u + half);
         Some(SlewReference {
             rate_body_radps: r.axis_body * rate,
             h_ff_body_nms: r.axis_body * (r.moment_kgm2 * mean_rate),
