@@ -74,8 +74,6 @@ pub const TORQUE_FRACTION: f32 = 0.5;
 struct Rotation {
     /// `ê`, unit, body axes, the rotation's sense included (zero for a null rotation).
     axis_body: Vec3,
-    /// `α ≥ 0`, rad.
-    angle_rad: f32,
     /// `I`, the principal moment about `ê`, kg·m².
     moment_kgm2: f32,
     /// `t_r`, s (whole periods).
@@ -89,7 +87,6 @@ struct Rotation {
 impl Rotation {
     const NULL: Self = Self {
         axis_body: Vec3::new(0.0, 0.0, 0.0),
-        angle_rad: 0.0,
         moment_kgm2: 0.0,
         ramp_s: 0.0,
         duration_s: 0.0,
@@ -111,7 +108,6 @@ impl Rotation {
         let ramp = whole_periods(angle / d / accel, period_s);
         let duration = fmath::max(whole_periods(d + ramp, period_s), ramp + ramp);
         self.axis_body = step.omega_body_radps * (d / angle);
-        self.angle_rad = angle;
         self.moment_kgm2 = moment_kgm2;
         self.ramp_s = ramp;
         self.duration_s = duration;
