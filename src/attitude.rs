@@ -225,47 +225,51 @@ impl Dcm {
         let p1 = m.m11 - m.m22 - m.m33;
         let p2 = -m.m11 + m.m22 - m.m33;
         let p3 = -m.m11 - m.m22 + m.m33;
-        let (q0, q1, q2, q3) = if p0 >= p1 && p0 >= p2 && p0 >= p3 {
-            // q0 = ½√(1 + tr A), q1 = (A23 − A32)/(4q0), …
-            let q0 = 0.5 * fmath::sqrt(1.0 + p0);
-            let k = 0.25 / q0;
-            (
-                q0,
-                (m.m23 - m.m32) * k,
-                (m.m31 - m.m13) * k,
-                (m.m12 - m.m21) * k,
-            )
-        } else if p1 >= p2 && p1 >= p3 {
-            // q1 = ½√(1 + A11 − A22 − A33), q0 = (A23 − A32)/(4q1), …
-            let q1 = 0.5 * fmath::sqrt(1.0 + p1);
-            let k = 0.25 / q1;
-            (
-                (m.m23 - m.m32) * k,
-                q1,
-                (m.m12 + m.m21) * k,
-                (m.m13 + m.m31) * k,
-            )
-        } else if p2 >= p3 {
-            let q2 = 0.5 * fmath::sqrt(1.0 + p2);
-            let k = 0.25 / q2;
-            (
-                (m.m31 - m.m13) * k,
-                (m.m12 + m.m21) * k,
-                q2,
-                (m.m23 + m.m32) * k,
-            )
+        // The largest pivot's component `k`, the pivot, and the three off-diagonal pairs whose
+        // sums are the other components times 4·qk, in component order: qk = ½√(1 + pivot)
+        // (q0 = ½√(1 + tr A), q1 = ½√(1 + A11 − A22 − A33), …), then q1 = (A23 − A32)/(4q0), …
+        // A pair is two indices into the column-major elements (A_rc at r + 3c, from 0) and
+        // whether the second is subtracted: `a − b` as the sum `a + (−b)`, the same IEEE 754
+        // operation (the MSP430's soft-float subtraction flips the sign and adds), so one
+        // shared tail serves the four branches.
+        let (k, pivot, pairs): (usize, f32, &[(u8, u8, bool); 3]) =
+            if p0 >= p1 && p0 >= p2 && p0 >= p3 {
+                // (A23 − A32, A31 − A13, A12 − A21)
+                (0, p0, &[(7, 5, true), (2, 6, true), (3, 1, true)])
+            } else if p1 >= p2 && p1 >= p3 {
+                // (A23 − A32, A12 + A21, A13 + A31)
+                (1, p1, &[(7, 5, true), (3, 1, false), (6, 2, false)])
+            } else if p2 >= p3 {
+                // (A31 − A13, A12 + A21, A23 + A32)
+                (2, p2, &[(2, 6, true), (3, 1, false), (7, 5, false)])
+            } else {
+                // (A12 − A21, A13 + A31, A23 + A32)
+                (3, p3, &[(3, 1, true), (6, 2, false), (7, 5, false)])
+            };
+        let qk = 0.5 * fmath::sqrt(1.0 + pivot);
+        let scale = 0.25 / qk;
+        let a = m.as_slice();
+        let at = |i: u8| a.get(usize::from(i)).copied().unwrap_or(0.0);
+        let mut q = [qk; 4];
+        let mut pairs = pairs.iter();
+        for (j, out) in q.iter_mut().enumerate() {
+            if j != k {
+                if let Some(&(x, y, minus)) = pairs.next() {
+                    let y = if minus { -at(y) } else { at(y) };
+                    *out = (at(x) + y) * scale;
+                }
+            }
+        }
+        let [q0, q1, q2, q3] = q;
+        // `q0 ≥ 0`: the sign flipped by negation, which is what multiplying by −1 gives bit for
+        // bit (IEEE 754; a NaN, whatever its sign, gives the identity below either way), without
+        // four multiplications (a soft-float library call each on the MSP430)
+        let (q0, q1, q2, q3) = if q0 >= 0.0 {
+            (q0, q1, q2, q3)
         } else {
-            let q3 = 0.5 * fmath::sqrt(1.0 + p3);
-            let k = 0.25 / q3;
-            (
-                (m.m12 - m.m21) * k,
-                (m.m13 + m.m31) * k,
-                (m.m23 + m.m32) * k,
-                q3,
-            )
+            (-q0, -q1, -q2, -q3)
         };
-        let s = if q0 >= 0.0 { 1.0 } else { -1.0 };
-        Quaternion::new_normalize(s * q0, s * q1, s * q2, s * q3).unwrap_or(Quaternion::IDENTITY)
+        Quaternion::new_normalize(q0, q1, q2, q3).unwrap_or(Quaternion::IDENTITY)
     }
 
     /// The attitude of 3-2-1 Euler angles, `A = A1(Φ)·A2(θ)·A3(Ψ)` ([`Euler321`]).

@@ -186,13 +186,14 @@ fn elements(args: &[u32; ARG_WORDS]) -> Result<Sgp4, UplinkError> {
     })
 }
 
-/// The slew of the argument words: the target (words 0–3) and the time allowed (word 4).
-fn slew(args: &[u32; ARG_WORDS]) -> Result<(Quaternion, f32), UplinkError> {
+/// A slew's time allowed (word 4), finite and positive.
+fn within(args: &[u32; ARG_WORDS]) -> Result<f32, UplinkError> {
     let [_, _, _, _, a4, ..] = *args;
     let within_s = f32::from_bits(a4);
-    match quaternion(args) {
-        Some(q) if within_s.is_finite() && within_s > 0.0 => Ok((q, within_s)),
-        _ => Err(UplinkError::InvalidArgument),
+    if within_s.is_finite() && within_s > 0.0 {
+        Ok(within_s)
+    } else {
+        Err(UplinkError::InvalidArgument)
     }
 }
 
@@ -217,13 +218,18 @@ pub fn apply_reference<const N: usize, const F: usize>(
     attitude: Option<&Quaternion>,
 ) -> Result<(), UplinkError> {
     match code {
-        kind::TRACK => node.track(quaternion(args).ok_or(UplinkError::InvalidArgument)?),
-        kind::SLEW => {
-            let (q, within_s) = slew(args)?;
-            let refused = UplinkError::Refused(AcsError::CannotSlew);
-            let (attitude, now) = attitude.zip(node.clock()).ok_or(refused)?;
-            node.slew(attitude, &q.to_dcm(), within_s, now)
-                .map_err(UplinkError::Refused)?;
+        // one quaternion for both: one call site on the MSP430
+        kind::TRACK | kind::SLEW => {
+            let q = quaternion(args).ok_or(UplinkError::InvalidArgument)?;
+            if code == kind::TRACK {
+                node.track(q);
+            } else {
+                let within_s = within(args)?;
+                let refused = UplinkError::Refused(AcsError::CannotSlew);
+                let (attitude, now) = attitude.zip(node.clock()).ok_or(refused)?;
+                node.slew(attitude, &q.to_dcm(), within_s, now)
+                    .map_err(UplinkError::Refused)?;
+            }
         }
         kind::ELEMENTS => set_node_elements(args, node)?,
         kind::CLOCK => {

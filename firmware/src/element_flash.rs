@@ -55,19 +55,23 @@ impl ElementFlash {
     }
 
     /// The element set at reset: the newer valid record's, else the image's words (`None` if
-    /// neither checks out; [`ElementStore::orbit_or`]). Out of line: the words' 232 B live in
-    /// its frame only.
+    /// neither checks out), as [`ElementStore::orbit_or`] gives it, with one buffer for both
+    /// (the image's words copied in, the record's loaded over them): `Sgp4::from_words` has two
+    /// call sites, not three. Out of line: the words' 232 B live in its frame only.
     #[inline(never)]
     pub fn orbit_at_reset(&mut self) -> Option<Sgp4> {
-        match self.store.as_mut() {
-            Some(store) => {
-                let (orbit, seq) = store.orbit_or(&FLIGHT_ELEMENT_WORDS);
+        let mut words = FLIGHT_ELEMENT_WORDS;
+        let seq = self.store.as_mut().and_then(|store| store.load(&mut words));
+        match (Sgp4::from_words(&words), seq) {
+            (Ok(orbit), seq) => {
                 if let Some(seq) = seq {
                     publish(0, seq.wrapping_add(1));
                 }
-                orbit
+                Some(orbit)
             }
-            None => Sgp4::from_words(&FLIGHT_ELEMENT_WORDS).ok(),
+            // the record's words did not check out: the image's
+            (Err(_), Some(_)) => Sgp4::from_words(&FLIGHT_ELEMENT_WORDS).ok(),
+            (Err(_), None) => None,
         }
     }
 

@@ -332,18 +332,18 @@ pub fn plan(
     limits: &SlewLimits,
     command_time_s: f32,
 ) -> Result<SlewPlan, SlewError> {
-    let finite = [angles.phi_a, angles.theta_b, angles.psi_c, command_time_s]
-        .iter()
-        .chain(
-            [
-                limits.l_max,
-                limits.l_min,
-                limits.t_min,
-                limits.default_fraction,
-            ]
-            .iter(),
-        )
-        .all(|x| x.is_finite());
+    let finite = [
+        angles.phi_a,
+        angles.theta_b,
+        angles.psi_c,
+        command_time_s,
+        limits.l_max,
+        limits.l_min,
+        limits.t_min,
+        limits.default_fraction,
+    ]
+    .iter()
+    .all(|x| x.is_finite());
     if !finite {
         return Err(SlewError::NotFinite);
     }

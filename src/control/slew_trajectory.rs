@@ -74,8 +74,6 @@ pub const TORQUE_FRACTION: f32 = 0.5;
 struct Rotation {
     /// `ê`, unit, body axes, the rotation's sense included (zero for a null rotation).
     axis_body: Vec3,
-    /// `α ≥ 0`, rad.
-    angle_rad: f32,
     /// `I`, the principal moment about `ê`, kg·m².
     moment_kgm2: f32,
     /// `t_r`, s (whole periods).
@@ -89,7 +87,6 @@ struct Rotation {
 impl Rotation {
     const NULL: Self = Self {
         axis_body: Vec3::new(0.0, 0.0, 0.0),
-        angle_rad: 0.0,
         moment_kgm2: 0.0,
         ramp_s: 0.0,
         duration_s: 0.0,
@@ -111,26 +108,27 @@ impl Rotation {
         let ramp = whole_periods(angle / d / accel, period_s);
         let duration = fmath::max(whole_periods(d + ramp, period_s), ramp + ramp);
         self.axis_body = step.omega_body_radps * (d / angle);
-        self.angle_rad = angle;
         self.moment_kgm2 = moment_kgm2;
         self.ramp_s = ramp;
         self.duration_s = duration;
         self.peak_radps = angle / (duration - ramp);
     }
 
-    /// `(s, ṡ)` at `u` seconds from the rotation's start (clamped to `0 ..= T`).
-    fn profile(&self, u: f32) -> (f32, f32) {
+    /// `ṡ` at `u` seconds from the rotation's start (clamped to `0 ..= T`). The angle `s`
+    /// itself (`½ω_p u²/t_r` on the first ramp, `ω_p (u − ½t_r)` at cruise, `α − ½ω_p v²/t_r`
+    /// on the last, `α` after) is not computed: the reference carries rates only.
+    fn rate(&self, u: f32) -> f32 {
         let (t_r, t, w) = (self.ramp_s, self.duration_s, self.peak_radps);
         let u = fmath::max(u, 0.0);
         if !(t > u) || !(t_r > 0.0) {
-            (self.angle_rad, 0.0)
+            0.0
         } else if t_r > u {
-            (0.5 * w * u * u / t_r, w * u / t_r)
+            w * u / t_r
         } else if t - t_r > u {
-            (w * (u - 0.5 * t_r), w)
+            w
         } else {
             let v = t - u;
-            (self.angle_rad - 0.5 * w * v * v / t_r, w * v / t_r)
+            w * v / t_r
         }
     }
 }
@@ -369,8 +367,8 @@ impl SlewTrajectory {
         };
         let u = t_s - self.done_s;
         let half = 0.5 * period_s;
-        let (_, rate) = r.profile(u - half);
-        let (_, mean_rate) = r.profile(u + half);
+        let rate = r.rate(u - half);
+        let mean_rate = r.rate(u + half);
         Some(SlewReference {
             rate_body_radps: r.axis_body * rate,
             h_ff_body_nms: r.axis_body * (r.moment_kgm2 * mean_rate),

@@ -56,7 +56,9 @@ impl<const N: usize, const F: usize> ReferenceNode<'_, N, F> {
     }
 
     /// A new command's guidance, with an id neither this node nor the attitude node used last
-    /// (after a reset of this node its count starts from the attitude node's).
+    /// (after a reset of this node its count starts from the attitude node's). Out of line on
+    /// the MSP430: the track and the slew commands share it.
+    #[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
     fn new_guidance(&mut self, kind: GuidanceKind, target: Quaternion) {
         let last = core::cmp::max(self.guidance.id, self.accepted_id);
         let id = match last.wrapping_add(1) {
