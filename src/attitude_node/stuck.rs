@@ -136,7 +136,8 @@ impl<const N: usize> StuckGyros<N> {
     ///
     /// After the filter's step, each gyro read this step: a new word starts a new run; a
     /// repeated one lengthens its run and adds the step's attitude correction about its axis
-    /// ([`Mekf::correction_rad`]; none on a start or without an estimate) to the run's sum, and
+    /// ([`Mekf::correction_rad`]; none on a start, without an estimate or while the filter is
+    /// not settled) to the run's sum, and
     /// is held when both reach their limits (see the [module docs](self)); a held gyro's
     /// bias covariance walks ([`Mekf::inflate_gyro_bias`]) for the next step.
     #[cfg_attr(target_arch = "msp430", inline(always))]
