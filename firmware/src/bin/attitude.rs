@@ -19,7 +19,8 @@
 use acs::acs_loop::StepReport;
 use acs::attitude_node::AttitudeNode;
 use acs::flight::{CONFIG, CONTROL_PERIOD_S, TILES};
-use acs::link::messages::Reference;
+use acs::link::messages::{Reference, ATTITUDE_TC_APID};
+use acs::uplink::telecommand::ATTITUDE_TC_BYTES;
 use acs::link::sequence::SequenceCounter;
 use acs_firmware::node_link::LINK_BYTES;
 use acs_firmware::{flight, tiles};
@@ -30,6 +31,10 @@ use acs_firmware::periph;
 
 #[cfg(not(feature = "pil"))]
 acs_firmware::flight_vectors!();
+
+/// The ground's mailboxes: the telecommand in, its reports out ([`flight::Ground`]).
+#[no_mangle]
+static mut GROUND: flight::Ground<ATTITUDE_TC_BYTES> = flight::Ground::new();
 
 /// Entry point, called by the reset handler (`acs_firmware::rt`): coils off, then the node.
 #[no_mangle]
@@ -51,13 +56,18 @@ fn run() -> ! {
     let mut bus = tiles::MailboxBus;
     let mut report = StepReport::empty(node.mode());
     let mut count = SequenceCounter::new();
+    let mut tm_count = SequenceCounter::new();
     let mut packet = [0u8; LINK_BYTES];
     loop {
         acs_firmware::fw_period_start();
         acs_firmware::kick_watchdog();
-        flight::take_node_uplink(|kind, args| {
-            acs::uplink::status(&acs::uplink::apply_attitude(kind, args, &mut node))
-        });
+        flight::take_telecommand(
+            &raw mut GROUND,
+            ATTITUDE_TC_APID,
+            node.clock(),
+            &mut tm_count,
+            |kind, args| acs::uplink::apply_attitude(kind, args, &mut node),
+        );
         let reference = node_link::receive(&mut packet)
             .and_then(|n| packet.get(..n))
             .and_then(|p| Reference::from_packet(p).ok());
@@ -99,14 +109,19 @@ fn run() -> ! {
     node.set_boot_count(acs_firmware::boot_count());
     let mut report = StepReport::empty(node.mode());
     let mut count = SequenceCounter::new();
+    let mut tm_count = SequenceCounter::new();
     let mut packet = [0u8; LINK_BYTES];
     loop {
         periph::wait_period();
         acs_firmware::fw_period_start();
         acs_firmware::kick_watchdog();
-        flight::take_node_uplink(|kind, args| {
-            acs::uplink::status(&acs::uplink::apply_attitude(kind, args, &mut node))
-        });
+        flight::take_telecommand(
+            &raw mut GROUND,
+            ATTITUDE_TC_APID,
+            node.clock(),
+            &mut tm_count,
+            |kind, args| acs::uplink::apply_attitude(kind, args, &mut node),
+        );
         let reference = periph::receive_last(&mut link, &mut packet, |p| {
             Reference::from_packet(p).ok().map(|(r, _)| r)
         });

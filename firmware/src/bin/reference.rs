@@ -27,7 +27,8 @@
 #![cfg_attr(not(feature = "pil"), feature(asm_experimental_arch))]
 
 use acs::flight::{CONFIG, FIELD_COEFFS, TILES};
-use acs::link::messages::{Reference, Status};
+use acs::link::messages::{Reference, Status, REFERENCE_TC_APID};
+use acs::uplink::telecommand::REFERENCE_TC_BYTES;
 use acs::link::sequence::SequenceCounter;
 use acs::reference_node::ReferenceNode;
 use acs_firmware::flight;
@@ -39,6 +40,10 @@ use acs_firmware::{element_flash::ElementFlash, periph};
 
 #[cfg(not(feature = "pil"))]
 acs_firmware::flight_vectors!();
+
+/// The ground's mailboxes: the telecommand in, its reports out ([`flight::Ground`]).
+#[no_mangle]
+static mut GROUND: flight::Ground<REFERENCE_TC_BYTES> = flight::Ground::new();
 
 /// Entry point, called by the reset handler (`acs_firmware::rt`).
 #[no_mangle]
@@ -57,6 +62,7 @@ fn run() -> ! {
     };
     let mut link = Link {
         count: SequenceCounter::new(),
+        tm_count: SequenceCounter::new(),
         status: None,
         step: 0,
     };
@@ -64,14 +70,13 @@ fn run() -> ! {
         acs_firmware::fw_period_start();
         acs_firmware::kick_watchdog();
         let attitude = link.status.and_then(|s| s.attitude);
-        flight::take_node_uplink(|kind, args| {
-            acs::uplink::status(&acs::uplink::apply_reference(
-                kind,
-                args,
-                &mut node,
-                attitude.as_ref(),
-            ))
-        });
+        flight::take_telecommand(
+            &raw mut GROUND,
+            REFERENCE_TC_APID,
+            node.clock(),
+            &mut link.tm_count,
+            |kind, args| acs::uplink::apply_reference(kind, args, &mut node, attitude.as_ref()),
+        );
         link.exchange(&mut node);
         acs_firmware::kick_watchdog();
     }
@@ -91,6 +96,7 @@ fn run() -> ! {
     };
     let mut link = Link {
         count: SequenceCounter::new(),
+        tm_count: SequenceCounter::new(),
         status: None,
         step: 0,
         uart: periph::link(),
@@ -104,14 +110,20 @@ fn run() -> ! {
         acs_firmware::kick_watchdog();
         if tick {
             let attitude = link.status.and_then(|s| s.attitude);
-            flight::take_node_uplink(|kind, args| {
-                let outcome =
-                    acs::uplink::apply_reference(kind, args, &mut node, attitude.as_ref());
-                if kind == acs::uplink::kind::ELEMENTS && outcome.is_ok() {
-                    elements.keep(args);
-                }
-                acs::uplink::status(&outcome)
-            });
+            flight::take_telecommand(
+                &raw mut GROUND,
+                REFERENCE_TC_APID,
+                node.clock(),
+                &mut link.tm_count,
+                |kind, args| {
+                    let outcome =
+                        acs::uplink::apply_reference(kind, args, &mut node, attitude.as_ref());
+                    if kind == acs::uplink::kind::ELEMENTS && outcome.is_ok() {
+                        elements.keep(args);
+                    }
+                    outcome
+                },
+            );
             quiet = quiet.saturating_add(1);
         }
         // a STATUS is answered at once; without one for two periods, a REF each period
@@ -133,6 +145,8 @@ fn run() -> ! {
 /// The node's side of the link between periods.
 struct Link {
     count: SequenceCounter,
+    /// The count of the reports to the ground (APID [`REFERENCE_TC_APID`]).
+    tm_count: SequenceCounter,
     /// The last STATUS received.
     status: Option<Status>,
     /// The step the next REF is for: the last STATUS's next, counted on without one.

@@ -1,0 +1,222 @@
+//! The ground's commands as PUS-C telecommands (issue 31, item 2): each command of
+//! [`crate::uplink`] is a TC\[8,1\] *perform a function* (ECSS-E-ST-70-41C 6.8, 8.8.2.1) to the
+//! node that owns it, and the node answers with the verification reports of service 1
+//! ([`crate::link::pus`]).
+//!
+//! # The telecommand
+//! A CCSDS space packet on the node's APID ([`REFERENCE_TC_APID`], [`ATTITUDE_TC_APID`]), with
+//! the PUS-C TC secondary header (service 8, subtype 1, the acknowledgement flags the ground
+//! chooses, its source ID) and this application data, big-endian:
+//!
+//! | bytes | field |
+//! |---|---|
+//! | 2 | function ID: the command code ([`crate::uplink::kind`], 1–7) |
+//! | 4 × n | the command's argument words, n = [`arity`] of the code (0–58; the words of the mailbox table in [`crate::uplink`]) |
+//!
+//! # The reports
+//! [`take`] decodes the packet ([`decode_tc`]), checks the function ID and the number of words,
+//! applies the command with the node's own function ([`crate::uplink::apply_reference`],
+//! [`crate::uplink::apply_attitude`]: every argument checked before anything changes), and
+//! writes its reports back to back in `out`:
+//!
+//! | outcome | reports |
+//! |---|---|
+//! | applied | TM\[1,1\] if the acceptance flag is set, then TM\[1,7\] if the completion flag is set (none if neither) |
+//! | refused | TM\[1,2\], always, failure code below; nothing changed |
+//!
+//! A command completes in the period that takes it, so its acceptance and completion reports
+//! leave together; a refused command is refused at acceptance, since its checks all come first.
+//!
+//! | TM\[1,2\] failure code | reason |
+//! |---|---|
+//! | 1–8 | the packet layer's ([`PusError::failure_code`]: length, CRC, format, APID, type, PUS version, a service other than TC\[8,1\]) |
+//! | `0x100 +` [`UplinkError::status`] | the command's: 0x101 unknown function ID, 0x102 invalid argument, 0x103 refused by the loop, 0x104 the other node's command, 0x105 wrong number of argument words, `0x200 + i` element set refused at word `i` |
+//!
+//! The failure notice carries no failure data: the code says it all. A packet refused before
+//! its header can be trusted is answered with the request ID of its first four bytes (zeros if
+//! it has fewer) and destination ID 0.
+//!
+//! Each report is stamped with the node's packet sequence count for its APID (the caller's
+//! [`SequenceCounter`]), message type counter 0 (not counted), the TC's source ID as its
+//! destination, and the node's clock when it took the telecommand ([`cuc`]): time status 1 and
+//! the clock's CUC time, or time status 0 and time 0 if the node has no clock.
+//!
+//! [`REFERENCE_TC_APID`]: crate::link::messages::REFERENCE_TC_APID
+//! [`ATTITUDE_TC_APID`]: crate::link::messages::ATTITUDE_TC_APID
+
+use crate::link::pus::{
+    self, decode_tc, failure, tm_packet_len, verification_report, AckFlags, CucTime, RequestId, TmHeader, Verification, REQUEST_ID_LEN,
+};
+use crate::link::sequence::SequenceCounter;
+use crate::link::space_packet::Apid;
+use crate::time::{Epoch, Utc};
+
+use super::{kind, UplinkError, ARG_WORDS};
+
+/// The telecommands' service: function management.
+pub const SERVICE: u8 = 8;
+/// Their subtype: perform a function.
+pub const SUBTYPE: u8 = 1;
+/// Bytes of the function ID.
+pub const FUNCTION_ID_LEN: usize = 2;
+/// The longest telecommand (an element set): 6 + 5 + 2 + 4 × 58 + 2 = 247 B.
+pub const MAX_TC_LEN: usize = pus::TC_OVERHEAD + FUNCTION_ID_LEN + 4 * ARG_WORDS;
+/// The telecommand mailbox of the attitude node's image, B: its longest command's packet
+/// (sun-safe, mark failed, restore: 23 B) with room for a track or slew (35 B), which it
+/// answers as the other node's; even, so the field after it is aligned.
+pub const ATTITUDE_TC_BYTES: usize = pus::TC_OVERHEAD + FUNCTION_ID_LEN + 4 * 5 + 1;
+/// The telecommand mailbox of the reference node's image, B: [`MAX_TC_LEN`], made even.
+pub const REFERENCE_TC_BYTES: usize = MAX_TC_LEN + 1;
+/// The most [`take`] writes: TM\[1,1\] and TM\[1,7\], 25 B each (a TM\[1,2\] is 27 B).
+pub const REPORTS_LEN: usize = 2 * tm_packet_len(REQUEST_ID_LEN);
+
+/// The number of argument words of command `code`, `None` for an unknown code.
+pub const fn arity(code: u16) -> Option<usize> {
+    match code {
+        kind::SUN_SAFE => Some(0),
+        kind::TRACK => Some(4),
+        kind::SLEW => Some(5),
+        kind::ELEMENTS => Some(ARG_WORDS),
+        kind::CLOCK => Some(3),
+        kind::MARK_FAILED | kind::RESTORE => Some(2),
+        _ => None,
+    }
+}
+
+/// The CUC time of the TM time field ([`pus::CucTime`]: seconds since the clock's epoch
+/// 2000-01-01T00:00 UTC, day 0 of [`Epoch`], and 2⁻¹⁶ s), and the time reference status: 1
+/// with a clock, 0 (and time 0) without one or before the epoch. The fraction is the
+/// nanoseconds over 15 259, within one unit (15.3 µs) below the exact fraction
+/// (`cuc_fraction_bound`).
+pub fn cuc(clock: Option<Epoch<Utc>>) -> (CucTime, u8) {
+    let seconds = clock.and_then(|t| {
+        u32::try_from(t.day())
+            .ok()?
+            .checked_mul(86_400)?
+            .checked_add(t.second_of_day())
+            .map(|s| (s, t.nano()))
+    });
+    match seconds {
+        Some((seconds, nano)) => (
+            CucTime {
+                seconds,
+                fraction: (nano / 15_259) as u16,
+            },
+            1,
+        ),
+        None => (CucTime::default(), 0),
+    }
+}
+
+/// The command code and argument words of an accepted telecommand's application data.
+fn command(data: &[u8], args: &mut [u32; ARG_WORDS]) -> Result<u16, UplinkError> {
+    let ([f0, f1], words) = data
+        .split_first_chunk::<FUNCTION_ID_LEN>()
+        .map(|(f, w)| (*f, w))
+        .ok_or(UplinkError::UnknownCommand(0))?;
+    let code = u16::from_be_bytes([f0, f1]);
+    let n = arity(code).ok_or(UplinkError::UnknownCommand(code))?;
+    if words.len() != 4 * n {
+        return Err(UplinkError::ArgumentCount(code));
+    }
+    for (a, w) in args.iter_mut().zip(words.chunks_exact(4)) {
+        let [b0, b1, b2, b3] = *w.first_chunk::<4>().unwrap_or(&[0; 4]);
+        *a = u32::from_be_bytes([b0, b1, b2, b3]);
+    }
+    Ok(code)
+}
+
+/// Takes the telecommand `packet` for the node of `apid` (see the [module docs](self)):
+/// decodes it, applies it with `apply` (the command code and its argument words, the words
+/// after the command's left 0), and writes its verification reports to `out`; returns the
+/// bytes written. `clock` is the node's clock as it takes the packet, `count` its TM sequence
+/// counter (one count per report). Never panics, whatever the bytes.
+#[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
+pub fn take(
+    packet: &[u8],
+    apid: Apid,
+    clock: Option<Epoch<Utc>>,
+    count: &mut SequenceCounter,
+    out: &mut [u8; REPORTS_LEN],
+    apply: impl FnOnce(u16, &[u32; ARG_WORDS]) -> Result<(), UplinkError>,
+) -> usize {
+    let mut args = [0u32; ARG_WORDS];
+    let (request, source, outcome) = match decode_tc(packet, apid) {
+        Err(e) => (RequestId::of_packet(packet), 0, Err(e.failure_code())),
+        Ok(tc) => {
+            let outcome = if (tc.service, tc.subtype) != (SERVICE, SUBTYPE) {
+                Err(failure::MESSAGE_TYPE)
+            } else {
+                command(tc.app_data, &mut args)
+                    .and_then(|code| apply(code, &args))
+                    .map(|()| tc.ack)
+                    .map_err(|e| failure::COMMAND + e.status())
+            };
+            (Some(tc.request_id), tc.source_id, outcome)
+        }
+    };
+    let request = request.unwrap_or(RequestId {
+        packet_id: 0,
+        sequence_control: 0,
+    });
+    let (time, time_status) = cuc(clock);
+    let mut written = 0;
+    let mut report = |verification: Verification<'_>, written: &mut usize| {
+        let header = TmHeader {
+            apid,
+            sequence_count: count.next_count(),
+            time_status,
+            message_counter: 0,
+            destination_id: source,
+            time,
+        };
+        let rest = out.get_mut(*written..).unwrap_or_default();
+        *written += verification_report(&header, request, &verification, rest).unwrap_or(0);
+    };
+    match outcome {
+        Err(code) => report(
+            Verification::AcceptanceFailed { code, data: &[] },
+            &mut written,
+        ),
+        Ok(ack) => {
+            if ack.contains(AckFlags::ACCEPTANCE) {
+                report(Verification::Accepted, &mut written);
+            }
+            if ack.contains(AckFlags::COMPLETION) {
+                report(Verification::Completed, &mut written);
+            }
+        }
+    }
+    written
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The CUC fraction: within one unit below the exact 2⁻¹⁶ s fraction, over every
+    /// millisecond and the nanoseconds next to the ends.
+    #[test]
+    fn cuc_fraction_bound() {
+        let check = |nano: u32| {
+            let t = Epoch::from_parts(1, 2, nano).ok();
+            let (cuc, status) = cuc(t);
+            assert_eq!((cuc.seconds, status), (86_402, 1));
+            let exact = (u64::from(nano) << 16) / 1_000_000_000;
+            let got = u64::from(cuc.fraction);
+            assert!(got <= exact && exact - got <= 1, "{nano}: {got} {exact}");
+        };
+        for ms in 0..1000 {
+            check(ms * 1_000_000);
+        }
+        for nano in (0..1000).chain(999_999_000..1_000_000_000) {
+            check(nano);
+        }
+    }
+
+    #[test]
+    fn cuc_without_a_clock() {
+        assert_eq!(cuc(None), (CucTime::default(), 0));
+        assert_eq!(cuc(Epoch::from_parts(-1, 0, 0).ok()), (CucTime::default(), 0));
+    }
+}
