@@ -56,16 +56,13 @@ fuzz_target!(|data: &[u8]| {
                     fraction: 1,
                 },
             };
-            let v = Verification::AcceptanceFailed {
-                code: 0x100,
-                data: tc.app_data,
-            };
-            let mut report = vec![0u8; tm_packet_len(6 + tc.app_data.len())];
+            let v = Verification::AcceptanceFailed { code: 0x100 };
+            let mut report = vec![0u8; tm_packet_len(6)];
             let m = verification_report(&tm, tc.request_id, &v, &mut report).expect("fits");
             let read = decode_tm(&report[..m], apid).expect("reads back");
             assert_eq!((read.header, read.service, read.subtype), (tm, 1, 2));
             assert_eq!(read.app_data[..4], tc.request_id.to_bytes());
-            assert_eq!(&read.app_data[6..], tc.app_data);
+            assert_eq!(read.app_data.len(), 6);
         }
         Err(e) => {
             assert!(!e.to_string().is_empty());

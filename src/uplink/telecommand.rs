@@ -45,7 +45,8 @@
 //! [`ATTITUDE_TC_APID`]: crate::link::messages::ATTITUDE_TC_APID
 
 use crate::link::pus::{
-    self, decode_tc, failure, tm_packet_len, verification_report, AckFlags, CucTime, RequestId, TmHeader, Verification, REQUEST_ID_LEN,
+    self, decode_tc, failure, tm_packet_len, verification_report, AckFlags, CucTime, RequestId,
+    TmHeader, Verification, REQUEST_ID_LEN,
 };
 use crate::link::sequence::SequenceCounter;
 use crate::link::space_packet::Apid;
@@ -89,24 +90,21 @@ pub const fn arity(code: u16) -> Option<usize> {
 /// nanoseconds over 15 259, within one unit (15.3 µs) below the exact fraction
 /// (`cuc_fraction_bound`).
 pub fn cuc(clock: Option<Epoch<Utc>>) -> (CucTime, u8) {
-    let seconds = clock.and_then(|t| {
-        u32::try_from(t.day())
-            .ok()?
-            .checked_mul(86_400)?
-            .checked_add(t.second_of_day())
-            .map(|s| (s, t.nano()))
-    });
-    match seconds {
-        Some((seconds, nano)) => (
+    match clock {
+        // within the 32-bit count: no overflow
+        Some(t) if (0..CUC_DAYS).contains(&t.day()) => (
             CucTime {
-                seconds,
-                fraction: (nano / 15_259) as u16,
+                seconds: t.day() as u32 * 86_400 + t.second_of_day(),
+                fraction: (t.nano() / 15_259) as u16,
             },
             1,
         ),
-        None => (CucTime::default(), 0),
+        _ => (CucTime::default(), 0),
     }
 }
+
+/// The days of the CUC's 32-bit seconds count, whole (to 2136-02-06).
+const CUC_DAYS: i32 = (u32::MAX / 86_400) as i32;
 
 /// The command code and argument words of an accepted telecommand's application data.
 fn command(data: &[u8], args: &mut [u32; ARG_WORDS]) -> Result<u16, UplinkError> {
@@ -141,27 +139,37 @@ pub fn take(
     apply: impl FnOnce(u16, &[u32; ARG_WORDS]) -> Result<(), UplinkError>,
 ) -> usize {
     let mut args = [0u32; ARG_WORDS];
-    let (request, source, outcome) = match decode_tc(packet, apid) {
-        Err(e) => (RequestId::of_packet(packet), 0, Err(e.failure_code())),
-        Ok(tc) => {
-            let outcome = if (tc.service, tc.subtype) != (SERVICE, SUBTYPE) {
+    let (source, outcome) = match decode_tc(packet, apid) {
+        Err(e) => (0, Err(e.failure_code())),
+        Ok(tc) => (
+            tc.source_id,
+            if (tc.service, tc.subtype) != (SERVICE, SUBTYPE) {
                 Err(failure::MESSAGE_TYPE)
             } else {
                 command(tc.app_data, &mut args)
                     .and_then(|code| apply(code, &args))
                     .map(|()| tc.ack)
                     .map_err(|e| failure::COMMAND + e.status())
-            };
-            (Some(tc.request_id), tc.source_id, outcome)
-        }
+            },
+        ),
     };
-    let request = request.unwrap_or(RequestId {
+    let reports = match outcome {
+        Err(code) => [Some(Verification::AcceptanceFailed { code }), None],
+        Ok(ack) => [
+            ack.contains(AckFlags::ACCEPTANCE)
+                .then_some(Verification::Accepted),
+            ack.contains(AckFlags::COMPLETION)
+                .then_some(Verification::Completed),
+        ],
+    };
+    let (time, time_status) = cuc(clock);
+    // the packet's first four bytes as received, zeros if it has fewer
+    let request = RequestId::of_packet(packet).unwrap_or(RequestId {
         packet_id: 0,
         sequence_control: 0,
     });
-    let (time, time_status) = cuc(clock);
     let mut written = 0;
-    let mut report = |verification: Verification<'_>, written: &mut usize| {
+    for report in reports.into_iter().flatten() {
         let header = TmHeader {
             apid,
             sequence_count: count.next_count(),
@@ -170,22 +178,9 @@ pub fn take(
             destination_id: source,
             time,
         };
-        let rest = out.get_mut(*written..).unwrap_or_default();
-        *written += verification_report(&header, request, &verification, rest).unwrap_or(0);
-    };
-    match outcome {
-        Err(code) => report(
-            Verification::AcceptanceFailed { code, data: &[] },
-            &mut written,
-        ),
-        Ok(ack) => {
-            if ack.contains(AckFlags::ACCEPTANCE) {
-                report(Verification::Accepted, &mut written);
-            }
-            if ack.contains(AckFlags::COMPLETION) {
-                report(Verification::Completed, &mut written);
-            }
-        }
+        let rest = out.get_mut(written..).unwrap_or_default();
+        // out holds both reports: never an error
+        written += verification_report(&header, request, &report, rest).unwrap_or(0);
     }
     written
 }
@@ -217,6 +212,9 @@ mod tests {
     #[test]
     fn cuc_without_a_clock() {
         assert_eq!(cuc(None), (CucTime::default(), 0));
-        assert_eq!(cuc(Epoch::from_parts(-1, 0, 0).ok()), (CucTime::default(), 0));
+        assert_eq!(
+            cuc(Epoch::from_parts(-1, 0, 0).ok()),
+            (CucTime::default(), 0)
+        );
     }
 }
