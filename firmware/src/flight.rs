@@ -7,7 +7,7 @@
 //! ground ([`crate::flight_elements`]; with feature `onboard-init`, SGP4 initialised on board
 //! from the TLE of [`crate::elements::flight_tle`]).
 //!
-//! # Uplink mailbox
+//! # Uplink mailbox (the one-image firmware)
 //! The ground (the processor-in-the-loop host, or the communication subsystem's driver) writes
 //! the argument words into `UPLINK_ARGS`, then the command code into `UPLINK_KIND` (the codes
 //! and words of [`acs::uplink`]). Before each step the firmware applies the command
@@ -15,6 +15,11 @@
 //! ([`acs::uplink::status`]: 0 accepted, 1 unknown command, 2 invalid argument, 3 refused by the
 //! loop, `0x100 + i` element set refused at word `i`, the elements in use kept) into
 //! `UPLINK_STATUS`.
+//!
+//! # Telecommand mailbox (the two node images)
+//! Each node image has one `GROUND` mailbox ([`Ground`]): the ground writes one PUS-C
+//! telecommand packet and its length, the node takes it before its work
+//! ([`take_telecommand`]: [`acs::uplink::telecommand`]) and leaves its verification reports.
 //!
 //! After each step the firmware publishes the mode (`STEP_MODE`, [`acs::acs_loop::Mode::code`])
 //! and the faults (`STEP_FAULTS`, [`acs::acs_loop::Faults::bits`]).

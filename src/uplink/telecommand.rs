@@ -153,15 +153,16 @@ pub fn take(
             },
         ),
     };
-    let reports = match outcome {
-        Err(code) => [Some(Verification::AcceptanceFailed { code }), None],
-        Ok(ack) => [
-            ack.contains(AckFlags::ACCEPTANCE)
-                .then_some(Verification::Accepted),
-            ack.contains(AckFlags::COMPLETION)
-                .then_some(Verification::Completed),
-        ],
+    // the reports, in their order: a failure alone, or the successes the flags ask for
+    let (code, ack) = match outcome {
+        Err(code) => (code, AckFlags::NONE),
+        Ok(ack) => (0, ack),
     };
+    let reports = [
+        (code != 0, Verification::AcceptanceFailed { code }),
+        (ack.contains(AckFlags::ACCEPTANCE), Verification::Accepted),
+        (ack.contains(AckFlags::COMPLETION), Verification::Completed),
+    ];
     let (time, time_status) = cuc(clock);
     // the packet's first four bytes as received, zeros if it has fewer
     let request = RequestId::of_packet(packet).unwrap_or(RequestId {
@@ -169,7 +170,7 @@ pub fn take(
         sequence_control: 0,
     });
     let mut written = 0;
-    for report in reports.into_iter().flatten() {
+    for (_, report) in reports.iter().filter(|(sent, _)| *sent) {
         let header = TmHeader {
             apid,
             sequence_count: count.next_count(),
@@ -180,7 +181,7 @@ pub fn take(
         };
         let rest = out.get_mut(written..).unwrap_or_default();
         // out holds both reports: never an error
-        written += verification_report(&header, request, &report, rest).unwrap_or(0);
+        written += verification_report(&header, request, report, rest).unwrap_or(0);
     }
     written
 }

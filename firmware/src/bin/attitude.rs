@@ -1,6 +1,7 @@
 //! The attitude node's flight image (issue #29): tile reads, determination, modes and fault
 //! management, laws, allocation; the only node that commands actuators. Each control period:
-//! take the ground's command (sun-safe, the tiles: [`acs::uplink::apply_attitude`]), take the
+//! take the ground's telecommand (sun-safe, the tiles: [`acs::uplink::apply_attitude`], as a
+//! PUS TC\[8,1\] answered with its verification reports: [`flight::take_telecommand`]), take the
 //! REF packet the reference node sent for this step (none, or one for another step or without a
 //! valid clock: the step runs without reference, reported), step, send STATUS, publish. STATUS
 //! carries the resets since power-on ([`acs_firmware::boot_count`]).
@@ -11,7 +12,8 @@
 //! one-second Timer_A period with LPM3 between periods, the link over USCI_A0
 //! ([`acs_firmware::periph`]), and the tile bus of [`acs::hal::msp430::tile_bus`] (the tiles'
 //! sensors and wheel controllers on USCI_B0 I²C at its address map, the coils on Timer_B PWM
-//! with direction pins). The uplink is the RAM mailbox in both ([`flight`]).
+//! with direction pins). The telecommand and its reports are the RAM mailbox `GROUND` in both
+//! ([`flight::Ground`]).
 #![no_std]
 #![cfg_attr(not(feature = "pil"), feature(asm_experimental_arch))]
 #![no_main]

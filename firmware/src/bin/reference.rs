@@ -1,6 +1,7 @@
 //! The reference node's flight image (issue #29): the clock as uplinked, SGP4, Sun, shadow,
-//! IGRF, guidance. Each control period: take the ground's command (clock, elements, track, slew:
-//! [`acs::uplink::apply_reference`]; a slew is planned from the attitude of the last STATUS),
+//! IGRF, guidance. Each control period: take the ground's telecommand (clock, elements, track,
+//! slew: [`acs::uplink::apply_reference`], as a PUS TC\[8,1\] answered with its verification
+//! reports, [`flight::take_telecommand`]; a slew is planned from the attitude of the last STATUS),
 //! take the STATUS packet the attitude node sent, answer with the REF for its next step, and
 //! publish. Its clock is not valid until the ground sets it or a STATUS brings the attitude
 //! node's copy back (after a reset: [`acs::reference_node`]).
@@ -11,14 +12,14 @@
 //! one-second Timer_A period with LPM3 between periods, the link over USCI_A0
 //! ([`acs_firmware::periph`]), and the element set kept in two flash segments
 //! ([`acs_firmware::element_flash`]: the newer valid record at reset, the image's words the
-//! fall-back; each accepted ELEMENTS uplink stored). The uplink is the RAM mailbox in both
-//! ([`flight`]).
+//! fall-back; each accepted ELEMENTS telecommand stored). The telecommand and its reports are
+//! the RAM mailbox `GROUND` in both ([`flight::Ground`]).
 //!
 //! In the flight build the node is paced by the attitude node: it answers each STATUS as soon
 //! as its frame has arrived (the receive handler wakes it on the frame's delimiter,
 //! [`periph::Events`]), so the REF reaches the attitude node some 80 ms after that node's
 //! step, well before its next, whatever the phase between the two nodes' crystals. Its own
-//! Timer_A period takes the uplink once a second, and when no STATUS has come for two
+//! Timer_A period takes the telecommand once a second, and when no STATUS has come for two
 //! periods sends a REF each period with the step counted on (an attitude node whose STATUS
 //! frames are lost still gets its references). The order within an exchange (STATUS in, REF
 //! for its next step out) is the PIL build's.
