@@ -29,7 +29,7 @@
 //!
 //! | TM\[1,2\] failure code | reason |
 //! |---|---|
-//! | 1–8 | the packet layer's ([`PusError::failure_code`]: length, CRC, format, APID, type, PUS version, a service other than TC\[8,1\]) |
+//! | 1–8 | the packet layer's ([`pus::PusError::failure_code`]: length, CRC, format, APID, type, PUS version, a service other than TC\[8,1\]) |
 //! | `0x100 +` [`UplinkError::status`] | the command's: 0x101 unknown function ID, 0x102 invalid argument, 0x103 refused by the loop, 0x104 the other node's command, 0x105 wrong number of argument words, `0x200 + i` element set refused at word `i` |
 //!
 //! The failure notice carries no failure data: the code says it all. A packet refused before
