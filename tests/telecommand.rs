@@ -2,7 +2,8 @@
 //! 31 item 2): telecommands built by the `spacepackets` crate (the independent reference) are
 //! taken and applied, their verification reports read back by `spacepackets` with the CRC
 //! checked; every refusal has its failure code and applies nothing; a real attitude node is
-//! commanded through a packet; random bytes never panic.
+//! commanded through a packet; random bytes never panic; the ground tool's `acs tc` packets
+//! are taken by the nodes and their reports read back by `acs tm`.
 
 use acs::attitude_node::AttitudeNode;
 use acs::flight::{CONFIG, TILES};
@@ -448,4 +449,185 @@ fn the_time_field() {
     );
     let (t, _) = cuc(Epoch::from_parts(49_709, 86_399, 999_999_999).ok());
     assert_eq!(t.seconds, 49_709 * 86_400 + 86_399);
+}
+
+fn acs(args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_acs"))
+        .args(args)
+        .output()
+        .expect("the acs binary runs")
+}
+
+/// The ground tool end to end: `acs tc` packets (built by `spacepackets`) taken by the nodes'
+/// handling, with the real commands applied to an attitude and a reference node; the reports,
+/// written to a file, read back by `acs tm` as CSV.
+#[test]
+fn acs_tc_to_the_nodes_and_acs_tm_back() {
+    use acs::orbit::sgp4::{Gravity, Sgp4};
+    use acs::reference_node::ReferenceNode;
+    use acs::tle::Tle;
+    use acs::uplink::apply_reference;
+
+    let tle_path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/sgp4/dtusat.tle");
+    let tle = Tle::parse_text(&std::fs::read_to_string(tle_path).expect("TLE")).expect("TLE");
+    let orbit = Sgp4::new(&tle, Gravity::Wgs72).expect("SGP4");
+    let mut reference =
+        ReferenceNode::<TILES, { acs::flight::FIELD_COEFFS }>::new(&CONFIG, None).expect("node");
+    let mut attitude = AttitudeNode::<TILES>::new(&CONFIG).expect("node");
+    let mut counts = [SequenceCounter::new(), SequenceCounter::new()];
+    let mut telemetry = Vec::new();
+    let sent: [&[&str]; 6] = [
+        &["clock", "2026-11-28T06:30:15.25Z", "--count", "0"],
+        &["elements", "--tle", tle_path, "--count", "1"],
+        &["mark-failed", "tile", "2", "--count", "0"],
+        &["restore", "coil", "9", "--count", "1"],
+        &["track", "0", "0", "0", "0", "--count", "2"],
+        &["sun-safe", "--ack", "none", "--count", "3"],
+    ];
+    for args in sent {
+        let mut a = vec!["tc"];
+        a.extend_from_slice(args);
+        a.extend_from_slice(&["--format", "bin"]);
+        let out = acs(&a);
+        if args[0] == "track" {
+            // the tool refuses what the node would: exit 2, nothing sent
+            assert_eq!(out.status.code(), Some(2), "{args:?}");
+            continue;
+        }
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let p = out.stdout;
+        let mut reports = [0u8; REPORTS_LEN];
+        let n = if u16::from_be_bytes([p[0], p[1]]) & 0x7FF == REFERENCE_TC_APID.get() {
+            let clock = reference.clock();
+            take(
+                &p,
+                REFERENCE_TC_APID,
+                clock,
+                &mut counts[0],
+                &mut reports,
+                |k, w| apply_reference(k, w, &mut reference, None),
+            )
+        } else {
+            let clock = attitude.clock();
+            take(
+                &p,
+                ATTITUDE_TC_APID,
+                clock,
+                &mut counts[1],
+                &mut reports,
+                |k, w| apply_attitude(k, w, &mut attitude),
+            )
+        };
+        telemetry.extend_from_slice(&reports[..n]);
+    }
+    // the commands took effect
+    assert_eq!(
+        reference.clock(),
+        Epoch::from_parts(9_828, 23_415, 250_000_000).ok()
+    );
+    assert_eq!(attitude.tile_state(2), Some(TileState::Failed));
+    // the element set is the TLE's, bit for bit: the same REF as a node built with it
+    let mut expected =
+        ReferenceNode::<TILES, { acs::flight::FIELD_COEFFS }>::new(&CONFIG, orbit).expect("node");
+    expected.set_clock(reference.clock().expect("set"));
+    assert_eq!(
+        reference.reference(0, None).to_bytes(),
+        expected.reference(0, None).to_bytes()
+    );
+    let file = std::env::temp_dir().join(format!("acs-tm-{}.bin", std::process::id()));
+    std::fs::write(&file, &telemetry).expect("write");
+    let out = acs(&["tm", file.to_str().expect("UTF-8 path")]);
+    let _ = std::fs::remove_file(&file);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let csv = String::from_utf8(out.stdout).expect("UTF-8");
+    let lines: Vec<&str> = csv.lines().collect();
+    assert_eq!(lines[0], acs::host::cli::tm::HEADER);
+    let rows: Vec<Vec<&str>> = lines[1..].iter().map(|l| l.split(',').collect()).collect();
+    // clock: accepted, completed (stamped before the clock was set: no time); elements: both,
+    // stamped with the new clock; mark failed: both; restore coil 9: refused
+    let summary: Vec<(&str, &str, &str, &str)> =
+        rows.iter().map(|r| (r[0], r[7], r[11], r[4])).collect();
+    assert_eq!(
+        summary,
+        [
+            ("reference", "accepted", "", ""),
+            ("reference", "completed", "", ""),
+            (
+                "reference",
+                "accepted",
+                "",
+                "2026-11-28T06:30:15.249984741Z"
+            ),
+            (
+                "reference",
+                "completed",
+                "",
+                "2026-11-28T06:30:15.249984741Z"
+            ),
+            ("attitude", "accepted", "", ""),
+            ("attitude", "completed", "", ""),
+            ("attitude", "acceptance failed", "0x102", ""),
+        ]
+    );
+    assert_eq!(rows[6][12], "invalid argument");
+    // sequence counts per node, request IDs of each telecommand, destination the source ID 1
+    let counts: Vec<(&str, &str, &str)> = rows.iter().map(|r| (r[2], r[9], r[10])).collect();
+    assert_eq!(
+        counts,
+        [
+            ("0", "81", "0"),
+            ("1", "81", "0"),
+            ("2", "81", "1"),
+            ("3", "81", "1"),
+            ("0", "80", "0"),
+            ("1", "80", "0"),
+            ("2", "80", "1"),
+        ]
+    );
+    assert!(rows.iter().all(|r| r[8] == "1"));
+}
+
+#[test]
+fn acs_tm_refuses_a_damaged_packet() {
+    let mut counter = SequenceCounter::new();
+    let mut out = [0u8; REPORTS_LEN];
+    let p = sp_tc(
+        ATTITUDE_TC_APID,
+        0,
+        0b1001,
+        SERVICE,
+        SUBTYPE,
+        &app_data(1, &[]),
+    );
+    let n = take(
+        &p,
+        ATTITUDE_TC_APID,
+        clock(),
+        &mut counter,
+        &mut out,
+        |_, _| Ok(()),
+    );
+    let mut hex: String = out[..n].iter().map(|b| format!("{b:02x}")).collect();
+    let file = std::env::temp_dir().join(format!("acs-tm-hex-{}.txt", std::process::id()));
+    std::fs::write(&file, format!("{hex}\n")).expect("write");
+    let good = acs(&["tm", file.to_str().expect("UTF-8 path")]);
+    assert_eq!(good.status.code(), Some(0));
+    assert_eq!(String::from_utf8_lossy(&good.stdout).lines().count(), 3);
+    // the second report's CRC damaged
+    hex.replace_range(hex.len() - 2.., "00");
+    std::fs::write(&file, &hex).expect("write");
+    let bad = acs(&["tm", file.to_str().expect("UTF-8 path")]);
+    let _ = std::fs::remove_file(&file);
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("packet 2 at byte 25"));
 }
