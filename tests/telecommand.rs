@@ -150,7 +150,7 @@ fn sizes() {
     assert_eq!(MAX_TC_LEN, 247);
     assert_eq!(REFERENCE_TC_BYTES % 2, 0);
     assert_eq!(ATTITUDE_TC_BYTES % 2, 0);
-    assert!(REFERENCE_TC_BYTES >= MAX_TC_LEN);
+    const { assert!(REFERENCE_TC_BYTES >= MAX_TC_LEN) };
     // the attitude node's mailbox holds a slew, its longest foreign command but the elements
     let slew = sp_tc(
         ATTITUDE_TC_APID,

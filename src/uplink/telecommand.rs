@@ -44,6 +44,7 @@
 //! [`REFERENCE_TC_APID`]: crate::link::messages::REFERENCE_TC_APID
 //! [`ATTITUDE_TC_APID`]: crate::link::messages::ATTITUDE_TC_APID
 
+use crate::link::messages::{ATTITUDE_TC_APID, REFERENCE_TC_APID};
 use crate::link::pus::{
     self, decode_tc, failure, tm_packet_len, verification_report, AckFlags, CucTime, RequestId,
     TmHeader, Verification, REQUEST_ID_LEN,
@@ -70,6 +71,157 @@ pub const ATTITUDE_TC_BYTES: usize = pus::TC_OVERHEAD + FUNCTION_ID_LEN + 4 * 5 
 pub const REFERENCE_TC_BYTES: usize = MAX_TC_LEN + 1;
 /// The most [`take`] writes: TM\[1,1\] and TM\[1,7\], 25 B each (a TM\[1,2\] is 27 B).
 pub const REPORTS_LEN: usize = 2 * tm_packet_len(REQUEST_ID_LEN);
+
+/// The type of an argument word, as the node reads its bits.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub enum WordType {
+    /// IEEE 754 single precision.
+    F32,
+    /// Two's complement.
+    I32,
+    /// Unsigned.
+    U32,
+}
+
+/// One argument of a command: a word, or several of the same meaning (the element set).
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct Argument {
+    /// Its name in the packet dictionary.
+    pub name: &'static str,
+    /// Its type.
+    pub word: WordType,
+    /// How many words.
+    pub count: usize,
+    /// Its unit, empty if none.
+    pub unit: &'static str,
+    /// What it is.
+    pub description: &'static str,
+}
+
+/// A command of the ground, as the packet dictionary describes it ([`COMMANDS`]).
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub struct Definition {
+    /// Its mnemonic.
+    pub name: &'static str,
+    /// Its function ID ([`crate::uplink::kind`]).
+    pub code: u16,
+    /// The APID of the node that owns it.
+    pub apid: Apid,
+    /// What it does.
+    pub description: &'static str,
+    /// Its arguments, in order: their words add up to [`arity`] of the code.
+    pub arguments: &'static [Argument],
+}
+
+const fn word(
+    name: &'static str,
+    word: WordType,
+    unit: &'static str,
+    description: &'static str,
+) -> Argument {
+    Argument {
+        name,
+        word,
+        count: 1,
+        unit,
+        description,
+    }
+}
+
+/// The quaternion of a track or slew: scalar first, TEME → body ([`crate::attitude`]).
+const QUATERNION: [Argument; 4] = [
+    word(
+        "Q0",
+        WordType::F32,
+        "",
+        "attitude quaternion, scalar part (TEME to body)",
+    ),
+    word("Q1", WordType::F32, "", "attitude quaternion, x"),
+    word("Q2", WordType::F32, "", "attitude quaternion, y"),
+    word("Q3", WordType::F32, "", "attitude quaternion, z"),
+];
+
+/// The index and kind of a part (mark failed, restore).
+const PART: [Argument; 2] = [
+    word("INDEX", WordType::U32, "", "tile or coil index"),
+    word(
+        "PART",
+        WordType::U32,
+        "",
+        "0 a tile (with its devices and its wheel), 1 a coil",
+    ),
+];
+
+/// Every command the ground sends: the source of the packet dictionary
+/// (`ground/cosmos`, [`crate::uplink`]'s table), checked against [`arity`] and the codes by
+/// the tests.
+pub const COMMANDS: [Definition; 7] = [
+    Definition {
+        name: "SUN_SAFE",
+        code: kind::SUN_SAFE,
+        apid: ATTITUDE_TC_APID,
+        description: "back to sun-safe",
+        arguments: &[],
+    },
+    Definition {
+        name: "TRACK",
+        code: kind::TRACK,
+        apid: REFERENCE_TC_APID,
+        description: "track an attitude",
+        arguments: &QUATERNION,
+    },
+    Definition {
+        name: "SLEW",
+        code: kind::SLEW,
+        apid: REFERENCE_TC_APID,
+        description: "slew to an attitude, then track it",
+        arguments: &[
+            QUATERNION[0],
+            QUATERNION[1],
+            QUATERNION[2],
+            QUATERNION[3],
+            word("WITHIN", WordType::F32, "s", "time allowed"),
+        ],
+    },
+    Definition {
+        name: "ELEMENTS",
+        code: kind::ELEMENTS,
+        apid: REFERENCE_TC_APID,
+        description: "a new SGP4 element set, initialised on the ground (acs elements)",
+        arguments: &[Argument {
+            name: "WORDS",
+            word: WordType::U32,
+            count: ARG_WORDS,
+            unit: "",
+            description: "the words of Sgp4::to_words",
+        }],
+    },
+    Definition {
+        name: "CLOCK",
+        code: kind::CLOCK,
+        apid: REFERENCE_TC_APID,
+        description: "set the on-board clock (UTC)",
+        arguments: &[
+            word("DAY", WordType::I32, "d", "days since 2000-01-01"),
+            word("SECOND", WordType::U32, "s", "second of the day"),
+            word("NANO", WordType::U32, "ns", "nanoseconds"),
+        ],
+    },
+    Definition {
+        name: "MARK_FAILED",
+        code: kind::MARK_FAILED,
+        apid: ATTITUDE_TC_APID,
+        description: "mark a tile or a coil failed",
+        arguments: &PART,
+    },
+    Definition {
+        name: "RESTORE",
+        code: kind::RESTORE,
+        apid: ATTITUDE_TC_APID,
+        description: "return a tile or a coil to service",
+        arguments: &PART,
+    },
+];
 
 /// The number of argument words of command `code`, `None` for an unknown code.
 pub const fn arity(code: u16) -> Option<usize> {
@@ -208,6 +360,18 @@ mod tests {
         for nano in (0..1000).chain(999_999_000..1_000_000_000) {
             check(nano);
         }
+    }
+
+    #[test]
+    fn the_definitions_are_the_codes_and_their_words() {
+        let mut codes: [u16; 7] = COMMANDS.map(|d| d.code);
+        codes.sort_unstable();
+        assert_eq!(codes, [1, 2, 3, 4, 5, 6, 7]);
+        for d in COMMANDS {
+            let words: usize = d.arguments.iter().map(|a| a.count).sum();
+            assert_eq!(Some(words), arity(d.code), "{}", d.name);
+        }
+        assert!(arity(0).is_none() && arity(8).is_none());
     }
 
     #[test]

@@ -90,7 +90,7 @@ fn read_input(path: &PathBuf) -> Result<Vec<u8>, CliError> {
     if !is_hex {
         return Ok(raw);
     }
-    if digits.len() % 2 != 0 {
+    if !digits.len().is_multiple_of(2) {
         return Err(CliError::Input(format!(
             "{name}: an odd number of hex digits ({})",
             digits.len()
@@ -120,7 +120,7 @@ fn line(r: &PusTmReader<'_>) -> String {
         (_, &[t0, t1, t2, t3, f0, f1]) => {
             let seconds = u32::from_be_bytes([t0, t1, t2, t3]);
             let fraction = u64::from(u16::from_be_bytes([f0, f1]));
-            let nano = (fraction * 1_000_000_000 >> 16) as u32;
+            let nano = ((fraction * 1_000_000_000) >> 16) as u32;
             Epoch::from_parts((seconds / 86_400) as i32, seconds % 86_400, nano)
                 .map(|t| iso_utc(&t))
                 .unwrap_or_default()
