@@ -631,3 +631,28 @@ fn acs_tm_refuses_a_damaged_packet() {
     assert_eq!(bad.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&bad.stderr).contains("packet 2 at byte 25"));
 }
+
+/// Each command of the dictionary is applied by the node of its APID and refused by the other
+/// as not its own (0x104), on the real nodes' functions.
+#[test]
+fn each_command_belongs_to_the_node_of_its_apid() {
+    use acs::reference_node::ReferenceNode;
+    use acs::uplink::telecommand::COMMANDS;
+    use acs::uplink::{apply_reference, UplinkError};
+    let mut reference =
+        ReferenceNode::<TILES, { acs::flight::FIELD_COEFFS }>::new(&CONFIG, None).expect("node");
+    let mut attitude = AttitudeNode::<TILES>::new(&CONFIG).expect("node");
+    for d in COMMANDS {
+        let words = [0u32; ARG_WORDS];
+        let on_reference = apply_reference(d.code, &words, &mut reference, None);
+        let on_attitude = apply_attitude(d.code, &words, &mut attitude);
+        let (own, other) = if d.apid == REFERENCE_TC_APID {
+            (on_reference, on_attitude)
+        } else {
+            assert_eq!(d.apid, ATTITUDE_TC_APID);
+            (on_attitude, on_reference)
+        };
+        assert_eq!(other, Err(UplinkError::NotThisNode(d.code)), "{}", d.name);
+        assert_ne!(own, Err(UplinkError::NotThisNode(d.code)), "{}", d.name);
+    }
+}
