@@ -7,7 +7,7 @@
 //! ground ([`crate::flight_elements`]; with feature `onboard-init`, SGP4 initialised on board
 //! from the TLE of [`crate::elements::flight_tle`]).
 //!
-//! # Uplink mailbox (the one-image firmware)
+//! # Uplink mailbox
 //! The ground (the processor-in-the-loop host, or the communication subsystem's driver) writes
 //! the argument words into `UPLINK_ARGS`, then the command code into `UPLINK_KIND` (the codes
 //! and words of [`acs::uplink`]). Before each step the firmware applies the command
@@ -15,11 +15,6 @@
 //! ([`acs::uplink::status`]: 0 accepted, 1 unknown command, 2 invalid argument, 3 refused by the
 //! loop, `0x100 + i` element set refused at word `i`, the elements in use kept) into
 //! `UPLINK_STATUS`.
-//!
-//! # Telecommand mailbox (the two node images)
-//! Each node image has one `GROUND` mailbox ([`Ground`]): the ground writes one PUS-C
-//! telecommand packet and its length, the node takes it before its work
-//! ([`take_telecommand`]: [`acs::uplink::telecommand`]) and leaves its verification reports.
 //!
 //! After each step the firmware publishes the mode (`STEP_MODE`, [`acs::acs_loop::Mode::code`])
 //! and the faults (`STEP_FAULTS`, [`acs::acs_loop::Faults::bits`]).
@@ -29,10 +24,7 @@ use acs::attitude::Quaternion;
 use acs::flight::{OneImageLoop, CONFIG, CONTROL_PERIOD_S};
 use acs::orbit::sgp4::Sgp4;
 use acs::time::{Epoch, TimeSpan, Utc};
-use acs::link::sequence::SequenceCounter;
-use acs::link::space_packet::Apid;
-use acs::uplink::telecommand::{self, REPORTS_LEN};
-use acs::uplink::{UplinkError, ARG_WORDS};
+use acs::uplink::ARG_WORDS;
 
 /// Uplink command code (see the [module docs](self)); 0: none.
 #[no_mangle]
@@ -119,81 +111,25 @@ pub fn take_uplink(acs: &mut OneImageLoop, clock: &mut Epoch<Utc>, attitude: Opt
     }
 }
 
-/// A node image's ground mailboxes (issue 31): the telecommand the ground sends the node, and
-/// the verification reports the node answers with (`acs::uplink::telecommand`). One static
-/// `GROUND` per node image, `#[repr(C)]` so the processor-in-the-loop host finds the fields at
-/// fixed offsets from the symbol; `N`, the longest telecommand the node takes, is the node's
-/// (the reference node's element set is 247 B, the attitude node's commands 23 B).
-///
-/// | field | offset | meaning |
-/// |---|---|---|
-/// | `tc_len` | 0 | the length of the packet in `tc` (0: none); the node clears it when it takes the packet |
-/// | `tc` | 2 | one TC\[8,1\] space packet |
-/// | `tm_len` | 2 + N | the bytes of reports in `tm` (0: none) |
-/// | `tm` | 4 + N | the reports of the last telecommand taken, back to back |
-#[repr(C)]
-pub struct Ground<const N: usize> {
-    /// The telecommand's length.
-    pub tc_len: u16,
-    /// The telecommand.
-    pub tc: [u8; N],
-    /// The reports' length.
-    pub tm_len: u16,
-    /// The reports.
-    pub tm: [u8; REPORTS_LEN],
-}
-
-impl<const N: usize> Ground<N> {
-    /// Empty mailboxes.
-    pub const fn new() -> Self {
-        Self {
-            tc_len: 0,
-            tc: [0; N],
-            tm_len: 0,
-            tm: [0; REPORTS_LEN],
-        }
-    }
-}
-
-impl<const N: usize> Default for Ground<N> {
-    fn default() -> Self {
-        Self::new()
-    }
-}
-
-/// Takes the telecommand in `ground`, if any: hands its command code and argument words to
-/// `apply` (a node image's: [`acs::uplink::apply_reference`] or
-/// [`acs::uplink::apply_attitude`]) through [`acs::uplink::telecommand::take`] for the node of
-/// `apid` (its `clock` stamps the reports, `count` numbers them), puts the reports in the
-/// `tm` mailbox and clears `tc_len`. A length beyond the mailbox is taken as the whole
-/// mailbox (the CRC refuses it).
+/// Takes a pending uplink command, if any, and hands its code and argument words to `apply`
+/// (a node image's: [`acs::uplink::apply_reference`] or [`acs::uplink::apply_attitude`]),
+/// which returns the status to report; the mailbox as in [`take_uplink`].
 #[inline(never)]
 #[cfg_attr(target_arch = "msp430", optimize(size))]
-pub fn take_telecommand<const N: usize>(
-    ground: *mut Ground<N>,
-    apid: Apid,
-    clock: Option<Epoch<Utc>>,
-    count: &mut SequenceCounter,
-    apply: impl FnOnce(u16, &[u32; ARG_WORDS]) -> Result<(), UplinkError>,
-) {
-    // As in `take_uplink`: the packet and the reports are used in place (no copy on the
-    // stack), through a pointer whose origin `black_box` hides; the ground writes the
-    // mailboxes only while the core waits for the next period.
-    let ground = core::hint::black_box(ground);
-    // SAFETY: `ground` points to the image's `GROUND` static, valid and aligned; single-
-    // threaded, no interrupt touches it; the shared reference to `tc` and the exclusive one to
-    // `tm` are to disjoint fields and end before the volatile writes.
+pub fn take_node_uplink(apply: impl FnOnce(u16, &[u32; ARG_WORDS]) -> u16) {
+    // SAFETY: as in `take_uplink`.
+    let kind = unsafe { core::ptr::read_volatile(&raw const UPLINK_KIND) };
+    if kind == 0 {
+        return;
+    }
+    let mailbox = core::hint::black_box(&raw const UPLINK_ARGS);
+    // SAFETY: as in `take_uplink`.
+    let args = unsafe { &*mailbox };
+    let outcome = apply(kind, args);
+    // SAFETY: as in `take_uplink`.
     unsafe {
-        let n = usize::from(core::ptr::read_volatile(&raw const (*ground).tc_len));
-        if n == 0 {
-            return;
-        }
-        let tc = &(*ground).tc;
-        let packet = tc.get(..n).unwrap_or(tc);
-        let tm = &mut (*ground).tm;
-        let len = telecommand::take(packet, apid, clock, count, tm, apply);
-        core::ptr::write_volatile(&raw mut (*ground).tm_len, len as u16);
-        core::ptr::write_volatile(&raw mut (*ground).tc_len, 0);
+        core::ptr::write_volatile(&raw mut UPLINK_STATUS, outcome);
+        core::ptr::write_volatile(&raw mut UPLINK_KIND, 0);
     }
 }
 

@@ -1,9 +1,10 @@
 //! Ground uplink: the commands the ground sends the flight loop, as a command code and argument
-//! words, decoded and applied on board (issue #17). The two node images receive each command as
-//! a PUS-C telecommand, TC\[8,1\] with the code as its function ID ([`telecommand`], issue 31),
-//! and answer with its verification reports; the one-image firmware reads the code and words
-//! from a mailbox (`firmware/src/flight.rs`). The processor-in-the-loop host applies the same
-//! bytes to its host loop through the same functions, so both decode every command identically.
+//! words, decoded and applied on board (issue #17). The flight firmware receives them in a
+//! mailbox (`firmware/src/flight.rs`); the processor-in-the-loop host applies the same words to
+//! its host loop through the same function, so both decode every command identically. The same
+//! commands as PUS-C telecommands, TC\[8,1\] with the code as its function ID and answered with
+//! verification reports, are [`telecommand`] (issue 31; not yet in the node images, which lack
+//! the flash: `docs/operations.md`).
 //!
 //! | code | command | argument words (`u32`) |
 //! |---|---|---|

@@ -1,7 +1,6 @@
 //! The attitude node's flight image (issue #29): tile reads, determination, modes and fault
 //! management, laws, allocation; the only node that commands actuators. Each control period:
-//! take the ground's telecommand (sun-safe, the tiles: [`acs::uplink::apply_attitude`], as a
-//! PUS TC\[8,1\] answered with its verification reports: [`flight::take_telecommand`]), take the
+//! take the ground's command (sun-safe, the tiles: [`acs::uplink::apply_attitude`]), take the
 //! REF packet the reference node sent for this step (none, or one for another step or without a
 //! valid clock: the step runs without reference, reported), step, send STATUS, publish. STATUS
 //! carries the resets since power-on ([`acs_firmware::boot_count`]).
@@ -12,8 +11,7 @@
 //! one-second Timer_A period with LPM3 between periods, the link over USCI_A0
 //! ([`acs_firmware::periph`]), and the tile bus of [`acs::hal::msp430::tile_bus`] (the tiles'
 //! sensors and wheel controllers on USCI_B0 I²C at its address map, the coils on Timer_B PWM
-//! with direction pins). The telecommand and its reports are the RAM mailbox `GROUND` in both
-//! ([`flight::Ground`]).
+//! with direction pins). The uplink is the RAM mailbox in both ([`flight`]).
 #![no_std]
 #![cfg_attr(not(feature = "pil"), feature(asm_experimental_arch))]
 #![no_main]
@@ -21,8 +19,7 @@
 use acs::acs_loop::StepReport;
 use acs::attitude_node::AttitudeNode;
 use acs::flight::{CONFIG, CONTROL_PERIOD_S, TILES};
-use acs::link::messages::{Reference, ATTITUDE_TC_APID};
-use acs::uplink::telecommand::ATTITUDE_TC_BYTES;
+use acs::link::messages::Reference;
 use acs::link::sequence::SequenceCounter;
 use acs_firmware::node_link::LINK_BYTES;
 use acs_firmware::{flight, tiles};
@@ -33,10 +30,6 @@ use acs_firmware::periph;
 
 #[cfg(not(feature = "pil"))]
 acs_firmware::flight_vectors!();
-
-/// The ground's mailboxes: the telecommand in, its reports out ([`flight::Ground`]).
-#[no_mangle]
-static mut GROUND: flight::Ground<ATTITUDE_TC_BYTES> = flight::Ground::new();
 
 /// Entry point, called by the reset handler (`acs_firmware::rt`): coils off, then the node.
 #[no_mangle]
@@ -58,18 +51,13 @@ fn run() -> ! {
     let mut bus = tiles::MailboxBus;
     let mut report = StepReport::empty(node.mode());
     let mut count = SequenceCounter::new();
-    let mut tm_count = SequenceCounter::new();
     let mut packet = [0u8; LINK_BYTES];
     loop {
         acs_firmware::fw_period_start();
         acs_firmware::kick_watchdog();
-        flight::take_telecommand(
-            &raw mut GROUND,
-            ATTITUDE_TC_APID,
-            node.clock(),
-            &mut tm_count,
-            |kind, args| acs::uplink::apply_attitude(kind, args, &mut node),
-        );
+        flight::take_node_uplink(|kind, args| {
+            acs::uplink::status(&acs::uplink::apply_attitude(kind, args, &mut node))
+        });
         let reference = node_link::receive(&mut packet)
             .and_then(|n| packet.get(..n))
             .and_then(|p| Reference::from_packet(p).ok());
@@ -111,19 +99,14 @@ fn run() -> ! {
     node.set_boot_count(acs_firmware::boot_count());
     let mut report = StepReport::empty(node.mode());
     let mut count = SequenceCounter::new();
-    let mut tm_count = SequenceCounter::new();
     let mut packet = [0u8; LINK_BYTES];
     loop {
         periph::wait_period();
         acs_firmware::fw_period_start();
         acs_firmware::kick_watchdog();
-        flight::take_telecommand(
-            &raw mut GROUND,
-            ATTITUDE_TC_APID,
-            node.clock(),
-            &mut tm_count,
-            |kind, args| acs::uplink::apply_attitude(kind, args, &mut node),
-        );
+        flight::take_node_uplink(|kind, args| {
+            acs::uplink::status(&acs::uplink::apply_attitude(kind, args, &mut node))
+        });
         let reference = periph::receive_last(&mut link, &mut packet, |p| {
             Reference::from_packet(p).ok().map(|(r, _)| r)
         });
