@@ -120,36 +120,17 @@
 //!   refused or never written.
 //!
 //! # Flash and stack
-//! Measured on both node images (nightly-2026-05-20, the flight builds: `acs-reference` at
-//! opt-level "s", `acs-attitude` at "z", LTO, `fg4619-map`) with a throwaway probe, not kept:
-//! each node's link path decodes every packet it receives with [`decode_tc`], answers with
-//! TM\[1,1\] and TM\[1,7\] or with a TM\[1,2\] naming the reason, then sends one TM\[3,25\]
-//! and one TM\[5,2\] a period, each call through an `#[inline(never)]` wrapper. Bytes are
-//! symbol sizes against the same images without the probe (45 130 and 45 256 B, main at d5f96f1,
-//! before the size work that followed):
-//!
-//! | function | code, B |
-//! |---|---:|
-//! | [`decode_tc`] (its checks, the [`Telecommand`] written out) | 272 |
-//! | [`space_packet::decode`], now called from two places instead of inlined into the node's message decoding | +156 (reference), +150 (attitude) |
-//! | [`encode_tm`], [`space_packet::encode_in_place`] inlined (shared by the three report builders) | 434 |
-//! | [`verification_report`] | 150 |
-//! | [`housekeeping_report`] | 56 |
-//! | [`event_report`] | 52 |
-//! | the probe's dispatch: decode, choose the reports, send each (the node's own code, for scale) | 670 |
-//!
-//! | image | without | decoder and service 1 | all of the above | share of 57 024 B |
-//! |---|---:|---:|---:|---:|
-//! | reference node | 45 130 | 46 696 (+1 566) | 47 044 (+1 914) | 82.5 % |
-//! | attitude node | 45 256 | 46 788 (+1 532) | 47 136 (+1 880) | 82.7 % |
-//!
-//! With the decoder and service 1 alone, [`encode_tm`] is inlined into
-//! [`verification_report`] (490 B together); services 3 and 5 then add 348 B with their calls.
-//! No constant tables; RAM: none of its own, the caller's packet buffers. Stack under the
-//! caller: 44–46 B for [`decode_tc`], 62 B for a verification report, 44 B for a housekeeping
-//! or event report (the CRC's 2 B included); the nodes' worst-case stack moved by 4 and 2 B
-//! (2 482 and 2 798 B with the probe, 2 478 and 2 796 B without: the reports run beside the
-//! step, not under it).
+//! Linked into both node images with [`crate::uplink::telecommand::take`] (branch `pus-nodes`,
+//! nightly-2026-05-20, the flight builds: `acs-reference` at opt-level "s", `acs-attitude` at
+//! "z", LTO, `fg4619-map`), the decoder, service 1 and the node's handling cost 1 498 B on the
+//! reference node and 1 468 B on the attitude node (44 400 → 45 898 B and 44 404 → 45 872 B,
+//! the mailbox uplink they replace included). By symbol: the node's `take` 1 314 and 1 488 B
+//! (the checks, the command's words, its application inlined, the CUC time, the reports),
+//! [`space_packet::decode`] out of line 334 and 342 B (the link's message decoding, which
+//! inlined it, shrinking by 180 and 188 B), the mailbox's handling 84 B, the old uplink's
+//! −160 and −344 B. Services 3 and 5 measured 348 B more with a probe. No constant tables;
+//! worst-case stack +18 B (reference) and +2 B (attitude); static RAM +66 B and −146 B (the
+//! mailboxes: 248 B and 36 B of telecommand, 50 B of reports, for 232 B of argument words).
 //!
 //! [`space_packet`]: crate::link::space_packet
 //! [`space_packet::decode`]: crate::link::space_packet::decode
@@ -619,8 +600,8 @@ pub fn encode_tm(
 /// telecommand `request` to the start of `out`; returns its length ([`tm_packet_len`] of 4
 /// bytes for a success, 6 for a failure: this mission's failure notices carry no failure data,
 /// the code says it all). Errors as [`encode_tm`]. Written without [`encode_tm`]'s general
-/// path: the report is the one every node sends, and this shape is 200–300 B smaller on the
-/// MSP430.
+/// path: the report is the one every node sends, and this shape measured 218 B smaller in the
+/// attitude node's image (branch `pus-nodes`).
 #[cfg_attr(target_arch = "msp430", optimize(size))]
 pub fn verification_report(
     header: &TmHeader,
