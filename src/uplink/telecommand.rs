@@ -245,7 +245,7 @@ pub const fn arity(code: u16) -> Option<usize> {
 pub fn cuc(clock: Option<Epoch<Utc>>) -> (CucTime, u8) {
     match clock {
         // within the 32-bit count: no overflow
-        Some(t) if (0..CUC_DAYS).contains(&t.day()) => (
+        Some(t) if t.day() >= 0 && CUC_DAYS > t.day() => (
             CucTime {
                 seconds: t.day() as u32 * 86_400 + t.second_of_day(),
                 fraction: (t.nano() / 15_259) as u16,
