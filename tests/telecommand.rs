@@ -317,26 +317,32 @@ fn every_refusal_before_the_command_applies_nothing() {
 fn a_node_is_commanded_through_a_packet() {
     let mut node = AttitudeNode::<TILES>::new(&CONFIG).expect("the flight configuration");
     let mut counter = SequenceCounter::new();
-    let mut out = [0u8; REPORTS_LEN];
-    let p = sp_tc(
-        ATTITUDE_TC_APID,
-        0,
-        0b1001,
-        SERVICE,
-        SUBTYPE,
-        &app_data(6, &[2, 0]),
-    );
-    let n = take(
-        &p,
-        ATTITUDE_TC_APID,
-        node.clock(),
-        &mut counter,
-        &mut out,
-        |k, a| apply_attitude(k, a, &mut node),
-    );
+    // sends command `code` with `words` as telecommand `count`: its reports
+    let mut send = |count: u16, code: u16, words: &[u32], node: &mut AttitudeNode<TILES>| {
+        let p = sp_tc(
+            ATTITUDE_TC_APID,
+            count,
+            0b1001,
+            SERVICE,
+            SUBTYPE,
+            &app_data(code, words),
+        );
+        let mut out = [0u8; REPORTS_LEN];
+        let clock = node.clock();
+        let n = take(
+            &p,
+            ATTITUDE_TC_APID,
+            clock,
+            &mut counter,
+            &mut out,
+            |k, a| apply_attitude(k, a, node),
+        );
+        out[..n].to_vec()
+    };
+    let reports = send(0, 6, &[2, 0], &mut node);
     assert_eq!(node.tile_state(2), Some(TileState::Failed));
     // no clock before the first REF: time status 0, time 0
-    let r = PusTmReader::new(&out[..n], TIME_LEN).expect("TM[1,1]");
+    let r = PusTmReader::new(&reports, TIME_LEN).expect("TM[1,1]");
     assert_eq!(
         (
             PusPacket::message_subtype_id(&r),
@@ -346,44 +352,14 @@ fn a_node_is_commanded_through_a_packet() {
     );
     assert_eq!(r.timestamp(), [0; TIME_LEN]);
     // a tile that does not exist: refused, nothing changed
-    let p = sp_tc(
-        ATTITUDE_TC_APID,
-        1,
-        0b1001,
-        SERVICE,
-        SUBTYPE,
-        &app_data(7, &[TILES as u32, 0]),
-    );
-    let n = take(
-        &p,
-        ATTITUDE_TC_APID,
-        node.clock(),
-        &mut counter,
-        &mut out,
-        |k, a| apply_attitude(k, a, &mut node),
-    );
-    let r = PusTmReader::new(&out[..n], TIME_LEN).expect("TM[1,2]");
+    let reports = send(1, 7, &[TILES as u32, 0], &mut node);
+    let r = PusTmReader::new(&reports, TIME_LEN).expect("TM[1,2]");
     assert_eq!(PusPacket::message_subtype_id(&r), 2);
     assert_eq!(r.source_data()[4..], [0x01, 0x02]);
     assert_eq!(node.tile_state(2), Some(TileState::Failed));
     // the reference node's command: not this node's
-    let p = sp_tc(
-        ATTITUDE_TC_APID,
-        2,
-        0b1001,
-        SERVICE,
-        SUBTYPE,
-        &app_data(5, &[1, 2, 3]),
-    );
-    let n = take(
-        &p,
-        ATTITUDE_TC_APID,
-        node.clock(),
-        &mut counter,
-        &mut out,
-        |k, a| apply_attitude(k, a, &mut node),
-    );
-    let r = PusTmReader::new(&out[..n], TIME_LEN).expect("TM[1,2]");
+    let reports = send(2, 5, &[1, 2, 3], &mut node);
+    let r = PusTmReader::new(&reports, TIME_LEN).expect("TM[1,2]");
     assert_eq!(r.source_data()[4..], [0x01, 0x04]);
     // TM[1,1] and TM[1,7] took counts 0 and 1, the first refusal 2
     assert_eq!(r.seq_count().value(), 3, "one count per report");
