@@ -10,7 +10,7 @@ mod common;
 use std::process::{Command, Output};
 
 /// The subcommands of cli.md.
-const SUBCOMMANDS: [&str; 7] = [
+const SUBCOMMANDS: [&str; 9] = [
     "propagate",
     "sun",
     "igrf",
@@ -18,6 +18,8 @@ const SUBCOMMANDS: [&str; 7] = [
     "demo",
     "sim",
     "elements",
+    "tc",
+    "tm",
 ];
 
 fn acs(args: &[&str]) -> Output {

@@ -88,19 +88,13 @@ fn every_report(h: &TmHeader, request: RequestId) -> Vec<(Vec<u8>, u8, u8, Vec<u
     for (v, sub, app) in [
         (Verification::Accepted, 1, id.clone()),
         (
-            Verification::AcceptanceFailed {
-                code: 0x0102,
-                data: &[9, 8, 7],
-            },
+            Verification::AcceptanceFailed { code: 0x0102 },
             2,
-            with(&[1, 2], &[9, 8, 7]),
+            with(&[1, 2], &[]),
         ),
         (Verification::Completed, 7, id.clone()),
         (
-            Verification::CompletionFailed {
-                code: 0xFFEE,
-                data: &[],
-            },
+            Verification::CompletionFailed { code: 0xFFEE },
             8,
             with(&[0xFF, 0xEE], &[]),
         ),
@@ -203,30 +197,27 @@ fn report_bytes_by_hand() {
             verification_report(
                 &tm_header(),
                 request,
-                &Verification::AcceptanceFailed {
-                    code: 7,
-                    data: &[0x42],
-                },
+                &Verification::AcceptanceFailed { code: 7 },
                 o,
             )
         },
-        7,
+        6,
     );
     let body = [
         0x08, 0x45, // version 0, TM, secondary header, APID 0x45
         0xFF, 0xFF, // unsegmented, count 0x3FFF
-        0x00, 0x15, // data field: 13 + 7 + 2 − 1 = 21
+        0x00, 0x14, // data field: 13 + 6 + 2 − 1 = 20
         0x2A, // PUS 2, time status 0xA
         1, 2, // TM[1,2]
         0x12, 0x34, // message type counter
         0xBE, 0xEF, // destination
         0x30, 0x65, 0xA1, 0xB2, 0xC3, 0xD4, // CUC 4 + 2
         0x19, 0x23, 0xEA, 0xBC, // request ID
-        0x00, 0x07, 0x42, // failure notice
+        0x00, 0x07, // failure notice: the code, no failure data
     ];
     assert_eq!(p[..body.len()], body);
     assert_eq!(
-        u16::from_be_bytes([p[26], p[27]]),
+        u16::from_be_bytes([p[25], p[26]]),
         REFERENCE_CRC.checksum(&body)
     );
 }

@@ -131,7 +131,8 @@ FLIGHT = [
     "src/tiles.rs",
     "src/time.rs",
     "src/tle.rs",
-    "src/uplink.rs",
+    "src/uplink/mod.rs",
+    "src/uplink/telecommand.rs",
 ]
 # Not flight code (see above).
 NOT_FLIGHT_DIRS = ("src/host/", "src/bin/", "src/planning/")

@@ -4,7 +4,8 @@
 //! reaches the checks behind the CRC); the rest is the packet. Never panics; every refusal has
 //! a failure code and a message; an accepted telecommand encodes back to the same bytes, and so
 //! does an accepted report; the verification reports of an accepted telecommand are read back
-//! with its request ID.
+//! with its request ID. The node's handling of the same bytes as a telecommand
+//! ([`acs::uplink::telecommand::take`]) answers every packet with valid reports.
 #![no_main]
 
 use acs::link::crc16::crc16;
@@ -12,7 +13,10 @@ use acs::link::pus::{
     decode_tc, decode_tm, encode_tc, encode_tm, tm_packet_len, verification_report, CucTime,
     RequestId, TcHeader, TmHeader, Verification,
 };
+use acs::link::sequence::SequenceCounter;
 use acs::link::space_packet::{Apid, OVERHEAD};
+use acs::time::Epoch;
+use acs::uplink::telecommand::{arity, take, REPORTS_LEN};
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
@@ -56,16 +60,13 @@ fuzz_target!(|data: &[u8]| {
                     fraction: 1,
                 },
             };
-            let v = Verification::AcceptanceFailed {
-                code: 0x100,
-                data: tc.app_data,
-            };
-            let mut report = vec![0u8; tm_packet_len(6 + tc.app_data.len())];
+            let v = Verification::AcceptanceFailed { code: 0x100 };
+            let mut report = vec![0u8; tm_packet_len(6)];
             let m = verification_report(&tm, tc.request_id, &v, &mut report).expect("fits");
             let read = decode_tm(&report[..m], apid).expect("reads back");
             assert_eq!((read.header, read.service, read.subtype), (tm, 1, 2));
             assert_eq!(read.app_data[..4], tc.request_id.to_bytes());
-            assert_eq!(&read.app_data[6..], tc.app_data);
+            assert_eq!(read.app_data.len(), 6);
         }
         Err(e) => {
             assert!(!e.to_string().is_empty());
@@ -77,5 +78,27 @@ fuzz_target!(|data: &[u8]| {
         let r = encode_tm(&tm.header, tm.service, tm.subtype, &[], tm.app_data, &mut out);
         assert_eq!(r, Ok(n));
         assert_eq!(out, bytes, "re-encoding an accepted report");
+    }
+    // the node's handling of the packet (`acs::uplink::telecommand::take`): at most two
+    // reports, each a valid TM packet; a command is applied only with its words
+    let mut count = SequenceCounter::new();
+    let mut reports = [0u8; REPORTS_LEN];
+    let clock = Epoch::from_parts(i32::from(a0 & 0x7F) * 400, 0, 0).ok();
+    let mut applied = false;
+    let written = take(&bytes, apid, clock, &mut count, &mut reports, |code, args| {
+        let words = arity(code).expect("a known command");
+        assert!(args[words..].iter().all(|w| *w == 0));
+        applied = true;
+        Ok(())
+    });
+    let mut left = reports.get(..written).expect("within the buffer");
+    // silence only for an applied command whose flags ask for no report
+    assert!(applied || !left.is_empty(), "every refused packet is answered");
+    while !left.is_empty() {
+        // one report: its length field's bytes and the primary header
+        let n = usize::from(u16::from_be_bytes([left[4], left[5]])) + 7;
+        let tm = decode_tm(&left[..n], apid).expect("a valid report");
+        assert_eq!((tm.service, tm_packet_len(tm.app_data.len())), (1, n));
+        left = &left[n..];
     }
 });

@@ -178,6 +178,12 @@ impl<'c, const N: usize> AttitudeNode<'c, N> {
         self.mode.mode()
     }
 
+    /// The node's copy of the clock: the UTC of its last step, `None` before the first REF
+    /// with a valid clock.
+    pub fn clock(&self) -> Option<Epoch<Utc>> {
+        self.clock
+    }
+
     /// The number of the next step (the REF it uses must carry it).
     pub fn step_number(&self) -> u32 {
         self.step

@@ -6,6 +6,7 @@
 #![allow(clippy::indexing_slicing)]
 
 pub mod cli;
+pub mod dictionary;
 pub mod eclipse_search;
 pub mod link;
 pub mod planner;

@@ -76,9 +76,9 @@
 //! | report | ECSS-E-ST-70-41C | application data |
 //! |---|---|---|
 //! | TM\[1,1\] successful acceptance | 6.1, 8.1.2.1 | request ID (4 B) |
-//! | TM\[1,2\] failed acceptance | 6.1, 8.1.2.2 | request ID, failure code (16 bits), failure data |
+//! | TM\[1,2\] failed acceptance | 6.1, 8.1.2.2 | request ID, failure code (16 bits) |
 //! | TM\[1,7\] successful completion of execution | 6.1, 8.1.2.7 | request ID |
-//! | TM\[1,8\] failed completion of execution | 6.1, 8.1.2.8 | request ID, failure code, failure data |
+//! | TM\[1,8\] failed completion of execution | 6.1, 8.1.2.8 | request ID, failure code |
 //! | TM\[3,25\] housekeeping parameter report | 6.3, 8.3.2 | structure ID (16 bits), parameter values (the caller's bytes) |
 //! | TM\[5,1..4\] informative / low / medium / high severity event report | 6.5, 8.5.2.1–8.5.2.4 | event definition ID (16 bits), auxiliary data |
 //!
@@ -120,36 +120,17 @@
 //!   refused or never written.
 //!
 //! # Flash and stack
-//! Measured on both node images (nightly-2026-05-20, the flight builds: `acs-reference` at
-//! opt-level "s", `acs-attitude` at "z", LTO, `fg4619-map`) with a throwaway probe, not kept:
-//! each node's link path decodes every packet it receives with [`decode_tc`], answers with
-//! TM\[1,1\] and TM\[1,7\] or with a TM\[1,2\] naming the reason, then sends one TM\[3,25\]
-//! and one TM\[5,2\] a period, each call through an `#[inline(never)]` wrapper. Bytes are
-//! symbol sizes against the same images without the probe (45 130 and 45 256 B, main at d5f96f1,
-//! before the size work that followed):
-//!
-//! | function | code, B |
-//! |---|---:|
-//! | [`decode_tc`] (its checks, the [`Telecommand`] written out) | 272 |
-//! | [`space_packet::decode`], now called from two places instead of inlined into the node's message decoding | +156 (reference), +150 (attitude) |
-//! | [`encode_tm`], [`space_packet::encode_in_place`] inlined (shared by the three report builders) | 434 |
-//! | [`verification_report`] | 150 |
-//! | [`housekeeping_report`] | 56 |
-//! | [`event_report`] | 52 |
-//! | the probe's dispatch: decode, choose the reports, send each (the node's own code, for scale) | 670 |
-//!
-//! | image | without | decoder and service 1 | all of the above | share of 57 024 B |
-//! |---|---:|---:|---:|---:|
-//! | reference node | 45 130 | 46 696 (+1 566) | 47 044 (+1 914) | 82.5 % |
-//! | attitude node | 45 256 | 46 788 (+1 532) | 47 136 (+1 880) | 82.7 % |
-//!
-//! With the decoder and service 1 alone, [`encode_tm`] is inlined into
-//! [`verification_report`] (490 B together); services 3 and 5 then add 348 B with their calls.
-//! No constant tables; RAM: none of its own, the caller's packet buffers. Stack under the
-//! caller: 44–46 B for [`decode_tc`], 62 B for a verification report, 44 B for a housekeeping
-//! or event report (the CRC's 2 B included); the nodes' worst-case stack moved by 4 and 2 B
-//! (2 482 and 2 798 B with the probe, 2 478 and 2 796 B without: the reports run beside the
-//! step, not under it).
+//! Linked into both node images with [`crate::uplink::telecommand::take`] (branch `pus-nodes`,
+//! nightly-2026-05-20, the flight builds: `acs-reference` at opt-level "s", `acs-attitude` at
+//! "z", LTO, `fg4619-map`), the decoder, service 1 and the node's handling cost 1 498 B on the
+//! reference node and 1 468 B on the attitude node (44 400 → 45 898 B and 44 404 → 45 872 B,
+//! the mailbox uplink they replace included). By symbol: the node's `take` 1 314 and 1 488 B
+//! (the checks, the command's words, its application inlined, the CUC time, the reports),
+//! [`space_packet::decode`] out of line 334 and 342 B (the link's message decoding, which
+//! inlined it, shrinking by 180 and 188 B), the mailbox's handling 84 B, the old uplink's
+//! −160 and −344 B. Services 3 and 5 measured 348 B more with a probe. No constant tables;
+//! worst-case stack +18 B (reference) and +2 B (attitude); static RAM +66 B and −146 B (the
+//! mailboxes: 248 B and 36 B of telecommand, 50 B of reports, for 232 B of argument words).
 //!
 //! [`space_packet`]: crate::link::space_packet
 //! [`space_packet::decode`]: crate::link::space_packet::decode
@@ -356,15 +337,13 @@ pub struct TmHeader {
 /// A TM\[1,x\] verification report's kind and, for a failure, its failure notice.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum Verification<'a> {
+pub enum Verification {
     /// TM\[1,1\]: the request passed its checks.
     Accepted,
     /// TM\[1,2\]: the request was refused (nothing changed).
     AcceptanceFailed {
         /// Why ([`PusError::failure_code`], or the command's own codes).
         code: u16,
-        /// What the failure code's definition says to add (may be empty).
-        data: &'a [u8],
     },
     /// TM\[1,7\]: the request was carried out.
     Completed,
@@ -372,12 +351,10 @@ pub enum Verification<'a> {
     CompletionFailed {
         /// Why.
         code: u16,
-        /// What the failure code's definition says to add.
-        data: &'a [u8],
     },
 }
 
-impl Verification<'_> {
+impl Verification {
     /// The report's message subtype: 1, 2, 7 or 8.
     pub fn subtype(&self) -> u8 {
         match self {
@@ -538,6 +515,49 @@ pub fn decode_tc(packet: &[u8], apid: Apid) -> Result<Telecommand<'_>, PusError>
     })
 }
 
+/// The primary header fields of a TM packet of `header`.
+#[inline(always)]
+fn tm_primary(header: &TmHeader) -> PacketHeader {
+    PacketHeader {
+        packet_type: PacketType::Telemetry,
+        secondary_header: true,
+        apid: header.apid,
+        sequence_count: header.sequence_count,
+    }
+}
+
+/// The TM secondary header of `header` for `service` and `subtype`; refused
+/// ([`PusError::TimeStatus`]) for a time reference status beyond 4 bits.
+#[inline(always)]
+fn secondary_header(
+    header: &TmHeader,
+    service: u8,
+    subtype: u8,
+) -> Result<[u8; TM_SECONDARY_HEADER_LEN], PusError> {
+    if header.time_status > 0x0F {
+        return Err(PusError::TimeStatus(header.time_status));
+    }
+    let [c0, c1] = header.message_counter.to_be_bytes();
+    let [d0, d1] = header.destination_id.to_be_bytes();
+    let [t0, t1, t2, t3] = header.time.seconds.to_be_bytes();
+    let [f0, f1] = header.time.fraction.to_be_bytes();
+    Ok([
+        (PUS_VERSION << 4) | header.time_status,
+        service,
+        subtype,
+        c0,
+        c1,
+        d0,
+        d1,
+        t0,
+        t1,
+        t2,
+        t3,
+        f0,
+        f1,
+    ])
+}
+
 /// Writes the TM packet of `header`, service `service`, subtype `subtype` and application data
 /// `prefix` followed by `data` to the start of `out`; returns its length
 /// ([`tm_packet_len`]`(prefix.len() + data.len())`). The common writer of the three reports
@@ -554,37 +574,11 @@ pub fn encode_tm(
     data: &[u8],
     out: &mut [u8],
 ) -> Result<usize, PusError> {
-    if header.time_status > 0x0F {
-        return Err(PusError::TimeStatus(header.time_status));
-    }
-    let primary = PacketHeader {
-        packet_type: PacketType::Telemetry,
-        secondary_header: true,
-        apid: header.apid,
-        sequence_count: header.sequence_count,
-    };
+    let secondary = secondary_header(header, service, subtype)?;
+    let primary = tm_primary(header);
     let app_len = prefix.len().saturating_add(data.len());
     let data_len = app_len.saturating_add(TM_SECONDARY_HEADER_LEN);
     encoded_len(&primary, data_len, out.len())?;
-    let [c0, c1] = header.message_counter.to_be_bytes();
-    let [d0, d1] = header.destination_id.to_be_bytes();
-    let [t0, t1, t2, t3] = header.time.seconds.to_be_bytes();
-    let [f0, f1] = header.time.fraction.to_be_bytes();
-    let secondary = [
-        (PUS_VERSION << 4) | header.time_status,
-        service,
-        subtype,
-        c0,
-        c1,
-        d0,
-        d1,
-        t0,
-        t1,
-        t2,
-        t3,
-        f0,
-        f1,
-    ];
     // encoded_len checked that out holds the packet: these writes all land
     if let Some((sec, app)) = out
         .get_mut(PRIMARY_HEADER_LEN..)
@@ -604,32 +598,41 @@ pub fn encode_tm(
 
 /// Writes the verification report TM\[1,1\], \[1,2\], \[1,7\] or \[1,8\] (`report`) on the
 /// telecommand `request` to the start of `out`; returns its length ([`tm_packet_len`] of 4
-/// bytes for a success, 6 + the failure data for a failure). Errors as [`encode_tm`].
+/// bytes for a success, 6 for a failure: this mission's failure notices carry no failure data,
+/// the code says it all). Errors as [`encode_tm`]. Written without [`encode_tm`]'s general
+/// path: the report is the one every node sends, and this shape measured 218 B smaller in the
+/// attitude node's image (branch `pus-nodes`).
 #[cfg_attr(target_arch = "msp430", optimize(size))]
 pub fn verification_report(
     header: &TmHeader,
     request: RequestId,
-    report: &Verification<'_>,
+    report: &Verification,
     out: &mut [u8],
 ) -> Result<usize, PusError> {
-    let (code, data) = match report {
-        Verification::Accepted | Verification::Completed => (None, &[][..]),
-        Verification::AcceptanceFailed { code, data }
-        | Verification::CompletionFailed { code, data } => (Some(*code), *data),
+    let code = match report {
+        Verification::Accepted | Verification::Completed => None,
+        Verification::AcceptanceFailed { code } | Verification::CompletionFailed { code } => {
+            Some(*code)
+        }
     };
-    // request ID, then the failure notice's code for a failure
+    let secondary = secondary_header(header, service::VERIFICATION, report.subtype())?;
+    let primary = tm_primary(header);
+    let data_len = TM_SECONDARY_HEADER_LEN + if code.is_some() { 6 } else { REQUEST_ID_LEN };
+    encoded_len(&primary, data_len, out.len())?;
     let [p0, p1, s0, s1] = request.to_bytes();
     let [c0, c1] = code.unwrap_or(0).to_be_bytes();
-    let fixed = [p0, p1, s0, s1, c0, c1];
-    let fixed_len = if code.is_some() { 6 } else { REQUEST_ID_LEN };
-    encode_tm(
-        header,
-        service::VERIFICATION,
-        report.subtype(),
-        fixed.get(..fixed_len).unwrap_or_default(),
-        data,
-        out,
-    )
+    // encoded_len checked that out holds the packet: its CRC's two bytes at least follow the
+    // request ID, so the six bytes land (a success's last two are the CRC's place)
+    if let Some((sec, app)) = out
+        .get_mut(PRIMARY_HEADER_LEN..)
+        .and_then(|u| u.split_first_chunk_mut::<TM_SECONDARY_HEADER_LEN>())
+    {
+        *sec = secondary;
+        if let Some(app) = app.first_chunk_mut::<6>() {
+            *app = [p0, p1, s0, s1, c0, c1];
+        }
+    }
+    Ok(encode_in_place(&primary, data_len, out)?)
 }
 
 /// Writes the housekeeping parameter report TM\[3,25\] of structure `structure_id` with the

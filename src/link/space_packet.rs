@@ -342,7 +342,8 @@ pub fn decode(bytes: &[u8], expected_apid: Apid) -> Result<(PacketHeader, &[u8])
             len: bytes.len(),
         });
     }
-    let computed = crc16_update(crc16(head), data);
+    // the CRC covers everything before it: header and user data
+    let computed = crc16(bytes.get(..bytes.len() - CRC_LEN).unwrap_or_default());
     let received = u16::from_be_bytes(*crc);
     if computed != received {
         return Err(PacketError::Crc { computed, received });

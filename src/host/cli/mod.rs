@@ -6,7 +6,8 @@
 //!
 //! Subcommands: `propagate`, `sun`, `eclipses`, `igrf`, `attitude`, `demo`, `sim`, `plan`, and
 //! `elements` ([`elements`]: a TLE as the 58 checked uplink words of SGP4 initialised on the
-//! ground, and the check of words read back, naming the first bad word).
+//! ground, and the check of words read back, naming the first bad word), `tc` ([`tc`]: a ground
+//! command as its PUS-C telecommand) and `tm` ([`tm`]: the nodes' telemetry as CSV).
 
 use std::fmt;
 use std::process::ExitCode;
@@ -22,6 +23,8 @@ pub mod plan;
 mod propagate;
 mod sim;
 pub mod sun;
+pub mod tc;
+pub mod tm;
 
 /// What went wrong in a subcommand, and so which exit code the tool returns.
 #[derive(Debug)]
@@ -88,6 +91,13 @@ enum Command {
                       acs elements --tle dtusat.tle --format json | acs elements --check -"
     )]
     Elements(elements::Args),
+    /// A ground command as the PUS-C telecommand its node takes (TC[8,1]; hex or bytes).
+    #[command(after_help = "Examples:\n  acs tc clock 2026-11-28T06:30:00Z\n  \
+                      acs tc slew 0.7071068 0 0.7071068 0 600 --count 12\n  \
+                      acs tc mark-failed tile 2 --format bin >> uplink.bin")]
+    Tc(tc::Args),
+    /// The nodes' telemetry packets (bytes or hex, back to back) as CSV.
+    Tm(tm::Args),
 }
 
 pub use super::iso_utc_ms;
@@ -116,6 +126,8 @@ pub fn main() -> ExitCode {
         Command::Sim(a) => sim::run(&a),
         Command::Plan(a) => plan::run(&a),
         Command::Elements(a) => elements::run(&a),
+        Command::Tc(a) => tc::run(&a),
+        Command::Tm(a) => tm::run(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,7 +1,10 @@
 //! Ground uplink: the commands the ground sends the flight loop, as a command code and argument
 //! words, decoded and applied on board (issue #17). The flight firmware receives them in a
 //! mailbox (`firmware/src/flight.rs`); the processor-in-the-loop host applies the same words to
-//! its host loop through the same function, so both decode every command identically.
+//! its host loop through the same function, so both decode every command identically. The same
+//! commands as PUS-C telecommands, TC\[8,1\] with the code as its function ID and answered with
+//! verification reports, are [`telecommand`] (issue 31; not yet in the node images, which lack
+//! the flash: `docs/operations.md`).
 //!
 //! | code | command | argument words (`u32`) |
 //! |---|---|---|
@@ -16,6 +19,8 @@
 //! (a quaternion that is not finite or zero, a time out of range, an unknown tile, an element
 //! set with a bad word, a slew the planner refuses) leaves the loop and the clock as they were,
 //! and its [`UplinkError`] says why; [`status`] is the telemetry word the firmware reports.
+
+pub mod telecommand;
 
 use core::fmt;
 
@@ -66,11 +71,15 @@ pub enum UplinkError {
     /// The command belongs to the other node ([`crate::two_node`]: sun-safe and the tiles to
     /// the attitude node; track, slew, elements and clock to the reference node).
     NotThisNode(u16),
+    /// A telecommand carries another number of argument words than its command takes
+    /// ([`telecommand::arity`]).
+    ArgumentCount(u16),
 }
 
 impl UplinkError {
     /// The telemetry status word: 1 unknown command, 2 invalid argument, 3 refused by the
-    /// loop, 4 the other node's command, `0x100 + i` element set refused at word `i` (0:
+    /// loop, 4 the other node's command, 5 a telecommand with the wrong number of argument
+    /// words, `0x100 + i` element set refused at word `i` (0:
     /// accepted, [`status`]).
     pub fn status(&self) -> u16 {
         match self {
@@ -79,6 +88,7 @@ impl UplinkError {
             Self::Refused(_) => 3,
             Self::BadElementWord(i) => 0x100 + u16::from(*i),
             Self::NotThisNode(_) => 4,
+            Self::ArgumentCount(_) => 5,
         }
     }
 }
@@ -91,6 +101,7 @@ impl fmt::Display for UplinkError {
             Self::Refused(e) => write!(f, "command refused: {e}"),
             Self::BadElementWord(i) => write!(f, "element set refused at word {i}"),
             Self::NotThisNode(k) => write!(f, "uplink command {k} belongs to the other node"),
+            Self::ArgumentCount(k) => write!(f, "uplink command {k} with a wrong number of words"),
         }
     }
 }

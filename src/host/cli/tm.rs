@@ -1,0 +1,217 @@
+//! `acs tm`: the nodes' telemetry packets as CSV (`docs/cli.md`, `docs/operations.md`; issue
+//! 31 item 5).
+//!
+//! Read with the `spacepackets` crate's `PusTmReader` (CRC checked), independently of the
+//! nodes' writer ([`crate::link::pus`]).
+//!
+//! # Use
+//! ```text
+//! acs tm FILE          (FILE `-`: stdin)
+//! ```
+//! FILE holds TM packets back to back, as bytes, or as hex digits (whitespace and line breaks
+//! ignored: the file is read as hex when it holds nothing else). stdout: CSV, one line a
+//! packet, with the header
+//! `node,apid,sequence_count,time_status,time_utc,service,subtype,report,destination_id,request_apid,request_sequence_count,failure_code,reason,data`:
+//! - `node`: `reference` (APID 0x051), `attitude` (0x050) or `unknown`;
+//! - `time_utc`: the CUC time (seconds since 2000-01-01T00:00 UTC and 2⁻¹⁶ s) in ISO 8601 UTC,
+//!   the fraction to the nanosecond below; empty when the time status is 0 (no clock);
+//! - for a verification report (service 1): `report` (`accepted`, `acceptance failed`,
+//!   `completed`, `completion failed`, …), the request's APID and sequence count, and for a
+//!   failure its code (`0x105`) and reason ([`reason`]);
+//! - for the other services `report` and the request's columns are empty and `data` holds the
+//!   application data in hex.
+//!
+//! Exit 2 naming the packet and its first byte's offset for bytes that are not a valid TM
+//! packet (length, CRC, type, PUS version).
+
+use std::fmt::Write as _;
+use std::io::Read;
+use std::path::PathBuf;
+
+use spacepackets::ecss::tm::{GenericPusTmSecondaryHeader, PusTmReader};
+use spacepackets::ecss::PusPacket;
+use spacepackets::CcsdsPacket;
+
+use super::elements::iso_utc;
+use super::CliError;
+use crate::link::messages::{ATTITUDE_TC_APID, REFERENCE_TC_APID};
+use crate::link::pus::{failure, TIME_LEN};
+use crate::time::Epoch;
+
+/// Arguments of `acs tm`.
+#[derive(clap::Args, Debug)]
+pub struct Args {
+    /// The telemetry: packets back to back, as bytes or hex digits (`-`: stdin).
+    file: PathBuf,
+}
+
+/// The CSV header.
+pub const HEADER: &str = "node,apid,sequence_count,time_status,time_utc,service,subtype,report,\
+                          destination_id,request_apid,request_sequence_count,failure_code,\
+                          reason,data";
+
+/// The reason of a TM\[1,2\] or TM\[1,8\] failure code (`docs/operations.md`).
+pub fn reason(code: u16) -> String {
+    let named = match code {
+        failure::LENGTH => "length",
+        failure::CRC => "CRC",
+        failure::PACKET_FORMAT => "packet version or sequence flags",
+        failure::APID => "another node's APID",
+        failure::PACKET_TYPE => "not a telecommand, or no secondary header",
+        failure::PUS_VERSION => "PUS version",
+        failure::MESSAGE_TYPE => "service or subtype not served",
+        0x101 => "unknown function ID",
+        0x102 => "invalid argument",
+        0x103 => "refused by the loop",
+        0x104 => "the other node's command",
+        0x105 => "wrong number of argument words",
+        0x200..=0x239 => return format!("element set refused at word {}", code - 0x200),
+        _ => "unknown failure code",
+    };
+    named.to_string()
+}
+
+/// The bytes of FILE: hex digits when it holds nothing else, else the bytes themselves.
+fn read_input(path: &PathBuf) -> Result<Vec<u8>, CliError> {
+    let name = path.display();
+    let mut raw = Vec::new();
+    let read = if path.as_os_str() == "-" {
+        std::io::stdin().read_to_end(&mut raw)
+    } else {
+        std::fs::File::open(path).and_then(|mut f| f.read_to_end(&mut raw))
+    };
+    read.map_err(|e| CliError::Input(format!("{name}: {e}")))?;
+    let digits: Vec<u8> = raw
+        .iter()
+        .copied()
+        .filter(|b| !b.is_ascii_whitespace())
+        .collect();
+    let is_hex = !digits.is_empty() && digits.iter().all(u8::is_ascii_hexdigit);
+    if !is_hex {
+        return Ok(raw);
+    }
+    if !digits.len().is_multiple_of(2) {
+        return Err(CliError::Input(format!(
+            "{name}: an odd number of hex digits ({})",
+            digits.len()
+        )));
+    }
+    Ok(digits
+        .chunks_exact(2)
+        .map(|p| {
+            let hex = |b: u8| (b as char).to_digit(16).unwrap_or(0) as u8;
+            hex(p[0]) << 4 | hex(p[1])
+        })
+        .collect())
+}
+
+/// The CSV line of one TM packet read by `spacepackets`.
+fn line(r: &PusTmReader<'_>) -> String {
+    let apid = r.apid().value();
+    let node = match apid {
+        a if a == REFERENCE_TC_APID.get() => "reference",
+        a if a == ATTITUDE_TC_APID.get() => "attitude",
+        _ => "unknown",
+    };
+    let status = r.sc_time_ref_status().value();
+    let stamp = r.timestamp();
+    let time_utc = match (status, stamp) {
+        (0, _) => String::new(),
+        (_, &[t0, t1, t2, t3, f0, f1]) => {
+            let seconds = u32::from_be_bytes([t0, t1, t2, t3]);
+            let fraction = u64::from(u16::from_be_bytes([f0, f1]));
+            let nano = ((fraction * 1_000_000_000) >> 16) as u32;
+            Epoch::from_parts((seconds / 86_400) as i32, seconds % 86_400, nano)
+                .map(|t| iso_utc(&t))
+                .unwrap_or_default()
+        }
+        _ => String::new(),
+    };
+    let (service, subtype) = (
+        PusPacket::service_type_id(r),
+        PusPacket::message_subtype_id(r),
+    );
+    let data = r.source_data();
+    let mut verification = [String::new(), String::new(), String::new(), String::new()];
+    let mut report = String::new();
+    let mut hex = String::new();
+    match (service, data) {
+        (1, [p0, p1, s0, s1, rest @ ..]) => {
+            report = match subtype {
+                1 => "accepted",
+                2 => "acceptance failed",
+                3 => "started",
+                4 => "start failed",
+                5 => "progress",
+                6 => "progress failed",
+                7 => "completed",
+                8 => "completion failed",
+                _ => "verification",
+            }
+            .to_string();
+            verification[0] = format!("{}", u16::from_be_bytes([*p0, *p1]) & 0x7FF);
+            verification[1] = format!("{}", u16::from_be_bytes([*s0, *s1]) & 0x3FFF);
+            if let [c0, c1, ..] = rest {
+                let code = u16::from_be_bytes([*c0, *c1]);
+                verification[2] = format!("{code:#05x}");
+                verification[3] = reason(code);
+            }
+        }
+        _ => {
+            for b in data {
+                let _ = write!(hex, "{b:02x}");
+            }
+        }
+    }
+    format!(
+        "{node},{apid},{},{status},{time_utc},{service},{subtype},{report},{},{},{},{},{},{hex}",
+        r.seq_count().value(),
+        r.dest_id(),
+        verification[0],
+        verification[1],
+        verification[2],
+        verification[3],
+    )
+}
+
+/// The CSV of the TM packets in `bytes`, header first; an error names the first bad packet.
+pub fn csv(bytes: &[u8]) -> Result<String, CliError> {
+    let mut out = format!("{HEADER}\n");
+    let mut at = 0;
+    let mut k = 1;
+    while at < bytes.len() {
+        let r = PusTmReader::new(&bytes[at..], TIME_LEN).map_err(|e| {
+            CliError::Input(format!(
+                "packet {k} at byte {at}: not a valid TM packet ({e})"
+            ))
+        })?;
+        out.push_str(&line(&r));
+        out.push('\n');
+        at += r.len_packed();
+        k += 1;
+    }
+    Ok(out)
+}
+
+/// Runs `acs tm`.
+pub fn run(args: &Args) -> Result<(), CliError> {
+    let text = csv(&read_input(&args.file)?)?;
+    print!("{text}");
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_code_has_a_reason() {
+        for code in [
+            1, 2, 3, 4, 5, 6, 7, 0x101, 0x102, 0x103, 0x104, 0x105, 0x200, 0x239,
+        ] {
+            assert_ne!(reason(code), "unknown failure code", "{code:#x}");
+        }
+        assert_eq!(reason(0x239), "element set refused at word 57");
+        assert_eq!(reason(0x23A), "unknown failure code");
+    }
+}
