@@ -603,9 +603,15 @@ fn acs_tm_refuses_a_damaged_packet() {
     hex.replace_range(hex.len() - 2.., "00");
     std::fs::write(&file, &hex).expect("write");
     let bad = acs(&["tm", file.to_str().expect("UTF-8 path")]);
-    let _ = std::fs::remove_file(&file);
     assert_eq!(bad.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&bad.stderr).contains("packet 2 at byte 25"));
+    // a telecommand is not telemetry
+    let hex: String = p.iter().map(|b| format!("{b:02x}")).collect();
+    std::fs::write(&file, &hex).expect("write");
+    let tc = acs(&["tm", file.to_str().expect("UTF-8 path")]);
+    let _ = std::fs::remove_file(&file);
+    assert_eq!(tc.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&tc.stderr).contains("a telecommand"));
 }
 
 /// Each command of the dictionary is applied by the node of its APID and refused by the other

@@ -30,7 +30,7 @@
 //!
 //! | TM\[1,2\] failure code | reason |
 //! |---|---|
-//! | 1–8 | the packet layer's ([`pus::PusError::failure_code`]: length, CRC, format, APID, type, PUS version, a service other than TC\[8,1\]) |
+//! | 1–7 | the packet layer's ([`pus::PusError::failure_code`]: length, CRC, format, APID, type, PUS version, a service other than TC\[8,1\]) |
 //! | `0x100 +` [`UplinkError::status`] | the command's: 0x101 unknown function ID, 0x102 invalid argument, 0x103 refused by the loop, 0x104 the other node's command, 0x105 wrong number of argument words, `0x200 + i` element set refused at word `i` |
 //!
 //! The failure notice carries no failure data: the code says it all. A packet refused before
@@ -64,9 +64,9 @@ pub const SUBTYPE: u8 = 1;
 pub const FUNCTION_ID_LEN: usize = 2;
 /// The longest telecommand (an element set): 6 + 5 + 2 + 4 × 58 + 2 = 247 B.
 pub const MAX_TC_LEN: usize = pus::TC_OVERHEAD + FUNCTION_ID_LEN + 4 * ARG_WORDS;
-/// The telecommand mailbox the attitude node's image is to have (`docs/operations.md`), B: its longest command's packet
-/// (sun-safe, mark failed, restore: 23 B) with room for a track or slew (35 B), which it
-/// answers as the other node's; even, so the field after it is aligned.
+/// The telecommand mailbox the attitude node's image is to have (`docs/operations.md`), B: its
+/// longest command's packet (sun-safe, mark failed, restore: 23 B) with room for a track or
+/// slew (35 B), which it answers as the other node's; even, so the field after it is aligned.
 pub const ATTITUDE_TC_BYTES: usize = pus::TC_OVERHEAD + FUNCTION_ID_LEN + 4 * 5 + 1;
 /// The telecommand mailbox the reference node's image is to have, B: [`MAX_TC_LEN`], made even.
 pub const REFERENCE_TC_BYTES: usize = MAX_TC_LEN + 1;
@@ -278,8 +278,8 @@ fn command(data: &[u8], args: &mut [u32; ARG_WORDS]) -> Result<u16, UplinkError>
 }
 
 /// Takes the telecommand `packet` for the node of `apid` (see the [module docs](self)):
-/// decodes it, applies it with `apply` (the command code and its argument words, the words
-/// after the command's left 0), and writes its verification reports to `out`; returns the
+/// decodes it, applies it with `apply` (the command code and its argument words; the words
+/// beyond the command's are 0), and writes its verification reports to `out`; returns the
 /// bytes written. `clock` is the node's clock as it takes the packet, `count` its TM sequence
 /// counter (one count per report). Never panics, whatever the bytes.
 #[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]

@@ -35,7 +35,7 @@ use spacepackets::CcsdsPacket;
 use super::elements::iso_utc;
 use super::CliError;
 use crate::link::messages::{ATTITUDE_TC_APID, REFERENCE_TC_APID};
-use crate::link::pus::{failure, TIME_LEN};
+use crate::link::pus::{failure, TIME_LEN, TM_OVERHEAD};
 use crate::time::Epoch;
 
 /// Arguments of `acs tm`.
@@ -180,11 +180,28 @@ pub fn csv(bytes: &[u8]) -> Result<String, CliError> {
     let mut at = 0;
     let mut k = 1;
     while at < bytes.len() {
-        let r = PusTmReader::new(&bytes[at..], TIME_LEN).map_err(|e| {
+        let bad = |why: String| {
             CliError::Input(format!(
-                "packet {k} at byte {at}: not a valid TM packet ({e})"
+                "packet {k} at byte {at}: not a valid TM packet ({why})"
             ))
-        })?;
+        };
+        let rest = &bytes[at..];
+        // checked before the reader, which panics on a packet shorter than its headers
+        // (spacepackets 0.19), and leaves the packet type and the PUS version to its caller
+        if rest[0] & 0x10 != 0 {
+            return Err(bad("a telecommand".into()));
+        }
+        if rest.len() < TM_OVERHEAD {
+            return Err(bad(format!("{} bytes", rest.len())));
+        }
+        let len = usize::from(u16::from_be_bytes([rest[4], rest[5]])) + 7;
+        if len < TM_OVERHEAD || len > rest.len() {
+            return Err(bad(format!("its length field says {len} bytes")));
+        }
+        if rest[6] >> 4 != 2 {
+            return Err(bad(format!("PUS version {}", rest[6] >> 4)));
+        }
+        let r = PusTmReader::new(&rest[..len], TIME_LEN).map_err(|e| bad(e.to_string()))?;
         out.push_str(&line(&r));
         out.push('\n');
         at += r.len_packed();
@@ -196,8 +213,8 @@ pub fn csv(bytes: &[u8]) -> Result<String, CliError> {
 /// Runs `acs tm`.
 pub fn run(args: &Args) -> Result<(), CliError> {
     let text = csv(&read_input(&args.file)?)?;
-    print!("{text}");
-    Ok(())
+    std::io::Write::write_all(&mut std::io::stdout().lock(), text.as_bytes())
+        .map_err(|e| CliError::Compute(format!("stdout: {e}")))
 }
 
 #[cfg(test)]
@@ -213,5 +230,29 @@ mod tests {
         }
         assert_eq!(reason(0x239), "element set refused at word 57");
         assert_eq!(reason(0x23A), "unknown failure code");
+    }
+
+    /// Random bytes, and valid reports cut or changed anywhere: an error, never a panic.
+    #[test]
+    fn random_bytes_never_panic() {
+        let mut s = 0x2545_F491_4F6C_DD1Du64;
+        let mut next = || {
+            s ^= s >> 12;
+            s ^= s << 25;
+            s ^= s >> 27;
+            s.wrapping_mul(0x2545_F491_4F6C_DD1D)
+        };
+        for i in 0..100_000 {
+            let n = (next() % 80) as usize;
+            let mut b: Vec<u8> = (0..n).map(|_| next() as u8).collect();
+            if i % 2 == 0 && n >= 7 {
+                // a TM header with a plausible length
+                b[0] = 0x08;
+                b[4] = 0;
+                b[5] = (next() % 40) as u8;
+                b[6] = 0x20 | (b[6] & 0x0F);
+            }
+            let _ = csv(&b);
+        }
     }
 }
