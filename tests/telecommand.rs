@@ -595,7 +595,11 @@ fn acs_tm_refuses_a_damaged_packet() {
     );
     let mut hex: String = out[..n].iter().map(|b| format!("{b:02x}")).collect();
     let file = std::env::temp_dir().join(format!("acs-tm-hex-{}.txt", std::process::id()));
-    std::fs::write(&file, format!("{hex}\n")).expect("write");
+    std::fs::write(
+        &file,
+        format!("# two reports\n{}\n\n{}\n", &hex[..50], &hex[50..]),
+    )
+    .expect("write");
     let good = acs(&["tm", file.to_str().expect("UTF-8 path")]);
     assert_eq!(good.status.code(), Some(0));
     assert_eq!(String::from_utf8_lossy(&good.stdout).lines().count(), 3);

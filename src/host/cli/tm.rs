@@ -8,8 +8,8 @@
 //! ```text
 //! acs tm FILE          (FILE `-`: stdin)
 //! ```
-//! FILE holds TM packets back to back, as bytes, or as hex digits (whitespace and line breaks
-//! ignored: the file is read as hex when it holds nothing else). stdout: CSV, one line a
+//! FILE holds TM packets back to back, as bytes, or as hex digits (whitespace, line breaks and
+//! `#` comment lines ignored: the file is read as hex when it holds nothing else). stdout: CSV, one line a
 //! packet, with the header
 //! `node,apid,sequence_count,time_status,time_utc,service,subtype,report,destination_id,request_apid,request_sequence_count,failure_code,reason,data`:
 //! - `node`: `reference` (APID 0x051), `attitude` (0x050) or `unknown`;
@@ -81,8 +81,11 @@ fn read_input(path: &PathBuf) -> Result<Vec<u8>, CliError> {
         std::fs::File::open(path).and_then(|mut f| f.read_to_end(&mut raw))
     };
     read.map_err(|e| CliError::Input(format!("{name}: {e}")))?;
+    // as text: the lines that are neither blank nor `#` comments (docs/cli.md)
     let digits: Vec<u8> = raw
-        .iter()
+        .split(|b| *b == b'\n')
+        .filter(|l| l.iter().find(|b| !b.is_ascii_whitespace()) != Some(&b'#'))
+        .flatten()
         .copied()
         .filter(|b| !b.is_ascii_whitespace())
         .collect();
