@@ -16,6 +16,8 @@
 //! loop, `0x100 + i` element set refused at word `i`, the elements in use kept) into
 //! `UPLINK_STATUS`.
 //!
+//! The node images take PUS telecommands instead ([`Ground`], [`take_telecommand`]).
+//!
 //! After each step the firmware publishes the mode (`STEP_MODE`, [`acs::acs_loop::Mode::code`])
 //! and the faults (`STEP_FAULTS`, [`acs::acs_loop::Faults::bits`]).
 
@@ -24,7 +26,10 @@ use acs::attitude::Quaternion;
 use acs::flight::{OneImageLoop, CONFIG, CONTROL_PERIOD_S};
 use acs::orbit::sgp4::Sgp4;
 use acs::time::{Epoch, TimeSpan, Utc};
-use acs::uplink::ARG_WORDS;
+use acs::link::sequence::SequenceCounter;
+use acs::link::space_packet::Apid;
+use acs::uplink::telecommand::{self, REPORTS_LEN};
+use acs::uplink::{UplinkError, ARG_WORDS};
 
 /// Uplink command code (see the [module docs](self)); 0: none.
 #[no_mangle]
@@ -111,25 +116,75 @@ pub fn take_uplink(acs: &mut OneImageLoop, clock: &mut Epoch<Utc>, attitude: Opt
     }
 }
 
-/// Takes a pending uplink command, if any, and hands its code and argument words to `apply`
-/// (a node image's: [`acs::uplink::apply_reference`] or [`acs::uplink::apply_attitude`]),
-/// which returns the status to report; the mailbox as in [`take_uplink`].
+/// A node image's ground mailbox: the telecommand the ground (the processor-in-the-loop
+/// host, or the communication subsystem's driver) puts there, and the verification reports the
+/// node answers with ([`acs::uplink::telecommand`]). The ground writes the packet into `tc`,
+/// then its length into `tc_len`; the node takes it before its next period's work
+/// ([`take_telecommand`]), writes its reports into `reports` and their length into
+/// `reports_len`, and clears `tc_len`. `N`: the node's longest telecommand, even
+/// ([`acs::uplink::telecommand::REFERENCE_TC_BYTES`],
+/// [`acs::uplink::telecommand::ATTITUDE_TC_BYTES`]).
+#[repr(C)]
+pub struct Ground<const N: usize> {
+    /// Bytes of the telecommand in `tc`; 0: none pending.
+    pub tc_len: u16,
+    /// Bytes of the reports in `reports` of the last telecommand taken.
+    pub reports_len: u16,
+    /// The telecommand, a space packet.
+    pub tc: [u8; N],
+    /// Its verification reports, back to back.
+    pub reports: [u8; REPORTS_LEN],
+}
+
+impl<const N: usize> Ground<N> {
+    /// The mailbox with nothing pending.
+    pub const EMPTY: Self = Self {
+        tc_len: 0,
+        reports_len: 0,
+        tc: [0; N],
+        reports: [0; REPORTS_LEN],
+    };
+}
+
+/// Takes the telecommand pending in `ground`, if any ([`acs::uplink::telecommand::take`], for
+/// the node of `apid`, stamped with `clock(node)` at this call and counted by `count`): `apply`
+/// applies the command to `node` ([`acs::uplink::apply_reference`] or
+/// [`acs::uplink::apply_attitude`]); the reports go to the mailbox. A length beyond the
+/// mailbox is taken as an empty packet (refused, reported). `node` and `ground` are passed in,
+/// not captured, so that a debugger that calls this again with the same registers (the
+/// processor-in-the-loop run, several telecommands in a period) gets each one stamped with the
+/// clock as the previous ones left it.
 #[inline(never)]
 #[cfg_attr(target_arch = "msp430", optimize(size))]
-pub fn take_node_uplink(apply: impl FnOnce(u16, &[u32; ARG_WORDS]) -> u16) {
-    // SAFETY: as in `take_uplink`.
-    let kind = unsafe { core::ptr::read_volatile(&raw const UPLINK_KIND) };
-    if kind == 0 {
-        return;
-    }
-    let mailbox = core::hint::black_box(&raw const UPLINK_ARGS);
-    // SAFETY: as in `take_uplink`.
-    let args = unsafe { &*mailbox };
-    let outcome = apply(kind, args);
-    // SAFETY: as in `take_uplink`.
+pub fn take_telecommand<T, const N: usize>(
+    ground: *mut Ground<N>,
+    apid: Apid,
+    count: &mut SequenceCounter,
+    node: &mut T,
+    clock: fn(&T) -> Option<Epoch<Utc>>,
+    apply: impl FnOnce(&mut T, u16, &[u32; ARG_WORDS]) -> Result<(), UplinkError>,
+) {
+    // `black_box` hides the pointer's origin, so the compiler cannot fold the reads to the
+    // static's initial value (nothing in the program writes the telecommand).
+    let ground = core::hint::black_box(ground);
+    // SAFETY: `ground` points to the node's static mailbox, valid and aligned; single-threaded
+    // firmware, no interrupt touches it, and the ground writes it only while the core waits
+    // for the next period, never while these references live. Volatile: written from outside
+    // the program.
     unsafe {
-        core::ptr::write_volatile(&raw mut UPLINK_STATUS, outcome);
-        core::ptr::write_volatile(&raw mut UPLINK_KIND, 0);
+        let len = core::ptr::read_volatile(&raw const (*ground).tc_len);
+        if len == 0 {
+            return;
+        }
+        let tc = &*(&raw const (*ground).tc);
+        let reports = &mut *(&raw mut (*ground).reports);
+        let packet = tc.get(..usize::from(len)).unwrap_or_default();
+        let now = clock(node);
+        let n = telecommand::take(packet, apid, now, count, reports, |code, args| {
+            apply(node, code, args)
+        });
+        core::ptr::write_volatile(&raw mut (*ground).reports_len, n as u16);
+        core::ptr::write_volatile(&raw mut (*ground).tc_len, 0);
     }
 }
 

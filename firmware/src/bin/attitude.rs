@@ -1,6 +1,7 @@
 //! The attitude node's flight image (issue #29): tile reads, determination, modes and fault
 //! management, laws, allocation; the only node that commands actuators. Each control period:
-//! take the ground's command (sun-safe, the tiles: [`acs::uplink::apply_attitude`]), take the
+//! take the ground's telecommand (sun-safe, the tiles: [`acs::uplink::apply_attitude`], answered
+//! with its verification reports: [`acs::uplink::telecommand`]), take the
 //! REF packet the reference node sent for this step (none, or one for another step or without a
 //! valid clock: the step runs without reference, reported), step, send STATUS, publish. STATUS
 //! carries the resets since power-on ([`acs_firmware::boot_count`]).
@@ -11,7 +12,8 @@
 //! one-second Timer_A period with LPM3 between periods, the link over USCI_A0
 //! ([`acs_firmware::periph`]), and the tile bus of [`acs::hal::msp430::tile_bus`] (the tiles'
 //! sensors and wheel controllers on USCI_B0 I²C at its address map, the coils on Timer_B PWM
-//! with direction pins). The uplink is the RAM mailbox in both ([`flight`]).
+//! with direction pins). The telecommands and their reports go through the RAM mailbox
+//! `GROUND` in both ([`flight::Ground`]).
 #![no_std]
 #![cfg_attr(not(feature = "pil"), feature(asm_experimental_arch))]
 #![no_main]
@@ -19,8 +21,10 @@
 use acs::acs_loop::StepReport;
 use acs::attitude_node::AttitudeNode;
 use acs::flight::{CONFIG, CONTROL_PERIOD_S, TILES};
-use acs::link::messages::Reference;
+use acs::link::messages::{Reference, ATTITUDE_TC_APID};
 use acs::link::sequence::SequenceCounter;
+use acs::uplink::telecommand::ATTITUDE_TC_BYTES;
+use acs_firmware::flight::Ground;
 use acs_firmware::node_link::LINK_BYTES;
 use acs_firmware::{flight, tiles};
 #[cfg(feature = "pil")]
@@ -51,13 +55,12 @@ fn run() -> ! {
     let mut bus = tiles::MailboxBus;
     let mut report = StepReport::empty(node.mode());
     let mut count = SequenceCounter::new();
+    let mut tm_count = SequenceCounter::new();
     let mut packet = [0u8; LINK_BYTES];
     loop {
         acs_firmware::fw_period_start();
         acs_firmware::kick_watchdog();
-        flight::take_node_uplink(|kind, args| {
-            acs::uplink::status(&acs::uplink::apply_attitude(kind, args, &mut node))
-        });
+        take_telecommand(&mut tm_count, &mut node);
         let reference = node_link::receive(&mut packet)
             .and_then(|n| packet.get(..n))
             .and_then(|p| Reference::from_packet(p).ok());
@@ -99,14 +102,13 @@ fn run() -> ! {
     node.set_boot_count(acs_firmware::boot_count());
     let mut report = StepReport::empty(node.mode());
     let mut count = SequenceCounter::new();
+    let mut tm_count = SequenceCounter::new();
     let mut packet = [0u8; LINK_BYTES];
     loop {
         periph::wait_period();
         acs_firmware::fw_period_start();
         acs_firmware::kick_watchdog();
-        flight::take_node_uplink(|kind, args| {
-            acs::uplink::status(&acs::uplink::apply_attitude(kind, args, &mut node))
-        });
+        take_telecommand(&mut tm_count, &mut node);
         let reference = periph::receive_last(&mut link, &mut packet, |p| {
             Reference::from_packet(p).ok().map(|(r, _)| r)
         });
@@ -115,6 +117,23 @@ fn run() -> ! {
         flight::publish_codes(report.mode.code(), report.faults.bits());
         acs_firmware::kick_watchdog();
     }
+}
+
+/// The ground's mailbox (see [`flight::Ground`]).
+#[no_mangle]
+static mut GROUND: Ground<ATTITUDE_TC_BYTES> = Ground::EMPTY;
+
+/// Takes the telecommand in [`GROUND`], if any, for the attitude node
+/// ([`acs::uplink::apply_attitude`]); its reports counted by `tm_count`.
+fn take_telecommand(tm_count: &mut SequenceCounter, node: &mut AttitudeNode<'static, TILES>) {
+    flight::take_telecommand(
+        &raw mut GROUND,
+        ATTITUDE_TC_APID,
+        tm_count,
+        node,
+        |n| n.clock(),
+        |n, code, args| acs::uplink::apply_attitude(code, args, n),
+    );
 }
 
 /// No panic path in the flight image, proven at link time (as `src/main.rs`).

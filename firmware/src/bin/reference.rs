@@ -1,6 +1,7 @@
 //! The reference node's flight image (issue #29): the clock as uplinked, SGP4, Sun, shadow,
-//! IGRF, guidance. Each control period: take the ground's command (clock, elements, track, slew:
-//! [`acs::uplink::apply_reference`]; a slew is planned from the attitude of the last STATUS),
+//! IGRF, guidance. Each control period: take the ground's telecommand (clock, elements, track,
+//! slew: [`acs::uplink::apply_reference`]; a slew is planned from the attitude of the last
+//! STATUS; answered with its verification reports: [`acs::uplink::telecommand`]),
 //! take the STATUS packet the attitude node sent, answer with the REF for its next step, and
 //! publish. Its clock is not valid until the ground sets it or a STATUS brings the attitude
 //! node's copy back (after a reset: [`acs::reference_node`]).
@@ -11,14 +12,14 @@
 //! one-second Timer_A period with LPM3 between periods, the link over USCI_A0
 //! ([`acs_firmware::periph`]), and the element set kept in two flash segments
 //! ([`acs_firmware::element_flash`]: the newer valid record at reset, the image's words the
-//! fall-back; each accepted ELEMENTS uplink stored). The uplink is the RAM mailbox in both
-//! ([`flight`]).
+//! fall-back; each accepted ELEMENTS telecommand stored). The telecommands and their reports go
+//! through the RAM mailbox `GROUND` in both ([`flight::Ground`]).
 //!
 //! In the flight build the node is paced by the attitude node: it answers each STATUS as soon
 //! as its frame has arrived (the receive handler wakes it on the frame's delimiter,
 //! [`periph::Events`]), so the REF reaches the attitude node some 80 ms after that node's
 //! step, well before its next, whatever the phase between the two nodes' crystals. Its own
-//! Timer_A period takes the uplink once a second, and when no STATUS has come for two
+//! Timer_A period takes the telecommand once a second, and when no STATUS has come for two
 //! periods sends a REF each period with the step counted on (an attitude node whose STATUS
 //! frames are lost still gets its references). The order within an exchange (STATUS in, REF
 //! for its next step out) is the PIL build's.
@@ -27,10 +28,11 @@
 #![cfg_attr(not(feature = "pil"), feature(asm_experimental_arch))]
 
 use acs::flight::{CONFIG, FIELD_COEFFS, TILES};
-use acs::link::messages::{Reference, Status};
+use acs::link::messages::{Reference, Status, REFERENCE_TC_APID};
 use acs::link::sequence::SequenceCounter;
 use acs::reference_node::ReferenceNode;
-use acs_firmware::flight;
+use acs::uplink::telecommand::REFERENCE_TC_BYTES;
+use acs_firmware::flight::{self, Ground};
 #[cfg(feature = "pil")]
 use acs_firmware::node_link;
 use acs_firmware::node_link::LINK_BYTES;
@@ -57,6 +59,7 @@ fn run() -> ! {
     };
     let mut link = Link {
         count: SequenceCounter::new(),
+        tm_count: SequenceCounter::new(),
         status: None,
         step: 0,
     };
@@ -64,14 +67,14 @@ fn run() -> ! {
         acs_firmware::fw_period_start();
         acs_firmware::kick_watchdog();
         let attitude = link.status.and_then(|s| s.attitude);
-        flight::take_node_uplink(|kind, args| {
-            acs::uplink::status(&acs::uplink::apply_reference(
-                kind,
-                args,
-                &mut node,
-                attitude.as_ref(),
-            ))
-        });
+        flight::take_telecommand(
+            &raw mut GROUND,
+            REFERENCE_TC_APID,
+            &mut link.tm_count,
+            &mut node,
+            |n| n.clock(),
+            |n, code, args| acs::uplink::apply_reference(code, args, n, attitude.as_ref()),
+        );
         link.exchange(&mut node);
         acs_firmware::kick_watchdog();
     }
@@ -91,6 +94,7 @@ fn run() -> ! {
     };
     let mut link = Link {
         count: SequenceCounter::new(),
+        tm_count: SequenceCounter::new(),
         status: None,
         step: 0,
         uart: periph::link(),
@@ -104,14 +108,20 @@ fn run() -> ! {
         acs_firmware::kick_watchdog();
         if tick {
             let attitude = link.status.and_then(|s| s.attitude);
-            flight::take_node_uplink(|kind, args| {
-                let outcome =
-                    acs::uplink::apply_reference(kind, args, &mut node, attitude.as_ref());
-                if kind == acs::uplink::kind::ELEMENTS && outcome.is_ok() {
-                    elements.keep(args);
-                }
-                acs::uplink::status(&outcome)
-            });
+            flight::take_telecommand(
+                &raw mut GROUND,
+                REFERENCE_TC_APID,
+                &mut link.tm_count,
+                &mut node,
+                |n| n.clock(),
+                |n, code, args| {
+                    acs::uplink::apply_reference(code, args, n, attitude.as_ref())?;
+                    if code == acs::uplink::kind::ELEMENTS {
+                        elements.keep(args);
+                    }
+                    Ok(())
+                },
+            );
             quiet = quiet.saturating_add(1);
         }
         // a STATUS is answered at once; without one for two periods, a REF each period
@@ -133,6 +143,8 @@ fn run() -> ! {
 /// The node's side of the link between periods.
 struct Link {
     count: SequenceCounter,
+    /// The sequence count of the verification reports (APID [`REFERENCE_TC_APID`]).
+    tm_count: SequenceCounter,
     /// The last STATUS received.
     status: Option<Status>,
     /// The step the next REF is for: the last STATUS's next, counted on without one.
@@ -214,6 +226,10 @@ fn send_reference(uart: &mut periph::Link, reference: &Reference, count: u16) {
 fn send_reference(reference: &Reference, count: u16) {
     node_link::send(&reference.to_packet(count));
 }
+
+/// The ground's mailbox (see [`flight::Ground`]).
+#[no_mangle]
+static mut GROUND: Ground<REFERENCE_TC_BYTES> = Ground::EMPTY;
 
 /// No panic path in the flight image, proven at link time (as `src/main.rs`).
 #[panic_handler]

@@ -177,14 +177,38 @@ impl Elf {
     /// by its mangled name whatever the crate's hash: legacy mangling
     /// `_ZN12acs_firmware6flight11take_uplink17h<hash>E`, or v0 mangling (the toolchain's
     /// default) `_RNvNtCs<hash>_12acs_firmware6flight11take_uplink`, or the v0 name of an
-    /// instance of a generic function (`_RINvNtCs<hash>_12acs_firmware6flight16take_node_uplink`
-    /// followed by its type arguments). `None` if there is none or more than one (several
-    /// instances of a generic function).
+    /// instance of a generic function (`_RINvNtCs<hash>_12acs_firmware6flight16take_telecommand`
+    /// followed by its type arguments; not an instance of another function whose type
+    /// arguments name it, such as a closure passed to it). `None` if there is none or more
+    /// than one (several instances of a generic function).
     pub fn rust_function(&self, path: &[&str]) -> Option<Symbol> {
         let encoded: String = path.iter().map(|p| format!("{}{p}", p.len())).collect();
         let legacy = format!("_ZN{encoded}");
         let v0_hashed = format!("_{encoded}");
         let v0_plain = format!("C{encoded}");
+        // the instance's own path comes first: `_RINv`, `Nt` per module, the crate root
+        // (`C` and its hash), the path; a symbol that only mentions the function further on
+        // (a closure or callee instantiated with it) is another function
+        let instance_of = |n: &str| {
+            let Some(rest) = n.strip_prefix("_RINv") else {
+                return false;
+            };
+            let at = |p: &str| rest.find(p).map(|i| &rest[..i]);
+            let root = |head: &str, hashed: bool| {
+                let mut head = head;
+                while let Some(h) = head.strip_prefix("Nt") {
+                    head = h;
+                }
+                if hashed {
+                    head.strip_prefix('C')
+                        .is_some_and(|h| h.chars().all(|c| c.is_ascii_alphanumeric()))
+                } else {
+                    head.is_empty()
+                }
+            };
+            at(&v0_hashed).is_some_and(|h| root(h, true))
+                || at(&v0_plain).is_some_and(|h| root(h, false))
+        };
         let mut found = self
             .symbols
             .iter()
@@ -194,9 +218,7 @@ impl Elf {
                     .is_some_and(|rest| rest.starts_with("17h") && rest.len() == 20);
                 let v0_match =
                     n.starts_with("_R") && (n.ends_with(&v0_hashed) || n.ends_with(&v0_plain));
-                let v0_instance = n.starts_with("_RINv")
-                    && (n.contains(&v0_hashed) || n.contains(&v0_plain))
-                    && !n.ends_with(&v0_hashed);
+                let v0_instance = !n.ends_with(&v0_hashed) && instance_of(n);
                 legacy_match || v0_match || v0_instance
             })
             .map(|(_, s)| *s);
@@ -307,6 +329,13 @@ pub(crate) mod tests {
                     "_RINvNtCshTh0V548xLH_12acs_firmware6flight16take_node_uplinkNCNvCs5YbJjKyC2MG_12acs_attitude3run0EBZ_",
                     0x7200,
                     90,
+                ),
+                // an instance of another function whose type arguments name take_node_uplink
+                // (telecommand::take with the closure take_node_uplink passes it)
+                (
+                    "_RINvNtNtCsbMAO0B0id9_3acs6uplink11telecommand4takeNCINvNtCshTh0V548xLH_12acs_firmware6flight16take_node_uplinkKj24_E0EB2z_",
+                    0x7300,
+                    900,
                 ),
             ],
             344,

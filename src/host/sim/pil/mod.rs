@@ -3,12 +3,14 @@
 //! its own `mspdebug` MSP430 simulator against the host simulator's truth, in lockstep with the
 //! host composition of the same nodes ([`crate::two_node::TwoNodeLoop`] over [`CONFIG`],
 //! [`HostLoop`]), and everything the images produce is checked bit for bit against the host's:
-//! actuator commands, both nodes' packets, mode, faults and uplink statuses.
+//! actuator commands, both nodes' packets, mode, faults and the verification reports of every
+//! telecommand.
 //!
 //! # The images
-//! Each image loops: `fw_period_start()` (the host's break point), take its uplink mailbox
-//! (`UPLINK_KIND`/`UPLINK_ARGS` → `UPLINK_STATUS`; each node applies only its own commands,
-//! another node's gets status 4), take the packet in its `LINK_RX`/`LINK_RX_LEN` mailbox, do its
+//! Each image loops: `fw_period_start()` (the host's break point), take the telecommand in its
+//! ground mailbox (`GROUND`: the packet in, its verification reports out,
+//! `acs_firmware::flight::take_telecommand`; each node applies only its own commands, another
+//! node's is refused with failure code 0x104), take the packet in its `LINK_RX`/`LINK_RX_LEN` mailbox, do its
 //! work, put its packet in `LINK_TX`/`LINK_TX_LEN`, publish `STEP_MODE`/`STEP_FAULTS`. The
 //! attitude image also has the tile mailboxes ([`TILE_MAILBOXES`], [`bus`]); its packet is
 //! STATUS(k), which it sends after step k using the REF delivered to it if that was made for
@@ -18,17 +20,17 @@
 //! with the node's mailbox set, [`mailboxes`]).
 //!
 //! # One control period k
-//! 1. The reference image runs one period on its uplinks of the period and the STATUS(k − 1)
+//! 1. The reference image runs one period on its telecommands of the period and the STATUS(k − 1)
 //!    packet the attitude image sent (none before step 0: the first period carries the element
 //!    set and the clock, so REF(0) exists); its `LINK_TX` is REF(k).
-//! 2. The host applies the same uplinks to the composition's nodes, then steps it
+//! 2. The host applies the same telecommands to the composition's nodes, then steps it
 //!    ([`crate::two_node::TwoNodeLoop::step_over_link`]) on the simulator through a
 //!    [`bus::Recorder`], which records the raw readings in the tile mailboxes' format: the
 //!    attitude image reads exactly the values the host read. The image's REF(k) is compared
-//!    with the host's (`packets().0`), and its uplink statuses and fault bits.
-//! 3. The attitude image gets the readings (`mw` into its `TILE_*` mailboxes), its uplinks and
+//!    with the host's (`packets().0`), and its reports and fault bits.
+//! 3. The attitude image gets the readings (`mw` into its `TILE_*` mailboxes), its telecommands and
 //!    the REF(k) the reference *image* made in its `LINK_RX`, and runs one period; its
-//!    `CMD_WHEEL_NMS`, `CMD_DIPOLE_AM2`, `STEP_MODE`, `STEP_FAULTS`, `UPLINK_STATUS` and its
+//!    `CMD_WHEEL_NMS`, `CMD_DIPOLE_AM2`, `STEP_MODE`, `STEP_FAULTS`, its reports and its
 //!    STATUS(k) packet are compared with the host's (`packets().1`).
 //! 4. The STATUS(k) packet goes to the reference image's `LINK_RX` at the next period, and the
 //!    f64 truth is integrated over the period with the commands (those the composition gave
@@ -42,31 +44,37 @@
 //! step, to the bit.
 //!
 //! # Ground commands
-//! The scenario's orbit and clock reach the reference image through its uplink like the
+//! The scenario's orbit and clock reach the reference image as telecommands like the other
 //! commands: at the first period the element set ([`Sgp4::to_words`] of the scenario's TLE,
-//! kind 4) and the clock (the scenario's start, kind 5), then each ground command at the period
-//! the host simulator's `run` would give it (time ≤ the truth's time). Each command goes to the
-//! node that owns it ([`owner`]: track 2, slew 3, elements 4, clock 5 the reference node;
-//! sun-safe 1, mark failed 6, restore 7 the attitude node), through that image's mailbox; the
-//! host applies the same words to the composition's node ([`uplink::UplinkMailbox::take`]:
-//! [`crate::uplink::apply_reference`], [`crate::uplink::apply_attitude`], what the images run).
-//! The reference image takes its uplink before its link mailbox, so it plans a slew from the
-//! attitude of the STATUS it received the period before (STATUS(k − 2) for REF(k)); the host
-//! gives `apply_reference` that attitude too.
+//! function 4) and the clock (the scenario's start, function 5), then each ground command at
+//! the period the host simulator's `run` would give it (time ≤ the truth's time). Each command
+//! is a TC\[8,1\] ([`Uplink::telecommand`], both reports asked for) to the node that owns it
+//! ([`owner`]: track 2, slew 3, elements 4, clock 5 the reference node; sun-safe 1, mark
+//! failed 6, restore 7 the attitude node), through that image's `GROUND` mailbox; the host
+//! takes the same packet on the composition's node ([`uplink::Ground::take`]:
+//! [`crate::uplink::telecommand::take`] with [`crate::uplink::apply_reference`] or
+//! [`crate::uplink::apply_attitude`], what the images run) and the reports must match byte for
+//! byte: sequence count, the node's clock as CUC time, request ID, failure code. The reference
+//! image takes its telecommand before its link mailbox, so it plans a slew from the attitude of
+//! the STATUS it received the period before (STATUS(k − 2) for REF(k)); the host gives
+//! `apply_reference` that attitude too.
 //!
-//! Three quarters of the way through the run, one period also carries uplinks whose arguments
-//! are NaN and infinities ([`non_finite_uplinks`]: the readings are raw integers, so the uplink
-//! is where non-finite floats reach the images), sent to both nodes: the reference node must
-//! refuse each for its argument and the attitude node as not its own, with the same statuses on
-//! both sides, and both fly on bit for bit (issue 19: the MSP430's float comparisons are wrong
-//! for a NaN where the host's are not, so the host alone cannot show what an image does with
-//! one).
+//! Three quarters of the way through the run, one period also carries commands whose arguments
+//! are NaN and infinities ([`non_finite_uplinks`]: the readings are raw integers, so the
+//! telecommands are where non-finite floats reach the images), sent to both nodes (the element
+//! set to the reference node only: it does not fit the attitude node's mailbox): the
+//! reference node must refuse each for its argument and the attitude node as not its own, with
+//! the same reports on both sides, and both fly on bit for bit (issue 19: the MSP430's float
+//! comparisons are wrong for a NaN where the host's are not, so the host alone cannot show
+//! what an image does with one).
 //!
-//! An image takes one command per period (`take_node_uplink` before its work); when a period
-//! carries several, the host calls `take_node_uplink` again for each after the first, as a
-//! debugger does: at its entry it saves the registers, and after it returns it writes the next
-//! command, restores the registers (the call's arguments and return address are still in
-//! place) and runs it again. The cycles of these extra calls are left out of the period's.
+//! An image takes one telecommand per period (`take_telecommand` before its work); when a
+//! period carries several, the host calls `take_telecommand` again for each after the first, as
+//! a debugger does: at its entry it saves the registers, and after it returns it reads the
+//! reports, writes the next packet, restores the registers (the call's arguments and return
+//! address are still in place) and runs it again. The function reads the node's clock itself,
+//! so each telecommand is stamped with the clock as the ones before it left it, as on the
+//! host. The cycles of these extra calls are left out of the period's.
 //!
 //! # The link-fault case
 //! After the scenario (unless [`PilOptions::link_faults`] is off) the run goes on for
@@ -127,7 +135,7 @@ use std::time::{Duration, Instant};
 use self::bus::{Commands, Readings, Recorder, COILS};
 use self::elf::{Elf, EM_MSP430};
 use self::mspdebug::{Mspdebug, MspdebugError, Registers};
-use self::uplink::{mode_code, mode_name, Uplink, UplinkMailbox};
+use self::uplink::{mode_code, mode_name, tc_bytes, Ground, Uplink};
 pub use self::uplink::{owner, HostLoop, Node};
 use super::scenarios::Scenario;
 use super::{Sample, SimError, Simulator};
@@ -137,16 +145,15 @@ use crate::flight::{CONFIG, CONTROL_PERIOD_S, TILES};
 use crate::link::messages::Reference;
 use crate::orbit::sgp4::{Sgp4, ELEMENT_WORDS};
 use crate::two_node::LinkDirection;
+use crate::uplink::telecommand::REPORTS_LEN;
 
 /// The longest packet of the link mailboxes (`firmware/src/node_link.rs`, `LINK_BYTES`).
 pub const LINK_BYTES: usize = 128;
 
-/// The mailboxes of both node images and their sizes in bytes: the uplink, the published
-/// codes and the link (`firmware/src/flight.rs`, `firmware/src/node_link.rs`).
-pub const NODE_MAILBOXES: [(&str, usize); 9] = [
-    ("UPLINK_KIND", 2),
-    ("UPLINK_STATUS", 2),
-    ("UPLINK_ARGS", 4 * ELEMENT_WORDS),
+/// The mailboxes of both node images and their sizes in bytes: the published codes and the
+/// link (`firmware/src/flight.rs`, `firmware/src/node_link.rs`); the ground's mailbox
+/// `GROUND` is the node's size ([`ground_bytes`]).
+pub const NODE_MAILBOXES: [(&str, usize); 6] = [
     ("STEP_MODE", 2),
     ("STEP_FAULTS", 2),
     ("LINK_TX", LINK_BYTES),
@@ -170,10 +177,18 @@ pub const TILE_MAILBOXES: [(&str, usize); 11] = [
     ("READBACK_ERRORS", 2),
 ];
 
-/// The mailboxes of `node`'s image: [`NODE_MAILBOXES`], and for the attitude node
-/// [`TILE_MAILBOXES`].
+/// The bytes of `node`'s ground mailbox (`acs_firmware::flight::Ground`): the telecommand's
+/// and the reports' lengths (2 B each), the telecommand ([`uplink::tc_bytes`]), the reports
+/// ([`REPORTS_LEN`]).
+pub fn ground_bytes(node: Node) -> usize {
+    4 + tc_bytes(node) + REPORTS_LEN
+}
+
+/// The mailboxes of `node`'s image: `GROUND` ([`ground_bytes`]), [`NODE_MAILBOXES`], and for
+/// the attitude node [`TILE_MAILBOXES`].
 pub fn mailboxes(node: Node) -> Vec<(&'static str, usize)> {
-    let mut all = NODE_MAILBOXES.to_vec();
+    let mut all = vec![("GROUND", ground_bytes(node))];
+    all.extend(NODE_MAILBOXES);
     if node == Node::Attitude {
         all.extend(TILE_MAILBOXES);
     }
@@ -235,7 +250,7 @@ pub struct ImageMap {
     halt: u32,
     /// The reset handler (`Reset`), where a watchdog reset enters.
     reset: Option<u32>,
-    take_uplink: u32,
+    take_telecommand: u32,
     /// `__ebss` and `_stack_top`: the painted stack area.
     stack: Option<(u32, u32)>,
     /// `__sdata` (or `__sbss`) and `_stack_top`: the RAM a power-on reset clears.
@@ -278,11 +293,11 @@ impl ImageMap {
                 .map(|s| s.addr)
                 .ok_or_else(|| PilError::Input(format!("the image has no function `{name}`")))
         };
-        let take_uplink = elf
-            .rust_function(&["acs_firmware", "flight", "take_node_uplink"])
+        let take_telecommand = elf
+            .rust_function(&["acs_firmware", "flight", "take_telecommand"])
             .ok_or_else(|| {
                 PilError::Input(
-                    "the image has no (single) `acs_firmware::flight::take_node_uplink`".into(),
+                    "the image has no (single) `acs_firmware::flight::take_telecommand`".into(),
                 )
             })?;
         let top = elf.symbol("_stack_top");
@@ -298,7 +313,7 @@ impl ImageMap {
             period_start: function("fw_period_start")?,
             halt: function("fw_halt")?,
             reset: elf.symbol("Reset").map(|s| s.addr),
-            take_uplink: take_uplink.addr,
+            take_telecommand: take_telecommand.addr,
             stack,
             ram,
             boots: elf.symbol("BOOTS").map(|s| s.addr),
@@ -328,8 +343,8 @@ pub struct StepOutputs {
     pub mode: u16,
     /// `STEP_FAULTS` bits.
     pub faults: u16,
-    /// `UPLINK_STATUS` after each uplink command of the period.
-    pub uplink_status: Vec<u16>,
+    /// The verification reports of each telecommand of the period (`GROUND`'s reports).
+    pub reports: Vec<Vec<u8>>,
 }
 
 /// One difference between the image's and the host's outputs of a step.
@@ -376,14 +391,14 @@ pub enum Difference {
         /// Image bytes.
         target: Vec<u8>,
     },
-    /// The status of an uplink command.
-    UplinkStatus {
-        /// Its kind.
+    /// The verification reports of a telecommand.
+    Reports {
+        /// Its command code.
         kind: u16,
-        /// Host status.
-        host: u16,
-        /// Image status.
-        target: u16,
+        /// Host bytes.
+        host: Vec<u8>,
+        /// Image bytes.
+        target: Vec<u8>,
     },
 }
 
@@ -431,16 +446,24 @@ impl std::fmt::Display for Difference {
                     byte(target)
                 )
             }
-            Self::UplinkStatus { kind, host, target } => write!(
+            Self::Reports { kind, host, target } => write!(
                 f,
-                "uplink command {kind}: host status 0x{host:x}, target status 0x{target:x}"
+                "telecommand {kind}: host reports {}, target reports {}",
+                hex(host),
+                hex(target)
             ),
         }
     }
 }
 
+/// Bytes as hex, for a mismatch's message.
+fn hex(bytes: &[u8]) -> String {
+    bytes.iter().map(|b| format!("{b:02x}")).collect()
+}
+
 /// The differences between the host's and the image's outputs of one step of `node` (empty:
-/// identical bit for bit). `kinds`: the node's uplink commands of the period.
+/// identical bit for bit). `kinds`: the command codes of the node's telecommands of the
+/// period.
 pub fn compare(
     node: Node,
     host: &StepOutputs,
@@ -485,10 +508,10 @@ pub fn compare(
         });
     }
     for (i, kind) in kinds.iter().enumerate() {
-        let h = host.uplink_status.get(i).copied().unwrap_or(u16::MAX);
-        let t = target.uplink_status.get(i).copied().unwrap_or(u16::MAX);
+        let h = host.reports.get(i).cloned().unwrap_or_default();
+        let t = target.reports.get(i).cloned().unwrap_or_default();
         if h != t {
-            out.push(Difference::UplinkStatus {
+            out.push(Difference::Reports {
                 kind: *kind,
                 host: h,
                 target: t,
@@ -881,13 +904,19 @@ impl Target {
         Ok(self.cycles.saturating_sub(halted))
     }
 
-    fn write_uplink(&mut self, kind: u16, args: &[u32]) -> Result<(), PilError> {
-        let bytes: Vec<u8> = args.iter().flat_map(|w| w.to_le_bytes()).collect();
-        if !bytes.is_empty() {
-            self.dbg.write(self.addr("UPLINK_ARGS")?, &bytes)?;
+    /// Writes `packet` to the `GROUND` mailbox's telecommand, then its length.
+    fn write_telecommand(&mut self, packet: &[u8]) -> Result<(), PilError> {
+        let ground = self.addr("GROUND")?;
+        if packet.len() > tc_bytes(self.map.node) {
+            return Err(PilError::Input(format!(
+                "a telecommand of {} B does not fit the {} node's mailbox",
+                packet.len(),
+                self.map.node.name()
+            )));
         }
+        self.dbg.write(ground + 4, packet)?;
         self.dbg
-            .write(self.addr("UPLINK_KIND")?, &kind.to_le_bytes())?;
+            .write(ground, &(packet.len() as u16).to_le_bytes())?;
         Ok(())
     }
 
@@ -908,26 +937,40 @@ impl Target {
         Ok(u16::from_le_bytes([b[0], b[1]]))
     }
 
-    /// The uplink status after a command, checking that the image took it.
-    fn taken_status(&mut self, kind: u16) -> Result<u16, PilError> {
-        if self.read_u16("UPLINK_KIND")? != 0 {
+    /// The verification reports of a telecommand (command code `kind`), checking that the
+    /// image took it.
+    fn taken_reports(&mut self, kind: u16) -> Result<Vec<u8>, PilError> {
+        let ground = self.addr("GROUND")?;
+        let b = self.dbg.read(ground, 4)?;
+        let (pending, len) = (
+            u16::from_le_bytes([b[0], b[1]]),
+            usize::from(u16::from_le_bytes([b[2], b[3]])),
+        );
+        if pending != 0 || len > REPORTS_LEN {
             return Err(PilError::Image(format!(
-                "{}: uplink command {kind} was not taken",
+                "{}: telecommand {kind} was not taken (length {pending}), or its reports are \
+                 {len} B",
                 self.map.node.name()
             )));
         }
-        self.read_u16("UPLINK_STATUS")
+        let at = ground + 4 + tc_bytes(self.map.node) as u32;
+        Ok(if len == 0 {
+            Vec::new()
+        } else {
+            self.dbg.read(at, len)?
+        })
     }
 
     /// One control period: writes `readings` (the attitude image's tile mailboxes), the packet
-    /// `received` (if any) into `LINK_RX` and the `uplinks` (kind, argument words), runs to the
+    /// `received` (if any) into `LINK_RX` and the `telecommands` (command code, packet) into
+    /// `GROUND` one after the other ([module docs](self)), runs to the
     /// next `fw_period_start`; the outputs (the packet taken from `LINK_TX`, which is then
     /// emptied) and the period's cycles.
     pub fn period(
         &mut self,
         readings: Option<&Readings>,
         received: Option<&[u8]>,
-        uplinks: &[(u16, Vec<u32>)],
+        telecommands: &[(u16, Vec<u8>)],
     ) -> Result<(StepOutputs, u64), PilError> {
         if let Some(readings) = readings {
             for (name, bytes) in readings.mailboxes() {
@@ -950,35 +993,39 @@ impl Target {
         }
         let start = self.cycles;
         let mut extra = 0u64;
-        let mut statuses = Vec::with_capacity(uplinks.len());
-        if let Some((kind, args)) = uplinks.first() {
-            self.write_uplink(*kind, args)?;
+        let mut reports = Vec::with_capacity(telecommands.len());
+        if let Some((_, packet)) = telecommands.first() {
+            self.write_telecommand(packet)?;
         }
-        if uplinks.len() > 1 {
-            // stop at take_node_uplink's entry: its registers make the call again
-            let entry = self.dbg.set_break(self.map.take_uplink)?;
+        if telecommands.len() > 1 {
+            // stop at take_telecommand's entry: its registers make the call again
+            let entry = self.dbg.set_break(self.map.take_telecommand)?;
             let regs: Registers = self.dbg.run()?;
-            self.stopped_at(regs[0], self.map.take_uplink, "before take_node_uplink")?;
+            self.stopped_at(
+                regs[0],
+                self.map.take_telecommand,
+                "before take_telecommand",
+            )?;
             self.dbg.delete_break(entry)?;
             let ret = self.dbg.read(u32::from(regs[1]), 2)?;
             let ret = u32::from(u16::from_le_bytes([ret[0], ret[1]]));
             let back = self.dbg.set_break(ret)?;
             let after = self.dbg.run()?;
-            self.stopped_at(after[0], ret, "after take_node_uplink")?;
-            for (k, (kind, args)) in uplinks.iter().enumerate().skip(1) {
-                statuses.push(self.taken_status(uplinks[k - 1].0)?);
-                self.write_uplink(*kind, args)?;
+            self.stopped_at(after[0], ret, "after take_telecommand")?;
+            for (k, (_, packet)) in telecommands.iter().enumerate().skip(1) {
+                reports.push(self.taken_reports(telecommands[k - 1].0)?);
+                self.write_telecommand(packet)?;
                 self.dbg.set_registers(&regs)?;
                 let c0 = self.dbg.cycles()?;
                 let after = self.dbg.run()?;
-                self.stopped_at(after[0], ret, "after take_node_uplink")?;
+                self.stopped_at(after[0], ret, "after take_telecommand")?;
                 extra += self.dbg.cycles()?.saturating_sub(c0);
             }
             self.dbg.delete_break(back)?;
         }
         self.run_to_period_start("after a step")?;
-        if let Some((kind, _)) = uplinks.last() {
-            statuses.push(self.taken_status(*kind)?);
+        if let Some((kind, _)) = telecommands.last() {
+            reports.push(self.taken_reports(*kind)?);
         }
         if self.read_u16("LINK_RX_LEN")? != 0 {
             return Err(PilError::Image(format!(
@@ -1011,7 +1058,7 @@ impl Target {
             packet,
             mode: self.read_u16("STEP_MODE")?,
             faults: self.read_u16("STEP_FAULTS")?,
-            uplink_status: statuses,
+            reports,
         };
         let cycles = self.cycles.saturating_sub(start).saturating_sub(extra);
         Ok((outputs, cycles))
@@ -1103,8 +1150,9 @@ impl LinkFaultFigures {
 }
 
 /// The periods' ground commands split by owner: (the reference node's, the attitude
-/// node's), each in the order of the period. An uplink of `both` goes to both nodes (the
-/// other node refuses it, status 4).
+/// node's), each in the order of the period. A command of `both` goes to both nodes (the
+/// other node refuses it, failure code 0x104), but an element set only to the reference node
+/// (its telecommand is longer than the attitude node's mailbox).
 fn route(uplinks: &[Uplink], both: &[Uplink]) -> [Vec<Uplink>; 2] {
     let mut out = [Vec::new(), Vec::new()];
     for u in uplinks {
@@ -1115,7 +1163,11 @@ fn route(uplinks: &[Uplink], both: &[Uplink]) -> [Vec<Uplink>; 2] {
     }
     for u in both {
         out[0].push(u.clone());
-        out[1].push(u.clone());
+        // an element set's telecommand (247 B) does not fit the attitude node's mailbox: the
+        // ground's link does not deliver it there
+        if !matches!(u, Uplink::Elements(_)) {
+            out[1].push(u.clone());
+        }
     }
     out
 }
@@ -1162,7 +1214,9 @@ pub fn run(
     };
     let reset_at = steps + LINK_FAULT_STEPS;
     let mut pending: Vec<(f64, crate::acs_loop::Command)> = scenario.commands.clone();
-    let mut mailboxes = [UplinkMailbox::default(), UplinkMailbox::default()];
+    let mut grounds = [Ground::default(), Ground::default()];
+    // the ground's telecommand sequence count
+    let mut tc_count = 0u16;
     let mut host_commands = Commands::default();
     let mut report = StepReport::empty(acs.mode());
     // the attitude of the STATUS the reference image holds when it takes its uplink: the one
@@ -1208,31 +1262,35 @@ pub fn run(
             acs.reset_reference(orbit.clone())
                 .map_err(|e| PilError::Input(format!("flight configuration: {e}")))?;
             status_in_flight = None;
+            // and so is its count of verification reports
+            grounds[0] = Ground::default();
         }
         let slew_from = held_attitude;
         held_attitude = acs.last_status().and_then(|s| s.attitude);
         // the reference image: its uplinks, the STATUS of step k - 1, the REF of step k
-        let mut reference_status = Vec::new();
+        let mut reference_reports = Vec::new();
         let mut reference_encoded = Vec::new();
         for u in &reference_uplinks {
-            let kind = mailboxes[0].write(u);
-            reference_status.push(mailboxes[0].take(
-                kind,
+            let packet = u.telecommand(Node::Reference, tc_count);
+            tc_count = tc_count.wrapping_add(1);
+            reference_reports.push(grounds[0].take(
+                &packet,
                 Node::Reference,
                 &mut acs,
                 slew_from.as_ref(),
             ));
-            reference_encoded.push((kind, u.args()));
+            reference_encoded.push((u.kind(), packet));
         }
         let (reference_out, reference_cycles) =
             reference.period(None, status_in_flight.as_deref(), &reference_encoded)?;
         // the host: the attitude node's uplinks, the step on the simulator through the recorder
-        let mut attitude_status = Vec::new();
+        let mut attitude_reports = Vec::new();
         let mut attitude_encoded = Vec::new();
         for u in &attitude_uplinks {
-            let kind = mailboxes[1].write(u);
-            attitude_status.push(mailboxes[1].take(kind, Node::Attitude, &mut acs, None));
-            attitude_encoded.push((kind, u.args()));
+            let packet = u.telecommand(Node::Attitude, tc_count);
+            tc_count = tc_count.wrapping_add(1);
+            attitude_reports.push(grounds[1].take(&packet, Node::Attitude, &mut acs, None));
+            attitude_encoded.push((u.kind(), packet));
         }
         let mut recorder = Recorder::new(&mut sim, &mut host_commands);
         acs.step_over_link(&mut recorder, CONTROL_PERIOD_S, &mut report, |d, b| {
@@ -1253,14 +1311,14 @@ pub fn run(
             mode: 0,
             faults: Reference::from_packet(&host_ref).map_or(u16::MAX, |(r, _)| r.faults),
             packet: host_ref,
-            uplink_status: reference_status,
+            reports: reference_reports,
         };
         let host_attitude = StepOutputs {
             commands: host_commands,
             packet: host_status,
             mode: mode_code(report.mode),
             faults: report.faults.bits(),
-            uplink_status: attitude_status,
+            reports: attitude_reports,
         };
         let kinds = |list: &[Uplink]| list.iter().map(Uplink::kind).collect::<Vec<u16>>();
         let differences = compare(
@@ -1503,7 +1561,10 @@ mod tests {
             packet: vec![0x08, 0x40, 0xc0, 0x00, 0x00, 0x05, 0x11, 0x22],
             mode: 2,
             faults: 0x40,
-            uplink_status: vec![0, 3],
+            reports: vec![
+                vec![0x08, 0x50, 0xc0, 0x00],
+                vec![0x08, 0x50, 0xc0, 0x01, 0x01],
+            ],
         }
     }
 
@@ -1521,7 +1582,7 @@ mod tests {
         image.packet[6] = 0x10;
         image.mode = 3;
         image.faults = 0x41;
-        image.uplink_status[1] = 0;
+        image.reports[1][4] = 0;
         let d = compare(Node::Attitude, &host, &image, &[4, 3]);
         assert_eq!(d.len(), 6);
         assert_eq!(
@@ -1553,7 +1614,10 @@ mod tests {
         ), "{text}");
         assert!(text.contains("mode: host Slew, target Tracking"));
         assert!(text.contains("fault bits: host 0x40, target 0x41"));
-        assert!(text.contains("uplink command 3: host status 0x3, target status 0x0"));
+        assert!(
+            text.contains("telecommand 3: host reports 0850c00101, target reports 0850c00100"),
+            "{text}"
+        );
         // -0.0 and 0.0 differ bit for bit
         let mut zero = outputs();
         zero.commands.wheel_nms[2] = -0.0;
@@ -1641,7 +1705,7 @@ mod tests {
         symbols.push(("fw_period_start", 0x4000, 4));
         symbols.push(("fw_halt", 0x4010, 6));
         symbols.push((
-            "_RINvNtCshTh0V548xLH_12acs_firmware6flight16take_node_uplinkNCNvCs5YbJjKyC2MG_12acs_attitude3run0EBZ_",
+            "_RINvNtCshTh0V548xLH_12acs_firmware6flight16take_telecommandNtNtCs5YbJjKyC2MG_3acs13attitude_node12AttitudeNodeKj6_NCNvCs5YbJjKyC2MG_12acs_attitude3run0EBZ_",
             0x4100,
             200,
         ));
@@ -1653,16 +1717,28 @@ mod tests {
         let mut symbols = image_symbols(Node::Attitude);
         let elf = Elf::parse(&elf::tests::tiny_elf(&symbols, 0)).unwrap();
         let map = ImageMap::of(&elf, Node::Attitude).unwrap();
-        assert_eq!(map.mailbox("LINK_RX"), Some(0x1800));
-        assert_eq!(map.mailbox("TILE_MAG"), Some(0x1100 + 0x100 * 11));
-        assert_eq!(map.take_uplink, 0x4100);
-        // the attitude image is a reference image too as far as the mailboxes go, not the
-        // other way round: the reference image has no tile mailboxes
-        assert!(ImageMap::of(&elf, Node::Reference).is_ok());
+        assert_eq!(map.mailbox("LINK_RX"), Some(0x1600));
+        assert_eq!(map.mailbox("TILE_MAG"), Some(0x1100 + 0x100 * 9));
+        assert_eq!(map.take_telecommand, 0x4100);
+        // each node's image has its own ground mailbox, and only the attitude image has tile
+        // mailboxes
+        let e = ImageMap::of(&elf, Node::Reference).unwrap_err().to_string();
+        assert!(
+            e.contains("`GROUND` is 90 B in the image, 302 B on the host"),
+            "{e}"
+        );
         let reference = image_symbols(Node::Reference);
         let elf = Elf::parse(&elf::tests::tiny_elf(&reference, 0)).unwrap();
         let map = ImageMap::of(&elf, Node::Reference).unwrap();
         assert_eq!(map.mailbox("TILE_SUN"), None);
+        let e = ImageMap::of(&elf, Node::Attitude).unwrap_err().to_string();
+        assert!(
+            e.contains("`GROUND` is 302 B in the image, 90 B on the host"),
+            "{e}"
+        );
+        let mut reference = reference;
+        reference[0].2 = ground_bytes(Node::Attitude) as u32;
+        let elf = Elf::parse(&elf::tests::tiny_elf(&reference, 0)).unwrap();
         let e = ImageMap::of(&elf, Node::Attitude).unwrap_err().to_string();
         assert!(
             e.contains("no mailbox `TILE_SUN` (not the attitude node's image?)"),

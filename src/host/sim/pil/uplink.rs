@@ -13,9 +13,14 @@
 use crate::acs_loop::{Command, Mode};
 use crate::attitude::Quaternion;
 use crate::flight::{FIELD_COEFFS, TILES};
+use crate::link::messages::{ATTITUDE_TC_APID, REFERENCE_TC_APID};
+use crate::link::pus::{decode_tm, encode_tc, AckFlags, TcHeader, TC_OVERHEAD};
+use crate::link::sequence::SequenceCounter;
+use crate::link::space_packet::Apid;
 use crate::orbit::sgp4::ELEMENT_WORDS;
 use crate::time::{Epoch, Utc};
 use crate::two_node::TwoNodeLoop;
+use crate::uplink::telecommand::{self, ATTITUDE_TC_BYTES, REFERENCE_TC_BYTES, REPORTS_LEN};
 use crate::uplink::{self, kind};
 
 /// The host composition the PIL flies: the two nodes over the flight configuration.
@@ -52,8 +57,47 @@ pub fn owner(kind: u16) -> Node {
     }
 }
 
-/// Uplink status: accepted.
+/// The failure code of a command applied: none (the reports of [`outcome`]).
 pub const ACCEPTED: u16 = 0;
+
+/// The source ID the PIL's ground puts in its telecommands (the reports' destination).
+pub const GROUND_ID: u16 = 1;
+
+/// The APID of `node`'s telecommands and reports.
+pub fn tc_apid(node: Node) -> Apid {
+    match node {
+        Node::Reference => REFERENCE_TC_APID,
+        Node::Attitude => ATTITUDE_TC_APID,
+    }
+}
+
+/// The mailbox bytes of `node`'s image for a telecommand
+/// ([`crate::uplink::telecommand::REFERENCE_TC_BYTES`], [`ATTITUDE_TC_BYTES`]).
+pub fn tc_bytes(node: Node) -> usize {
+    match node {
+        Node::Reference => REFERENCE_TC_BYTES,
+        Node::Attitude => ATTITUDE_TC_BYTES,
+    }
+}
+
+/// What `reports` (the verification reports of one telecommand to `node`, back to back) say:
+/// [`ACCEPTED`] if the first is a TM\[1,1\] or TM\[1,7\], the failure code of a TM\[1,2\], and
+/// `u16::MAX` if there is no readable report.
+pub fn outcome(reports: &[u8], node: Node) -> u16 {
+    // the first packet: its data length field + 1, after the 6 B primary header
+    let first = reports
+        .get(4..6)
+        .map(|l| usize::from(u16::from_be_bytes([l[0], l[1]])) + 7)
+        .and_then(|n| reports.get(..n));
+    match first.map(|p| decode_tm(p, tc_apid(node))) {
+        Some(Ok(tm)) if tm.subtype == 2 => tm
+            .app_data
+            .get(4..6)
+            .map_or(u16::MAX, |c| u16::from_be_bytes([c[0], c[1]])),
+        Some(Ok(_)) => ACCEPTED,
+        _ => u16::MAX,
+    }
+}
 
 /// One ground command as the uplink carries it.
 #[derive(Clone, Debug, PartialEq)]
@@ -104,7 +148,7 @@ impl Uplink {
         }
     }
 
-    /// The `UPLINK_KIND` code.
+    /// The command code (the telecommand's function ID).
     pub fn kind(&self) -> u16 {
         match self {
             Self::SunSafe => kind::SUN_SAFE,
@@ -117,7 +161,28 @@ impl Uplink {
         }
     }
 
-    /// The argument words written to the start of `UPLINK_ARGS` (the rest is left as it was).
+    /// The telecommand TC\[8,1\] of this command to `node` (its APID: the other node refuses
+    /// it), with sequence count `count`, both reports asked for: the function ID, then the
+    /// argument words ([`Uplink::args`]) big-endian ([`crate::uplink::telecommand`]).
+    pub fn telecommand(&self, node: Node, count: u16) -> Vec<u8> {
+        let mut data = self.kind().to_be_bytes().to_vec();
+        data.extend(self.args().iter().flat_map(|w| w.to_be_bytes()));
+        let header = TcHeader {
+            apid: tc_apid(node),
+            sequence_count: count & 0x3FFF,
+            ack: AckFlags::ACCEPTANCE.with(AckFlags::COMPLETION),
+            service: telecommand::SERVICE,
+            subtype: telecommand::SUBTYPE,
+            source_id: GROUND_ID,
+        };
+        let mut out = vec![0u8; data.len() + TC_OVERHEAD];
+        let n = encode_tc(&header, &data, &mut out).unwrap_or(0);
+        out.truncate(n);
+        out
+    }
+
+    /// The command's argument words, exactly as many as it takes
+    /// ([`crate::uplink::telecommand::arity`]).
     pub fn args(&self) -> Vec<u32> {
         match self {
             Self::SunSafe => vec![],
@@ -129,59 +194,63 @@ impl Uplink {
             }
             Self::Elements(words) => words.to_vec(),
             Self::Clock(t) => vec![t.day() as u32, t.second_of_day(), t.nano()],
-            Self::MarkFailed(tile) | Self::Restore(tile) => vec![*tile],
+            // a tile (word 1 = 0), not a coil
+            Self::MarkFailed(tile) | Self::Restore(tile) => vec![*tile, 0],
         }
     }
 }
 
-/// The host's copy of the uplink mailbox and the image's decoding of it.
-#[derive(Clone, Debug)]
-pub struct UplinkMailbox {
-    args: [u32; ELEMENT_WORDS],
+/// The host's copy of a node's ground mailbox: the node's count of verification reports, and
+/// the image's taking of a telecommand ([`crate::uplink::telecommand::take`], what
+/// `acs_firmware::flight::take_telecommand` runs).
+#[derive(Clone, Debug, Default)]
+pub struct Ground {
+    count: SequenceCounter,
 }
 
-impl Default for UplinkMailbox {
-    fn default() -> Self {
-        Self {
-            args: [0; ELEMENT_WORDS],
-        }
-    }
-}
-
-impl UplinkMailbox {
-    /// Writes `uplink`'s arguments as the ground does; returns its kind.
-    pub fn write(&mut self, uplink: &Uplink) -> u16 {
-        for (slot, w) in self.args.iter_mut().zip(uplink.args()) {
-            *slot = w;
-        }
-        uplink.kind()
-    }
-
-    /// Applies command `kind` with the mailbox's arguments to `node` of the host composition,
-    /// as that node's image does: [`crate::uplink::apply_reference`] (a slew planned from
-    /// `attitude`, the attitude of the STATUS the reference image holds when it takes the
-    /// uplink) or [`crate::uplink::apply_attitude`]; returns the status the image writes to
-    /// `UPLINK_STATUS`.
+impl Ground {
+    /// Takes the telecommand `packet` on `node` of the host composition, as that node's image
+    /// does: stamped with the node's clock now, applied with
+    /// [`crate::uplink::apply_reference`] (a slew planned from `attitude`, the attitude of the
+    /// STATUS the reference image holds when it takes the telecommand) or
+    /// [`crate::uplink::apply_attitude`]; returns the verification reports the image writes to
+    /// its mailbox.
     pub fn take(
-        &self,
-        kind: u16,
+        &mut self,
+        packet: &[u8],
         node: Node,
         acs: &mut HostLoop<'_>,
         attitude: Option<&Quaternion>,
-    ) -> u16 {
-        match node {
-            Node::Reference => uplink::status(&uplink::apply_reference(
-                kind,
-                &self.args,
-                acs.reference_node_mut(),
-                attitude,
-            )),
-            Node::Attitude => uplink::status(&uplink::apply_attitude(
-                kind,
-                &self.args,
-                acs.attitude_node_mut(),
-            )),
-        }
+    ) -> Vec<u8> {
+        let mut out = [0u8; REPORTS_LEN];
+        let apid = tc_apid(node);
+        let n = match node {
+            Node::Reference => {
+                let r = acs.reference_node_mut();
+                let clock = r.clock();
+                telecommand::take(
+                    packet,
+                    apid,
+                    clock,
+                    &mut self.count,
+                    &mut out,
+                    |code, args| uplink::apply_reference(code, args, r, attitude),
+                )
+            }
+            Node::Attitude => {
+                let a = acs.attitude_node_mut();
+                let clock = a.clock();
+                telecommand::take(
+                    packet,
+                    apid,
+                    clock,
+                    &mut self.count,
+                    &mut out,
+                    |code, args| uplink::apply_attitude(code, args, a),
+                )
+            }
+        };
+        out.get(..n).unwrap_or_default().to_vec()
     }
 }
 
@@ -232,7 +301,7 @@ mod tests {
         assert_eq!(Uplink::SunSafe.args(), Vec::<u32>::new());
         let words = orbit().to_words();
         assert_eq!(Uplink::Elements(Box::new(words)).args(), words.to_vec());
-        assert_eq!(Uplink::MarkFailed(2).args(), vec![2]);
+        assert_eq!(Uplink::MarkFailed(2).args(), vec![2, 0]);
     }
 
     #[test]
@@ -246,70 +315,93 @@ mod tests {
         assert_eq!(Node::ALL.map(Node::name), ["reference", "attitude"]);
     }
 
+    /// Sends `u` to `node` as its telecommand and returns the outcome of its reports.
+    fn send(
+        ground: &mut Ground,
+        u: &Uplink,
+        node: Node,
+        acs: &mut HostLoop<'_>,
+        attitude: Option<&Quaternion>,
+    ) -> u16 {
+        let reports = ground.take(&u.telecommand(node, 7), node, acs, attitude);
+        // both reports asked for: 25 + 25 B, or a failure's 27 B alone
+        let code = outcome(&reports, node);
+        assert_eq!(reports.len(), if code == ACCEPTED { 50 } else { 27 });
+        code
+    }
+
     #[test]
     fn the_mirror_applies_commands_as_the_node_images() {
         let mut acs = HostLoop::new(&CONFIG, orbit()).unwrap();
-        let mut reference = UplinkMailbox::default();
-        let mut attitude = UplinkMailbox::default();
+        let mut reference = Ground::default();
+        let mut attitude = Ground::default();
         let r = Node::Reference;
         let a = Node::Attitude;
 
         let t = Epoch::<Utc>::from_parts(9_300, 7, 0).unwrap();
-        let kind = reference.write(&Uplink::Clock(t));
-        assert_eq!(reference.take(kind, r, &mut acs, None), ACCEPTED);
+        assert_eq!(
+            send(&mut reference, &Uplink::Clock(t), r, &mut acs, None),
+            ACCEPTED
+        );
         assert_eq!(acs.reference_node_mut().clock(), Some(t));
-        // the other node's command is refused with status 4
-        assert_eq!(attitude.take(kind, a, &mut acs, None), 4);
+        // the other node's command is refused as such
+        assert_eq!(
+            send(&mut attitude, &Uplink::Clock(t), a, &mut acs, None),
+            0x104
+        );
 
         let q = Quaternion::new_normalize(0.9, 0.1, -0.3, 0.2).unwrap();
-        let kind = reference.write(&Uplink::Track { target: q });
-        assert_eq!(reference.take(kind, r, &mut acs, None), ACCEPTED);
+        let track = Uplink::Track { target: q };
+        assert_eq!(send(&mut reference, &track, r, &mut acs, None), ACCEPTED);
         // the target as the image decodes it: normalised again
         let decoded = Quaternion::new_normalize(q.q0, q.q1, q.q2, q.q3).unwrap();
         assert_eq!(acs.guidance().target, decoded);
 
         // a slew needs an attitude to plan from
-        let kind = reference.write(&Uplink::of_command(&Command::Slew {
+        let slew = Uplink::of_command(&Command::Slew {
             target: Dcm::a1(0.5),
             within_s: 100.0,
-        }));
-        assert_eq!(reference.take(kind, r, &mut acs, None), 3);
-        assert_eq!(reference.take(kind, r, &mut acs, Some(&q)), ACCEPTED);
+        });
+        assert_eq!(send(&mut reference, &slew, r, &mut acs, None), 0x103);
+        assert_eq!(send(&mut reference, &slew, r, &mut acs, Some(&q)), ACCEPTED);
 
         // a zero quaternion is invalid; a corrupt element set names its word
-        let kind = reference.write(&Uplink::Track {
+        let zero = Uplink::Track {
             target: Quaternion {
                 q0: 0.0,
                 q1: 0.0,
                 q2: 0.0,
                 q3: 0.0,
             },
-        });
-        assert_eq!(reference.take(kind, r, &mut acs, None), 2);
+        };
+        assert_eq!(send(&mut reference, &zero, r, &mut acs, None), 0x102);
         let mut words = orbit().to_words();
-        let kind = reference.write(&Uplink::Elements(Box::new(words)));
-        assert_eq!(reference.take(kind, r, &mut acs, None), ACCEPTED);
+        let set = Uplink::Elements(Box::new(words));
+        assert_eq!(send(&mut reference, &set, r, &mut acs, None), ACCEPTED);
         words[ELEMENT_WORDS - 1] ^= 1;
-        let kind = reference.write(&Uplink::Elements(Box::new(words)));
+        let set = Uplink::Elements(Box::new(words));
         assert_eq!(
-            reference.take(kind, r, &mut acs, None),
-            0x100 + (ELEMENT_WORDS as u16 - 1)
+            send(&mut reference, &set, r, &mut acs, None),
+            0x200 + (ELEMENT_WORDS as u16 - 1)
         );
-        // the attitude node's mailbox has its own argument words: word 0 is still 0 there
+        let failed = Uplink::MarkFailed(0);
+        assert_eq!(send(&mut attitude, &failed, a, &mut acs, None), ACCEPTED);
+        assert_eq!(acs.tile_state(0), Some(crate::tiles::TileState::Failed));
         assert_eq!(
-            attitude.take(kind::MARK_FAILED, a, &mut acs, None),
+            send(&mut attitude, &Uplink::Restore(0), a, &mut acs, None),
             ACCEPTED
         );
-        assert_eq!(acs.tile_state(0), Some(crate::tiles::TileState::Failed));
-        let kind = attitude.write(&Uplink::Restore(0));
-        assert_eq!(attitude.take(kind, a, &mut acs, None), ACCEPTED);
-        let kind = attitude.write(&Uplink::MarkFailed(TILES as u32));
-        assert_eq!(attitude.take(kind, a, &mut acs, None), 2);
-        assert_eq!(attitude.take(99, a, &mut acs, None), 1);
-        assert_eq!(reference.take(99, r, &mut acs, None), 1);
-        let kind = attitude.write(&Uplink::SunSafe);
-        assert_eq!(attitude.take(kind, a, &mut acs, None), ACCEPTED);
+        let beyond = Uplink::MarkFailed(TILES as u32);
+        assert_eq!(send(&mut attitude, &beyond, a, &mut acs, None), 0x102);
+        assert_eq!(
+            send(&mut attitude, &Uplink::SunSafe, a, &mut acs, None),
+            ACCEPTED
+        );
         assert_eq!(acs.mode(), Mode::SunSafe);
+        // a telecommand for the other node's APID is refused by the packet layer
+        let packet = Uplink::SunSafe.telecommand(r, 0);
+        let reports = attitude.take(&packet, a, &mut acs, None);
+        assert_eq!(outcome(&reports, a), crate::link::pus::failure::APID);
     }
 
     /// The PIL run's non-finite uplinks are each refused by the reference node (invalid
@@ -321,16 +413,16 @@ mod tests {
         let start = Epoch::<Utc>::from_parts(9_210, 43_200, 0).unwrap();
         acs.reference_node_mut().set_clock(start);
         let guidance = *acs.guidance();
-        let mut mailbox = UplinkMailbox::default();
+        let mut ground = Ground::default();
         let q = Quaternion::new_normalize(0.9, 0.1, -0.3, 0.2).unwrap();
         let uplinks = crate::host::sim::pil::non_finite_uplinks(&orbit().to_words());
         assert_eq!(uplinks.len(), 7);
         for u in &uplinks {
             for attitude in [None, Some(&q)] {
-                let kind = mailbox.write(u);
-                let status = mailbox.take(kind, Node::Reference, &mut acs, attitude);
-                assert!(status == 2 || status >= 0x100, "{u:?}: status {status}");
-                assert_eq!(mailbox.take(kind, Node::Attitude, &mut acs, attitude), 4);
+                let code = send(&mut ground, u, Node::Reference, &mut acs, attitude);
+                assert!(code == 0x102 || code >= 0x200, "{u:?}: code {code:#x}");
+                let code = send(&mut ground, u, Node::Attitude, &mut acs, attitude);
+                assert_eq!(code, 0x104);
                 assert_eq!(acs.mode(), Mode::Detumble, "{u:?}");
                 assert_eq!(*acs.guidance(), guidance, "{u:?}");
                 assert_eq!(acs.reference_node_mut().clock(), Some(start));
