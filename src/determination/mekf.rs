@@ -87,7 +87,7 @@
 
 use crate::attitude::Quaternion;
 use crate::fmath;
-use crate::linalg::{cross, div, dot, finite3, lin2, mat_vec, scale, sub_scaled, Vec3};
+use crate::linalg::{cross, div, dot, dot3, finite3, lin2, mat_vec, scale, sub_scaled, Vec3};
 
 /// Error states: attitude (3), gyro bias (3), magnetometer bias (3), the Earth's albedo (1).
 pub const STATES: usize = 10;
@@ -437,7 +437,13 @@ impl Mekf {
     /// `P(i, j)` (0 outside the state, which no caller asks).
     #[cfg_attr(target_arch = "msp430", inline(never))]
     fn at(&self, i: usize, j: usize) -> f32 {
-        self.p.get(packed(i, j)).copied().unwrap_or(0.0)
+        *self.entry(i, j)
+    }
+
+    /// `P(i, j)` in place (a zero outside the matrix).
+    #[cfg_attr(target_arch = "msp430", inline(never))]
+    fn entry(&self, i: usize, j: usize) -> &f32 {
+        self.p.get(packed(i, j)).unwrap_or(&0.0)
     }
 
     #[cfg_attr(target_arch = "msp430", inline(never))]
@@ -814,8 +820,7 @@ impl Mekf {
     /// `Σⱼ P(i, j) hⱼ` for the row `h = (h, 0…, c at e)`.
     #[cfg_attr(target_arch = "msp430", inline(never))]
     fn row_dot(&self, i: usize, h: &Vec3, e: usize, c: f32) -> f32 {
-        let x = Vec3::new(self.at(i, 0), self.at(i, 1), self.at(i, 2));
-        dot(&x, h) + c * self.at(i, e)
+        dot3(self.entry(i, 0), self.entry(i, 1), self.entry(i, 2), h) + c * self.at(i, e)
     }
 
     /// The accumulated correction applied to the estimate (the reset of the error state).
@@ -870,7 +875,7 @@ fn tangent_basis(p: &Vec3) -> (Vec3, Vec3) {
 /// `h · v` for the row `h = (h, 0…, c at e)`.
 #[cfg_attr(target_arch = "msp430", inline(never))]
 fn h_dot(v: &[f32; STATES], h: &Vec3, e: usize, c: f32) -> f32 {
-    dot(&Vec3::new(v[0], v[1], v[2]), h) + c * v.get(e).copied().unwrap_or(0.0)
+    dot3(&v[0], &v[1], &v[2], h) + c * v.get(e).copied().unwrap_or(0.0)
 }
 
 /// `x − a × x − Δt·b`: one column (or row) of `Φ P` on the attitude states, with `a = ω̂Δt`.

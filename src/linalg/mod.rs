@@ -30,10 +30,25 @@ pub(crate) fn finite3(v: &Vec3) -> bool {
     v.x.is_finite() && v.y.is_finite() && v.z.is_finite()
 }
 
+/// The components of `v` as an array, in place.
+#[inline(always)]
+fn arr(v: &Vec3) -> &[f32; 3] {
+    let [a] = &v.data.0;
+    a
+}
+
+/// `(a₁b₁ + a₂b₂) + a₃b₃` with `a₁`, `a₂`, `a₃` read where they are (a vector, a row of a
+/// matrix, a row of three columns, a row of the filter's packed covariance): the one kernel of
+/// every three-term product below, its four arguments in registers on the MSP430.
+#[cfg_attr(target_arch = "msp430", inline(never))]
+pub(crate) fn dot3(a1: &f32, a2: &f32, a3: &f32, b: &Vec3) -> f32 {
+    a1 * b.x + a2 * b.y + a3 * b.z
+}
+
 /// `a·b = (a₁b₁ + a₂b₂) + a₃b₃` (nalgebra's `dot` and `norm_squared`).
 #[cfg_attr(target_arch = "msp430", inline(never))]
 pub(crate) fn dot(a: &Vec3, b: &Vec3) -> f32 {
-    a.x * b.x + a.y * b.y + a.z * b.z
+    dot3(&a.x, &a.y, &a.z, b)
 }
 
 /// `|v| = √(v·v)` (nalgebra's `norm`: both square roots are correctly rounded).
@@ -93,21 +108,25 @@ pub(crate) fn sub_scaled(a: &Vec3, b: &Vec3, k: f32) -> Vec3 {
 /// in this order).
 #[cfg_attr(target_arch = "msp430", inline(never))]
 pub(crate) fn lin3(a: &Vec3, b: &Vec3, c: &Vec3, x: f32, y: f32, z: f32) -> Vec3 {
-    Vec3::new(
-        a.x * x + b.x * y + c.x * z,
-        a.y * x + b.y * y + c.y * z,
-        a.z * x + b.z * y + c.z * z,
-    )
+    columns_vec(arr(a), arr(b), arr(c), &Vec3::new(x, y, z))
 }
 
 /// `m·v` (nalgebra's `m * v`: row i is `(m_i1·v₁ + m_i2·v₂) + m_i3·v₃`).
 #[cfg_attr(target_arch = "msp430", inline(never))]
 pub(crate) fn mat_vec(m: &Mat3, v: &Vec3) -> Vec3 {
-    Vec3::new(
-        m.m11 * v.x + m.m12 * v.y + m.m13 * v.z,
-        m.m21 * v.x + m.m22 * v.y + m.m23 * v.z,
-        m.m31 * v.x + m.m32 * v.y + m.m33 * v.z,
-    )
+    let [a, b, c] = &m.data.0;
+    columns_vec(a, b, c, v)
+}
+
+/// `[a b c]·v`, row by row with [`dot3`] (the common body of [`lin3`] and [`mat_vec`]).
+#[cfg_attr(target_arch = "msp430", inline(never))]
+fn columns_vec(a: &[f32; 3], b: &[f32; 3], c: &[f32; 3], v: &Vec3) -> Vec3 {
+    let mut out = Vec3::zeros();
+    let [o] = &mut out.data.0;
+    for (((o, a), b), c) in o.iter_mut().zip(a).zip(b).zip(c) {
+        *o = dot3(a, b, c, v);
+    }
+    out
 }
 
 /// `mᵀ` (nalgebra's `m.transpose()`), without indexing.
@@ -167,15 +186,8 @@ impl SymMat3 {
 
     /// `M·v` (row i: `(m_i1·v₁ + m_i2·v₂) + m_i3·v₃`).
     pub fn mul_vec(&self, v: &Vec3) -> Vec3 {
-        let [a, b, c, d, e, f] = self.0;
-        lin3(
-            &Vec3::new(a, b, c),
-            &Vec3::new(b, d, e),
-            &Vec3::new(c, e, f),
-            v.x,
-            v.y,
-            v.z,
-        )
+        let [a, b, c, d, e, f] = &self.0;
+        Vec3::new(dot3(a, b, c, v), dot3(b, d, e, v), dot3(c, e, f, v))
     }
 }
 
