@@ -27,7 +27,7 @@ pub mod svd;
 /// Every component of `v` is finite.
 #[cfg_attr(target_arch = "msp430", inline(never))]
 pub(crate) fn finite3(v: &Vec3) -> bool {
-    v.x.is_finite() && v.y.is_finite() && v.z.is_finite()
+    arr(v).iter().all(|x| x.is_finite())
 }
 
 /// The components of `v` as an array, in place.
@@ -35,6 +35,18 @@ pub(crate) fn finite3(v: &Vec3) -> bool {
 fn arr(v: &Vec3) -> &[f32; 3] {
     let [a] = &v.data.0;
     a
+}
+
+/// `(f(a₁, b₁), f(a₂, b₂), f(a₃, b₃))`, a loop over the components: the body of the
+/// component-wise kernels below, one call of each operation instead of three.
+#[inline(always)]
+fn zip_map(a: &Vec3, b: &Vec3, f: impl Fn(f32, f32) -> f32) -> Vec3 {
+    let mut out = Vec3::zeros();
+    let [o] = &mut out.data.0;
+    for ((o, a), b) in o.iter_mut().zip(arr(a)).zip(arr(b)) {
+        *o = f(*a, *b);
+    }
+    out
 }
 
 /// `(a₁b₁ + a₂b₂) + a₃b₃` with `a₁`, `a₂`, `a₃` read where they are (a vector, a row of a
@@ -76,31 +88,31 @@ pub(crate) fn neg(v: &Vec3) -> Vec3 {
 /// `a − b` (nalgebra's `a - b`).
 #[cfg_attr(target_arch = "msp430", inline(never))]
 pub(crate) fn sub(a: &Vec3, b: &Vec3) -> Vec3 {
-    Vec3::new(a.x - b.x, a.y - b.y, a.z - b.z)
+    zip_map(a, b, |a, b| a - b)
 }
 
 /// `v/k`, one division per component (nalgebra's `v / k`).
 #[cfg_attr(target_arch = "msp430", inline(never))]
 pub(crate) fn div(v: &Vec3, k: f32) -> Vec3 {
-    Vec3::new(v.x / k, v.y / k, v.z / k)
+    zip_map(v, v, |x, _| x / k)
 }
 
 /// `v·k` (nalgebra's `v * k`).
 #[cfg_attr(target_arch = "msp430", inline(never))]
 pub(crate) fn scale(v: &Vec3, k: f32) -> Vec3 {
-    Vec3::new(v.x * k, v.y * k, v.z * k)
+    zip_map(v, v, |x, _| x * k)
 }
 
 /// `a·x + b·y` (nalgebra's `a * x + b * y`; `a * x − b * y` is `lin2(a, x, b, −y)` exactly).
 #[cfg_attr(target_arch = "msp430", inline(never))]
 pub(crate) fn lin2(a: &Vec3, x: f32, b: &Vec3, y: f32) -> Vec3 {
-    Vec3::new(a.x * x + b.x * y, a.y * x + b.y * y, a.z * x + b.z * y)
+    zip_map(a, b, |a, b| a * x + b * y)
 }
 
 /// `a − b·k` (nalgebra's `a - b * k`).
 #[cfg_attr(target_arch = "msp430", inline(never))]
 pub(crate) fn sub_scaled(a: &Vec3, b: &Vec3, k: f32) -> Vec3 {
-    Vec3::new(a.x - b.x * k, a.y - b.y * k, a.z - b.z * k)
+    zip_map(a, b, |a, b| a - b * k)
 }
 
 /// `(a·x + b·y) + c·z`: the product `[a b c]·(x, y, z)` of the matrix with columns `a`, `b`,
@@ -175,13 +187,15 @@ impl SymMat3 {
     /// `aᵢ·aⱼ`, as nalgebra's `a * a.transpose()` does).
     #[cfg_attr(target_arch = "msp430", inline(never))]
     pub fn add_outer(&mut self, a: &Vec3) {
-        let [m11, m12, m13, m22, m23, m33] = &mut self.0;
-        *m11 += a.x * a.x;
-        *m12 += a.x * a.y;
-        *m13 += a.x * a.z;
-        *m22 += a.y * a.y;
-        *m23 += a.y * a.z;
-        *m33 += a.z * a.z;
+        let a = arr(a);
+        let mut m = self.0.iter_mut();
+        for (i, ai) in a.iter().enumerate() {
+            for aj in a.get(i..).unwrap_or(&[]) {
+                if let Some(m) = m.next() {
+                    *m += ai * aj;
+                }
+            }
+        }
     }
 
     /// `M·v` (row i: `(m_i1·v₁ + m_i2·v₂) + m_i3·v₃`).
