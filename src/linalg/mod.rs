@@ -32,7 +32,7 @@ pub(crate) fn finite3(v: &Vec3) -> bool {
 
 /// The components of `v` as an array, in place.
 #[inline(always)]
-fn arr(v: &Vec3) -> &[f32; 3] {
+pub(crate) fn arr(v: &Vec3) -> &[f32; 3] {
     let [a] = &v.data.0;
     a
 }
