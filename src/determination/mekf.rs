@@ -87,7 +87,7 @@
 
 use crate::attitude::Quaternion;
 use crate::fmath;
-use crate::linalg::{cross, div, dot, dot3, finite3, lin2, mat_vec, scale, sub_scaled, Vec3};
+use crate::linalg::{arr, cross, div, dot, dot3, finite3, lin2, mat_vec, scale, sub_scaled, Vec3};
 
 /// Error states: attitude (3), gyro bias (3), magnetometer bias (3), the Earth's albedo (1).
 pub const STATES: usize = 10;
@@ -632,9 +632,11 @@ impl Mekf {
             .zip(r2.iter_mut())
             .enumerate()
         {
-            let x = Vec3::new(self.at(0, j), self.at(1, j), self.at(2, j));
-            let b = Vec3::new(self.at(3, j), self.at(4, j), self.at(5, j));
-            let y = phi(&x, &b, &w_dt, dt_s);
+            let mut column = [0.0f32; 2 * GYRO_BIAS];
+            for (i, e) in column.iter_mut().enumerate() {
+                *e = self.at(i, j);
+            }
+            let y = phi(&column, &w_dt, dt_s);
             (*e0, *e1, *e2) = (y.x, y.y, y.z);
         }
         // (Φ P) Φᵀ: the same on the attitude columns; rows beyond the attitude's are P's own
@@ -643,11 +645,11 @@ impl Mekf {
             for (j, e) in row.iter().enumerate().filter(|(j, _)| *j >= GYRO_BIAS) {
                 self.set(i, j, *e);
             }
-            let x = Vec3::new(row[0], row[1], row[2]);
-            let b = Vec3::new(row[3], row[4], row[5]);
-            let y = phi(&x, &b, &w_dt, dt_s);
-            for (j, e) in [y.x, y.y, y.z].iter().enumerate().filter(|(j, _)| *j >= i) {
-                self.set(i, j, *e);
+            if let Some(head) = row.first_chunk() {
+                let y = phi(head, &w_dt, dt_s);
+                for (j, e) in arr(&y).iter().enumerate().filter(|(j, _)| *j >= i) {
+                    self.set(i, j, *e);
+                }
             }
         }
         let (v, u, m, a) = (
@@ -878,15 +880,18 @@ fn h_dot(v: &[f32; STATES], h: &Vec3, e: usize, c: f32) -> f32 {
     dot3(&v[0], &v[1], &v[2], h) + c * v.get(e).copied().unwrap_or(0.0)
 }
 
-/// `x − a × x − Δt·b`: one column (or row) of `Φ P` on the attitude states, with `a = ω̂Δt`.
+/// `x − a × x − Δt·b`: one column (or row) of `Φ P` on the attitude states, with `a = ω̂Δt`,
+/// `(x, b)` its first six entries (attitude, gyro bias), read in place.
 #[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
-fn phi(x: &Vec3, b: &Vec3, a: &Vec3, dt_s: f32) -> Vec3 {
-    let c = cross(a, x);
-    Vec3::new(
-        x.x - c.x - dt_s * b.x,
-        x.y - c.y - dt_s * b.y,
-        x.z - c.z - dt_s * b.z,
-    )
+fn phi(xb: &[f32; 2 * GYRO_BIAS], a: &Vec3, dt_s: f32) -> Vec3 {
+    let [x1, x2, x3, b @ ..] = xb;
+    let x = Vec3::new(*x1, *x2, *x3);
+    let c = cross(a, &x);
+    let mut y = Vec3::zeros();
+    for (((y, x), c), b) in y.iter_mut().zip(arr(&x)).zip(arr(&c)).zip(b) {
+        *y = x - c - dt_s * b;
+    }
+    y
 }
 
 /// Steps in a row with a scalar of a sensor refused (a step with none refused resets it).
