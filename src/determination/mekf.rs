@@ -437,7 +437,7 @@ impl Mekf {
     /// `P(i, j)` (0 outside the state, which no caller asks).
     #[cfg_attr(target_arch = "msp430", inline(never))]
     fn at(&self, i: usize, j: usize) -> f32 {
-        *self.entry(i, j)
+        self.p.get(packed(i, j)).copied().unwrap_or(0.0)
     }
 
     /// `P(i, j)` in place (a zero outside the matrix).
@@ -887,11 +887,12 @@ fn phi(xb: &[f32; 2 * GYRO_BIAS], a: &Vec3, dt_s: f32) -> Vec3 {
     let [x1, x2, x3, b @ ..] = xb;
     let x = Vec3::new(*x1, *x2, *x3);
     let c = cross(a, &x);
-    let mut y = Vec3::zeros();
-    for (((y, x), c), b) in y.iter_mut().zip(arr(&x)).zip(arr(&c)).zip(b) {
-        *y = x - c - dt_s * b;
-    }
-    y
+    let [b1, b2, b3] = b;
+    Vec3::new(
+        x.x - c.x - dt_s * b1,
+        x.y - c.y - dt_s * b2,
+        x.z - c.z - dt_s * b3,
+    )
 }
 
 /// Steps in a row with a scalar of a sensor refused (a step with none refused resets it).
