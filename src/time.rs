@@ -271,6 +271,42 @@ pub const fn civil_from_days(days: i32) -> (i32, u8, u8) {
     (year, m as u8, d as u8)
 }
 
+/// The Gregorian year of a day count from 2000-01-01, the day's index in it (0 on 1 January, as
+/// `days − days_from_civil(year, 1, 1)`) and whether the year is a leap year
+/// ([`is_leap_year`]): the year of [`civil_from_days`], without its month and day.
+///
+/// The same March-based year of the 400-year era as [`civil_from_days`] (its day 0 is 1 March,
+/// its leap day last), then: its days 306 and on are January and February of the next Gregorian
+/// year, days 0..306 are March to December, after the 59 or 60 days of January and February. The
+/// year's leap test is made on the year of the era (0..400, whose 0 is the era's own multiple of
+/// 400), in 16-bit arithmetic; no division of the year itself.
+pub const fn year_from_days(days: i32) -> (i32, u16, bool) {
+    // days + 730 425 = (q + 5)·146 097 + (r − 60), with 0 ≤ r < 146 097 (as civil_from_days)
+    let q = days.div_euclid(146_097);
+    let r = days.rem_euclid(146_097);
+    let (era, doe) = if r >= 60 {
+        (q + 5, r - 60)
+    } else {
+        (q + 4, r + 146_037)
+    };
+    let doe = doe as u32;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let y = yoe as i32 + era * 400;
+    // 0 ≤ doy ≤ 365 (0: 1 March), 0 ≤ yoe ≤ 399
+    let doy = (doe - (365 * yoe + yoe / 4 - yoe / 100)) as u16;
+    let yoe = yoe as u16;
+    if doy >= 306 {
+        // January or February of year y + 1 (y + 1 ≡ yoe + 1 modulo 400, 1 ≤ yoe + 1 ≤ 400)
+        let next = yoe + 1;
+        let leap = next.is_multiple_of(4) && (!next.is_multiple_of(100) || next == 400);
+        (y + 1, doy - 306, leap)
+    } else {
+        // March to December of year y (y ≡ yoe modulo 400)
+        let leap = yoe.is_multiple_of(4) && (!yoe.is_multiple_of(100) || yoe == 0);
+        (y, doy + if leap { 60 } else { 59 }, leap)
+    }
+}
+
 /// True for a Gregorian leap year.
 pub const fn is_leap_year(year: i32) -> bool {
     (year % 4 == 0 && year % 100 != 0) || year % 400 == 0
@@ -998,11 +1034,13 @@ impl<S: TimeScale> Epoch<S> {
     /// days in the year, f32 (resolution 6e-8 yr = 2 s), in 0..1 (it may round to 1.0 in the
     /// year's last second). The convention of IGRF's
     /// `decimal_year` input.
+    ///
+    /// The year and the day of the year come from [`year_from_days`] (the year of
+    /// [`civil_from_days`] without its month and day).
     pub fn decimal_year_split(&self) -> (i32, f32) {
-        let (year, _, _) = civil_from_days(self.day);
-        let day_of_year = self.day - days_from_civil(year, 1, 1);
-        let days_in_year: f32 = if is_leap_year(year) { 366.0 } else { 365.0 };
-        let fraction = (day_of_year as f32 + self.day_fraction_f32()) / days_in_year;
+        let (year, day_of_year, leap) = year_from_days(self.day);
+        let days_in_year: f32 = if leap { 366.0 } else { 365.0 };
+        let fraction = (f32::from(day_of_year) + self.day_fraction_f32()) / days_in_year;
         (year, fraction)
     }
 

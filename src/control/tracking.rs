@@ -27,7 +27,7 @@
 use core::fmt;
 
 use crate::attitude::Quaternion;
-use crate::linalg::{mat_vec, Mat3, Vec3};
+use crate::linalg::{arr, finite3, mat_vec, Mat3, Vec3};
 
 /// Gains of the law, per body axis.
 #[derive(Copy, Clone, Debug, PartialEq)]
@@ -115,16 +115,28 @@ pub fn tracking_torque(
         omega_body_radps,
         &(mat_vec(inertia_body, omega_body_radps) + h_wheels),
     );
-    let tau = crate::linalg::neg(&gains.kp_nm.component_mul(&e_vec))
-        - gains.kd_nms.component_mul(&omega_e)
-        + gyroscopic;
-    if !(tau.x.is_finite() && tau.y.is_finite() && tau.z.is_finite()) {
+    // τᵢ = (−K_p,i e_i − K_d,i ω_e,i) + gyroscopicᵢ, one loop over the axes
+    let mut tau = Vec3::zeros();
+    let terms = arr(&gains.kp_nm)
+        .iter()
+        .zip(arr(&e_vec))
+        .zip(arr(&gains.kd_nms).iter().zip(arr(&omega_e)))
+        .zip(arr(&gyroscopic));
+    for (t, (((kp, e), (kd, w)), g)) in tau.iter_mut().zip(terms) {
+        *t = -(kp * e) - kd * w + g;
+    }
+    if !finite3(&tau) {
         return Err(TrackingError::NotFinite);
     }
-    // (finite here) component by component: an iterator chain costs 248 B on the MSP430
-    let negative = |v: &Vec3| !(v.x >= 0.0) || !(v.y >= 0.0) || !(v.z >= 0.0);
+    // (finite here)
     if negative(&gains.kp_nm) || negative(&gains.kd_nms) {
         return Err(TrackingError::NegativeGain);
     }
     Ok(tau)
+}
+
+/// A component of `v` is below zero (or NaN), out of line on the MSP430: two uses.
+#[cfg_attr(target_arch = "msp430", inline(never))]
+fn negative(v: &Vec3) -> bool {
+    !arr(v).iter().all(|x| *x >= 0.0)
 }

@@ -87,7 +87,7 @@
 
 use crate::attitude::Quaternion;
 use crate::fmath;
-use crate::linalg::{cross, div, dot, finite3, lin2, mat_vec, scale, sub_scaled, Vec3};
+use crate::linalg::{arr, cross, div, dot, dot3, finite3, lin2, mat_vec, scale, sub_scaled, Vec3};
 
 /// Error states: attitude (3), gyro bias (3), magnetometer bias (3), the Earth's albedo (1).
 pub const STATES: usize = 10;
@@ -440,6 +440,12 @@ impl Mekf {
         self.p.get(packed(i, j)).copied().unwrap_or(0.0)
     }
 
+    /// `P(i, j)` in place (a zero outside the matrix).
+    #[cfg_attr(target_arch = "msp430", inline(never))]
+    fn entry(&self, i: usize, j: usize) -> &f32 {
+        self.p.get(packed(i, j)).unwrap_or(&0.0)
+    }
+
     #[cfg_attr(target_arch = "msp430", inline(never))]
     fn set(&mut self, i: usize, j: usize, value: f32) {
         if let Some(e) = self.p.get_mut(packed(i, j)) {
@@ -626,9 +632,11 @@ impl Mekf {
             .zip(r2.iter_mut())
             .enumerate()
         {
-            let x = Vec3::new(self.at(0, j), self.at(1, j), self.at(2, j));
-            let b = Vec3::new(self.at(3, j), self.at(4, j), self.at(5, j));
-            let y = phi(&x, &b, &w_dt, dt_s);
+            let mut column = [0.0f32; 2 * GYRO_BIAS];
+            for (i, e) in column.iter_mut().enumerate() {
+                *e = self.at(i, j);
+            }
+            let y = phi(&column, &w_dt, dt_s);
             (*e0, *e1, *e2) = (y.x, y.y, y.z);
         }
         // (Φ P) Φᵀ: the same on the attitude columns; rows beyond the attitude's are P's own
@@ -637,11 +645,11 @@ impl Mekf {
             for (j, e) in row.iter().enumerate().filter(|(j, _)| *j >= GYRO_BIAS) {
                 self.set(i, j, *e);
             }
-            let x = Vec3::new(row[0], row[1], row[2]);
-            let b = Vec3::new(row[3], row[4], row[5]);
-            let y = phi(&x, &b, &w_dt, dt_s);
-            for (j, e) in [y.x, y.y, y.z].iter().enumerate().filter(|(j, _)| *j >= i) {
-                self.set(i, j, *e);
+            if let Some(head) = row.first_chunk() {
+                let y = phi(head, &w_dt, dt_s);
+                for (j, e) in arr(&y).iter().enumerate().filter(|(j, _)| *j >= i) {
+                    self.set(i, j, *e);
+                }
             }
         }
         let (v, u, m, a) = (
@@ -814,8 +822,7 @@ impl Mekf {
     /// `Σⱼ P(i, j) hⱼ` for the row `h = (h, 0…, c at e)`.
     #[cfg_attr(target_arch = "msp430", inline(never))]
     fn row_dot(&self, i: usize, h: &Vec3, e: usize, c: f32) -> f32 {
-        let x = Vec3::new(self.at(i, 0), self.at(i, 1), self.at(i, 2));
-        dot(&x, h) + c * self.at(i, e)
+        dot3(self.entry(i, 0), self.entry(i, 1), self.entry(i, 2), h) + c * self.at(i, e)
     }
 
     /// The accumulated correction applied to the estimate (the reset of the error state).
@@ -870,17 +877,21 @@ fn tangent_basis(p: &Vec3) -> (Vec3, Vec3) {
 /// `h · v` for the row `h = (h, 0…, c at e)`.
 #[cfg_attr(target_arch = "msp430", inline(never))]
 fn h_dot(v: &[f32; STATES], h: &Vec3, e: usize, c: f32) -> f32 {
-    dot(&Vec3::new(v[0], v[1], v[2]), h) + c * v.get(e).copied().unwrap_or(0.0)
+    dot3(&v[0], &v[1], &v[2], h) + c * v.get(e).copied().unwrap_or(0.0)
 }
 
-/// `x − a × x − Δt·b`: one column (or row) of `Φ P` on the attitude states, with `a = ω̂Δt`.
+/// `x − a × x − Δt·b`: one column (or row) of `Φ P` on the attitude states, with `a = ω̂Δt`,
+/// `(x, b)` its first six entries (attitude, gyro bias), read in place.
 #[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
-fn phi(x: &Vec3, b: &Vec3, a: &Vec3, dt_s: f32) -> Vec3 {
-    let c = cross(a, x);
+fn phi(xb: &[f32; 2 * GYRO_BIAS], a: &Vec3, dt_s: f32) -> Vec3 {
+    let [x1, x2, x3, b @ ..] = xb;
+    let x = Vec3::new(*x1, *x2, *x3);
+    let c = cross(a, &x);
+    let [b1, b2, b3] = b;
     Vec3::new(
-        x.x - c.x - dt_s * b.x,
-        x.y - c.y - dt_s * b.y,
-        x.z - c.z - dt_s * b.z,
+        x.x - c.x - dt_s * b1,
+        x.y - c.y - dt_s * b2,
+        x.z - c.z - dt_s * b3,
     )
 }
 

@@ -36,7 +36,7 @@ use core::fmt;
 
 use crate::env::sun::{Sun, AU_KM};
 use crate::fmath;
-use crate::linalg::Vec3;
+use crate::linalg::{div, norm, Vec3};
 
 /// Radius of the spherical Earth used by both models: WGS-84 equatorial radius (km).
 pub const EARTH_RADIUS_KM: f32 = 6378.137;
@@ -105,19 +105,6 @@ pub struct Illumination {
     pub shadow: Shadow,
 }
 
-/// `|v|`: the bits of nalgebra's `norm` (`(x² + y²) + z²`, correctly rounded square root) with
-/// [`fmath::sqrt`] instead of `libm::sqrtf`, which is ≈ 700 B of MSP430 code with 64-bit
-/// multiplies and several times slower there.
-fn norm(v: &Vec3) -> f32 {
-    fmath::sqrt(v.x * v.x + v.y * v.y + v.z * v.z)
-}
-
-/// `v / k` component by component (nalgebra's `v / k`, out of line on the MSP430: two uses).
-#[cfg_attr(target_arch = "msp430", inline(never))]
-fn div3(v: &Vec3, k: f32) -> Vec3 {
-    Vec3::new(v.x / k, v.y / k, v.z / k)
-}
-
 fn check_position(r_teme_km: &Vec3) -> Result<f32, EclipseError> {
     if !r_teme_km.iter().all(|c| c.is_finite()) {
         return Err(EclipseError::NonFinitePosition);
@@ -141,8 +128,8 @@ fn check_direction(v: &Vec3) -> Result<Vec3, EclipseError> {
     if !(largest > 0.0) {
         return Err(EclipseError::ZeroSun(largest));
     }
-    let scaled = div3(v, largest);
-    Ok(div3(&scaled, norm(&scaled)))
+    let scaled = div(v, largest);
+    Ok(div(&scaled, norm(&scaled)))
 }
 
 /// The cylindrical shadow test of seed 003 (note 003 §2.5): `true` if the spacecraft is in

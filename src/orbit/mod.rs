@@ -124,24 +124,11 @@ impl Phase {
         (self.at_epoch, self.rate_fx, self.rate_turns)
     }
 
-    /// A phase from [`Phase::raw`]'s parts (check them with [`Phase::in_range`]).
-    pub(crate) fn from_raw(at_epoch: i64, rate_fx: i64, rate_turns: f32) -> Self {
-        Self {
-            at_epoch,
-            rate_fx,
-            rate_turns,
-        }
-    }
-
-    /// Whether the parts are those an initialisation can make: both fixed-point values within
-    /// ±2⁴⁷ (half a turn) and the rate finite.
-    pub(crate) fn in_range(&self) -> bool {
-        const HALF_TURN: i64 = 1 << (PHASE_BITS - 1);
-        self.at_epoch >= -HALF_TURN
-            && HALF_TURN >= self.at_epoch
-            && self.rate_fx >= -HALF_TURN
-            && HALF_TURN >= self.rate_fx
-            && self.rate_turns.is_finite()
+    /// The parts of [`Phase::raw`] to be written in place, for an uplink's words read into a
+    /// phase (which checks that they are those an initialisation can make: both fixed-point
+    /// values within ±2⁴⁷, half a turn, and the rate finite).
+    pub(crate) fn raw_mut(&mut self) -> (&mut i64, &mut i64, &mut f32) {
+        (&mut self.at_epoch, &mut self.rate_fx, &mut self.rate_turns)
     }
 }
 

@@ -2,7 +2,7 @@
 //! ground, [`Sgp4::from_words`] on board).
 
 use super::{finite32, FullDrag, Sgp4, Sgp4Error};
-use crate::orbit::Phase;
+use crate::orbit::{Phase, PHASE_BITS};
 
 /// Number of 32-bit words of an initialised element set ([`Sgp4::to_words`]).
 pub const ELEMENT_WORDS: usize = 58;
@@ -23,11 +23,13 @@ pub fn words_checksum(words: &[u32]) -> u32 {
         .fold(0x0acc_5a7e_u32, |c, w| c.rotate_left(5) ^ *w)
 }
 
-/// Reads the words in order, checking each; remembers the first bad index.
+/// Reads the words in order, checking each; remembers the first bad index, and whether a
+/// phase's fixed-point part was out of range.
 struct WordReader<'a> {
     words: core::slice::Iter<'a, u32>,
     index: u8,
     bad: Option<u8>,
+    phase_out_of_range: bool,
 }
 
 impl WordReader<'_> {
@@ -45,27 +47,38 @@ impl WordReader<'_> {
             self.bad = Some(index);
         }
     }
-    /// The next word as a finite f32 (else marked bad).
+    /// The next word as a finite f32 (else marked bad), stored in `x`.
     #[cfg_attr(target_arch = "msp430", inline(never))]
-    fn f32(&mut self) -> f32 {
+    fn f32(&mut self, x: &mut f32) {
         let index = self.index;
-        let x = f32::from_bits(self.word());
-        if !finite32(x) {
+        *x = f32::from_bits(self.word());
+        if !finite32(*x) {
             self.mark(index);
         }
-        x
     }
-    fn i64(&mut self) -> i64 {
+    /// The next two words (high first) as an `i64`, stored in `x`, noting one outside
+    /// −2⁴⁷..=2⁴⁷ (half a turn, [`Phase`]'s range) in `phase_out_of_range`. Tested on the
+    /// 32-bit words: the value is in range when its high word, signed, is in −2¹⁵..2¹⁵, or it is
+    /// exactly 2⁴⁷ (high word 2¹⁵, low word 0).
+    fn fixed(&mut self, x: &mut i64) {
+        const HALF_TURN_HI: u32 = 1 << (PHASE_BITS - 1 - 32);
         let hi = self.word();
         let lo = self.word();
-        ((u64::from(hi) << 32) | u64::from(lo)) as i64
+        let in_range =
+            2 * HALF_TURN_HI > hi.wrapping_add(HALF_TURN_HI) || (hi == HALF_TURN_HI && lo == 0);
+        if !in_range {
+            self.phase_out_of_range = true;
+        }
+        *x = ((u64::from(hi) << 32) | u64::from(lo)) as i64;
     }
+    /// The next phase, stored in `p` part by part ([`Phase::raw_mut`]): its fixed-point parts
+    /// checked by [`WordReader::fixed`], its rate by [`WordReader::f32`].
     #[cfg_attr(target_arch = "msp430", inline(never))]
-    fn phase(&mut self) -> Phase {
-        let at_epoch = self.i64();
-        let rate_fx = self.i64();
-        let rate_turns = self.f32();
-        Phase::from_raw(at_epoch, rate_fx, rate_turns)
+    fn phase(&mut self, p: &mut Phase) {
+        let (at_epoch, rate_fx, rate_turns) = p.raw_mut();
+        self.fixed(at_epoch);
+        self.fixed(rate_fx);
+        self.f32(rate_turns);
     }
 }
 
@@ -181,6 +194,7 @@ impl Sgp4 {
             words: body.iter(),
             index: 0,
             bad: None,
+            phase_out_of_range: false,
         };
         if r.word() != WORDS_TAG {
             return Err(Sgp4Error::Words { index: 0 });
@@ -230,66 +244,60 @@ impl Sgp4 {
             1 => {}
             _ => return Err(Sgp4Error::Words { index: flag_index }),
         }
-        let phases_ok = [
-            &orbit.mean_anomaly,
-            &orbit.arg_perigee,
-            &orbit.node,
-            &orbit.arg_latitude,
-        ]
-        .iter()
-        .all(|p| p.in_range());
-        if !phases_ok {
+        // a phase's fixed-point parts beyond half a turn (checked as they were read)
+        if r.phase_out_of_range {
             return Err(Sgp4Error::Words { index: phase_index });
         }
         Ok(orbit)
     }
 
     /// Reads the fields after the epoch in the words' order (the reader marks a non-finite
-    /// f32) into `self`, the drag terms always (set to `Some`).
+    /// f32 and notes a phase out of range) into `self`, the drag terms always (set to `Some`).
     ///
     /// Out of line and through `&mut self`, each field is stored as soon as it is read: built
     /// as one struct expression, the MSP430 code held every field on the stack and then copied
-    /// it (16 B more code per f32; reference image −426 B).
+    /// it (16 B more code per f32; reference image −426 B). The reader writes each field through
+    /// a reference to it, a phase too (returned, each was copied in by `memcpy`).
     #[cfg_attr(target_arch = "msp430", inline(never))]
     fn read_fields(&mut self, r: &mut WordReader) {
         let o = self;
-        o.radius_km = r.f32();
-        o.xke = r.f32();
-        o.j2 = r.f32();
-        o.ao_km = r.f32();
-        o.v_scale_kmps = r.f32();
-        o.mean_anomaly = r.phase();
-        o.arg_perigee = r.phase();
-        o.node = r.phase();
-        o.arg_latitude = r.phase();
-        o.no = r.f32();
-        o.ao = r.f32();
-        o.ecco = r.f32();
-        o.bstar = r.f32();
-        o.cosio = r.f32();
-        o.sinio = r.f32();
-        o.con41 = r.f32();
-        o.x1mth2 = r.f32();
-        o.x7thm1 = r.f32();
-        o.cc1 = r.f32();
-        o.cc4 = r.f32();
-        o.nodecf = r.f32();
-        o.t2cof = r.f32();
-        o.xlcof = r.f32();
-        o.aycof = r.f32();
+        r.f32(&mut o.radius_km);
+        r.f32(&mut o.xke);
+        r.f32(&mut o.j2);
+        r.f32(&mut o.ao_km);
+        r.f32(&mut o.v_scale_kmps);
+        r.phase(&mut o.mean_anomaly);
+        r.phase(&mut o.arg_perigee);
+        r.phase(&mut o.node);
+        r.phase(&mut o.arg_latitude);
+        r.f32(&mut o.no);
+        r.f32(&mut o.ao);
+        r.f32(&mut o.ecco);
+        r.f32(&mut o.bstar);
+        r.f32(&mut o.cosio);
+        r.f32(&mut o.sinio);
+        r.f32(&mut o.con41);
+        r.f32(&mut o.x1mth2);
+        r.f32(&mut o.x7thm1);
+        r.f32(&mut o.cc1);
+        r.f32(&mut o.cc4);
+        r.f32(&mut o.nodecf);
+        r.f32(&mut o.t2cof);
+        r.f32(&mut o.xlcof);
+        r.f32(&mut o.aycof);
         let _flag = r.word();
         let d = o.full_drag.insert(FullDrag::ZERO);
-        d.d2 = r.f32();
-        d.d3 = r.f32();
-        d.d4 = r.f32();
-        d.t3cof = r.f32();
-        d.t4cof = r.f32();
-        d.t5cof = r.f32();
-        d.cc5 = r.f32();
-        d.omgcof = r.f32();
-        d.xmcof = r.f32();
-        d.eta = r.f32();
-        d.delmo = r.f32();
-        d.sinmao = r.f32();
+        r.f32(&mut d.d2);
+        r.f32(&mut d.d3);
+        r.f32(&mut d.d4);
+        r.f32(&mut d.t3cof);
+        r.f32(&mut d.t4cof);
+        r.f32(&mut d.t5cof);
+        r.f32(&mut d.cc5);
+        r.f32(&mut d.omgcof);
+        r.f32(&mut d.xmcof);
+        r.f32(&mut d.eta);
+        r.f32(&mut d.delmo);
+        r.f32(&mut d.sinmao);
     }
 }
