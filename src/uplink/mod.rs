@@ -1,10 +1,10 @@
 //! Ground uplink: the commands the ground sends the flight loop, as a command code and argument
-//! words, decoded and applied on board (issue #17). The flight firmware receives them in a
-//! mailbox (`firmware/src/flight.rs`); the processor-in-the-loop host applies the same words to
-//! its host loop through the same function, so both decode every command identically. The same
-//! commands as PUS-C telecommands, TC\[8,1\] with the code as its function ID and answered with
-//! verification reports, are [`telecommand`] (issue 31; not yet in the node images, which lack
-//! the flash: `docs/operations.md`).
+//! words, decoded and applied on board (issue #17). The node images receive them as PUS-C
+//! telecommands, TC\[8,1\] with the code as its function ID, answered with verification reports
+//! ([`telecommand`], issue 31; `firmware/src/flight.rs`); the one-image composition, which fits
+//! no part, keeps the older mailbox of code and words ([`apply`]). The processor-in-the-loop
+//! host takes the same packets on its host loop through the same functions, so both decode
+//! every command identically.
 //!
 //! | code | command | argument words (`u32`) |
 //! |---|---|---|

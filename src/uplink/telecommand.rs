@@ -1,8 +1,9 @@
 //! The ground's commands as PUS-C telecommands (issue 31, item 2): each command of
 //! [`crate::uplink`] is a TC\[8,1\] *perform a function* (ECSS-E-ST-70-41C 6.8, 8.8.2.1) to the
 //! node that owns it, and the node answers with the verification reports of service 1
-//! ([`crate::link::pus`]). Built and tested on the host; not yet linked into the node images,
-//! which lack the flash for it (`docs/operations.md`: +1.5 KB on each).
+//! ([`crate::link::pus`]). The node images take each telecommand from their ground mailbox
+//! (`acs_firmware::flight::take_telecommand`, `firmware/src/flight.rs`) before their period's
+//! work; `docs/operations.md` is the operator's page.
 //!
 //! # The telecommand
 //! A CCSDS space packet on the node's APID ([`REFERENCE_TC_APID`], [`ATTITUDE_TC_APID`]), with
@@ -64,11 +65,11 @@ pub const SUBTYPE: u8 = 1;
 pub const FUNCTION_ID_LEN: usize = 2;
 /// The longest telecommand (an element set): 6 + 5 + 2 + 4 × 58 + 2 = 247 B.
 pub const MAX_TC_LEN: usize = pus::TC_OVERHEAD + FUNCTION_ID_LEN + 4 * ARG_WORDS;
-/// The telecommand mailbox the attitude node's image is to have (`docs/operations.md`), B: its
+/// The attitude node image's telecommand mailbox (`docs/operations.md`), B: its
 /// longest command's packet (sun-safe, mark failed, restore: 23 B) with room for a track or
 /// slew (35 B), which it answers as the other node's; even, so the field after it is aligned.
 pub const ATTITUDE_TC_BYTES: usize = pus::TC_OVERHEAD + FUNCTION_ID_LEN + 4 * 5 + 1;
-/// The telecommand mailbox the reference node's image is to have, B: [`MAX_TC_LEN`], made even.
+/// The reference node image's telecommand mailbox, B: [`MAX_TC_LEN`], made even.
 pub const REFERENCE_TC_BYTES: usize = MAX_TC_LEN + 1;
 /// The most [`take`] writes: TM\[1,1\] and TM\[1,7\], 25 B each (a TM\[1,2\] is 27 B).
 pub const REPORTS_LEN: usize = 2 * tm_packet_len(REQUEST_ID_LEN);
