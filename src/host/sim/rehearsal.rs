@@ -370,6 +370,63 @@ pub fn fly(scenario: &Scenario, script: &[ScriptPacket]) -> Result<Rehearsal, Re
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::uplink::kind;
+
+    /// The schedule of `slew` (its track at 1 s, its slew at 120 s) with a script: the element
+    /// set and the clock first, then the scenario's commands, then the script's packets, in
+    /// the order of their times; the ground's own counted 0, 1, 2, …
+    #[test]
+    fn the_schedule_sends_the_scenarios_then_the_scripts() {
+        let scenario = crate::host::sim::scenarios::slew().unwrap();
+        let (words, _) = flight_orbit(&scenario).unwrap();
+        let sun_safe = Uplink::SunSafe.telecommand(Node::Attitude, 40);
+        let track = Uplink::Track {
+            target: Quaternion::IDENTITY,
+        }
+        .telecommand(Node::Reference, 41);
+        let script = parse_script(&format!(
+            "120 {}\n0.5 {}\n1 0852\n",
+            hex(&sun_safe),
+            hex(&track)
+        ))
+        .unwrap();
+        let mut ops = Operations::new(&scenario, &words, &script).unwrap();
+        let seen = |tcs: Vec<Telecommand>| -> Vec<(Node, u16, u16)> {
+            tcs.iter()
+                .map(|tc| {
+                    // a packet too short for a count: 0
+                    let count = tc
+                        .packet
+                        .get(2..4)
+                        .map_or(0, |c| u16::from_be_bytes([c[0], c[1]]) & 0x3FFF);
+                    (tc.node, tc.kind, count)
+                })
+                .collect()
+        };
+        let (r, a) = (Node::Reference, Node::Attitude);
+        assert_eq!(
+            seen(ops.due(0, 0.0)),
+            [(r, kind::ELEMENTS, 0), (r, kind::CLOCK, 1)]
+        );
+        assert_eq!(
+            seen(ops.due(1, 1.0)),
+            [(r, kind::TRACK, 2), (r, 2, 41), (a, 0, 0)]
+        );
+        assert!(ops.due(2, 2.0).is_empty());
+        assert_eq!(
+            seen(ops.due(120, 120.0)),
+            [(r, kind::SLEW, 3), (a, kind::SUN_SAFE, 40)]
+        );
+        assert!(ops.due(121, 121.0).is_empty());
+        // a packet after the start of the last period (1 199 s) is refused, naming its line
+        let late = parse_script(&format!("1199 {}\n1199.5 {}", hex(&track), hex(&track))).unwrap();
+        let e = Operations::new(&scenario, &words, &late).unwrap_err();
+        assert!(e.starts_with("line 2: time 1199.5 s is after"), "{e}");
+    }
+
+    fn hex(bytes: &[u8]) -> String {
+        bytes.iter().map(|b| format!("{b:02x}")).collect()
+    }
 
     #[test]
     fn a_script_is_read_line_by_line() {
