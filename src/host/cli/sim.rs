@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use super::CliError;
 use crate::host::sim::campaign::{self, Campaign, Progress, Summary};
 use crate::host::sim::realistic::TruthLevel;
-use crate::host::sim::{pil, plan_flight, plot, scenario_file, scenarios, Sample};
+use crate::host::sim::{pil, plan_flight, plot, rehearsal, scenario_file, scenarios, Sample};
 
 /// `--truth`: what the simulator's truth is ([`crate::host::sim::realistic`]).
 #[derive(clap::ValueEnum, Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -65,6 +65,15 @@ pub struct Args {
     /// With `--pil`: where to write the run's summary.
     #[arg(long, default_value = "target/msp430/pil.json")]
     pil_json: PathBuf,
+    /// A rehearsal: fly the telecommand script SCRIPT (lines `SECONDS PACKET_HEX`) with the
+    /// scenario, on the host composition of the two nodes (or with `--pil` the node images)
+    /// ([`crate::host::sim::rehearsal`]).
+    #[arg(long, value_name = "SCRIPT")]
+    tc: Option<PathBuf>,
+    /// A rehearsal: write every verification report of the run, back to back as bytes, to
+    /// FILE (`acs tm FILE` reads it).
+    #[arg(long, value_name = "FILE")]
+    tm: Option<PathBuf>,
     /// Monte Carlo campaign: N dispersed runs of the scenario ([`campaign`]).
     #[arg(long)]
     runs: Option<usize>,
@@ -116,15 +125,41 @@ pub fn run(args: &Args) -> Result<(), CliError> {
             args.dirs[0].display()
         )));
     }
+    let rehearsing = args.tc.is_some() || args.tm.is_some();
     if args.runs.is_some() || args.run.is_some() || args.range.is_some() {
+        if rehearsing {
+            return Err(CliError::Input(
+                "--tc and --tm rehearse one run: not with --runs, --run or --range".into(),
+            ));
+        }
         return campaign_run(args);
     }
     if args.scenario == "plan-flight" || args.scenario == "plan-flight-wheels" {
+        if rehearsing {
+            return Err(CliError::Input(format!(
+                "--tc and --tm: `{}` is flown open loop, without telecommands",
+                args.scenario
+            )));
+        }
         return plan_flight_run(&args.scenario, args.out.clone());
     }
     let scenario = scenario(&args.scenario, args.truth)?;
+    let script = match &args.tc {
+        Some(path) => {
+            let text = std::fs::read_to_string(path)
+                .map_err(|e| CliError::Input(format!("{}: {e}", path.display())))?;
+            Some(
+                rehearsal::parse_script(&text)
+                    .map_err(|e| CliError::Input(format!("{}: {e}", path.display())))?,
+            )
+        }
+        None => rehearsing.then(Vec::new),
+    };
     if args.pil {
-        return pil_run(args, &scenario);
+        return pil_run(args, &scenario, script);
+    }
+    if let Some(script) = script {
+        return rehearsal_run(args, &scenario, &script);
     }
     let samples = scenario
         .run()
@@ -140,11 +175,17 @@ pub fn run(args: &Args) -> Result<(), CliError> {
 /// `acs sim SCENARIO --pil`: the run of [`pil::run`], its files, `pil.json` and summary; a
 /// difference between image and host is a failure (exit 3) naming the step, the mode and both
 /// values.
-fn pil_run(args: &Args, scenario: &scenarios::Scenario) -> Result<(), CliError> {
+fn pil_run(
+    args: &Args,
+    scenario: &scenarios::Scenario,
+    script: Option<Vec<rehearsal::ScriptPacket>>,
+) -> Result<(), CliError> {
+    let script_path = args.tc.as_ref().map(|p| p.display().to_string());
     let options = pil::PilOptions {
         elf_reference: args.elf_reference.clone(),
         elf_attitude: args.elf_attitude.clone(),
         link_faults: !args.no_link_faults,
+        script,
         ..pil::PilOptions::default()
     };
     let steps = (scenario.duration_s / scenario.dt_s).round() as usize
@@ -161,6 +202,11 @@ fn pil_run(args: &Args, scenario: &scenarios::Scenario) -> Result<(), CliError> 
         }
     })
     .map_err(|e| match e {
+        // a script's line is named with the script
+        pil::PilError::Input(m) if m.starts_with("line ") => match &script_path {
+            Some(p) => CliError::Input(format!("{p}: {m}")),
+            None => CliError::Input(m),
+        },
         pil::PilError::Input(m) => CliError::Input(m),
         e => CliError::Compute(e.to_string()),
     })?;
@@ -210,12 +256,62 @@ fn pil_run(args: &Args, scenario: &scenarios::Scenario) -> Result<(), CliError> 
     }
     println!("pil_steps_per_s: {:.1}", run.steps_per_s);
     println!("pil_json: {}", args.pil_json.display());
+    if let Some(path) = &args.tm {
+        write_telemetry(path, &run.telemetry)?;
+    }
     match run.mismatch {
         None => Ok(()),
         Some(m) => Err(CliError::Compute(format!(
             "the flight image and the host loop differ at {m}"
         ))),
     }
+}
+
+/// `acs sim SCENARIO --tc SCRIPT --tm FILE` without `--pil`: the rehearsal flown on the host
+/// composition of the two nodes ([`rehearsal::fly`]), its files and summary, the number of
+/// telecommands and reports, and FILE.
+fn rehearsal_run(
+    args: &Args,
+    scenario: &scenarios::Scenario,
+    script: &[rehearsal::ScriptPacket],
+) -> Result<(), CliError> {
+    let run = rehearsal::fly(scenario, script).map_err(|e| match e {
+        rehearsal::RehearsalError::Input(m) => match (&args.tc, m.starts_with("line ")) {
+            (Some(p), true) => CliError::Input(format!("{}: {m}", p.display())),
+            _ => CliError::Input(m),
+        },
+        e => CliError::Compute(e.to_string()),
+    })?;
+    let dir = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(format!("acs-sim-{}", scenario.name)));
+    let files = plot::write_all(&dir, &run.samples).map_err(CliError::Compute)?;
+    print_summary(scenario, &run.samples, &files, &dir)?;
+    let failures = run
+        .sent
+        .iter()
+        .zip(&run.reports)
+        .filter(|((_, tc), r)| {
+            !r.is_empty() && pil::uplink::outcome(r, tc.node) != pil::uplink::ACCEPTED
+        })
+        .count();
+    let telemetry = run.telemetry();
+    println!("rehearsal_telecommands: {}", run.sent.len());
+    println!("rehearsal_refused: {failures}");
+    println!("rehearsal_tm_bytes: {}", telemetry.len());
+    if let Some(path) = &args.tm {
+        write_telemetry(path, &telemetry)?;
+    }
+    Ok(())
+}
+
+/// Writes the reports of a rehearsal to `path`, and its name.
+fn write_telemetry(path: &std::path::Path, bytes: &[u8]) -> Result<(), CliError> {
+    std::fs::write(path, bytes)
+        .map_err(|e| CliError::Compute(format!("{}: {e}", path.display())))?;
+    println!("tm: {}", path.display());
+    Ok(())
 }
 
 /// Prints the summary metrics of a run (and the files written into `dir`).

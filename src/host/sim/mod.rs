@@ -58,6 +58,7 @@ pub mod pil;
 pub mod plan_flight;
 pub mod plot;
 pub mod realistic;
+pub mod rehearsal;
 pub mod scenario_file;
 pub mod scenarios;
 

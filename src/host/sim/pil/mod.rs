@@ -44,11 +44,13 @@
 //! step, to the bit.
 //!
 //! # Ground commands
-//! The scenario's orbit and clock reach the reference image as telecommands like the other
-//! commands: at the first period the element set ([`Sgp4::to_words`] of the scenario's TLE,
-//! function 4) and the clock (the scenario's start, function 5), then each ground command at
-//! the period the host simulator's `run` would give it (time ≤ the truth's time). Each command
-//! is a TC\[8,1\] ([`Uplink::telecommand`], both reports asked for) to the node that owns it
+//! The telecommands follow the schedule a rehearsal's host run follows too
+//! ([`super::rehearsal::Operations`]): the scenario's orbit and clock reach the reference image
+//! as telecommands like the other commands: at the first period the element set
+//! ([`Sgp4::to_words`] of the scenario's TLE, function 4) and the clock (the scenario's start,
+//! function 5), then each ground command at the period the host simulator's `run` would give
+//! it (time ≤ the truth's time), then a rehearsal script's packets ([`PilOptions::script`]), to
+//! the node of their APID, as written. Each command is a TC\[8,1\] ([`Uplink::telecommand`], both reports asked for) to the node that owns it
 //! ([`owner`]: track 2, slew 3, elements 4, clock 5 the reference node; sun-safe 1, mark
 //! failed 6, restore 7 the attitude node), through that image's `GROUND` mailbox; the host
 //! takes the same packet on the composition's node ([`uplink::Ground::take`]:
@@ -59,8 +61,9 @@
 //! the STATUS it received the period before (STATUS(k − 2) for REF(k)); the host gives
 //! `apply_reference` that attitude too.
 //!
-//! Three quarters of the way through the run, one period also carries commands whose arguments
-//! are NaN and infinities ([`non_finite_uplinks`]: the readings are raw integers, so the
+//! Three quarters of the way through the run (not in a rehearsal, whose telecommands are the
+//! schedule's alone, so that the host run sends the same), one period also carries commands
+//! whose arguments are NaN and infinities ([`non_finite_uplinks`]: the readings are raw integers, so the
 //! telecommands are where non-finite floats reach the images), sent to both nodes (the element
 //! set to the reference node only: it does not fit the attitude node's mailbox): the
 //! reference node must refuse each for its argument and the attitude node as not its own, with
@@ -135,8 +138,9 @@ use std::time::{Duration, Instant};
 use self::bus::{Commands, Readings, Recorder, COILS};
 use self::elf::{Elf, EM_MSP430};
 use self::mspdebug::{Mspdebug, MspdebugError, Registers};
-use self::uplink::{mode_code, mode_name, tc_bytes, Ground, Uplink};
+use self::uplink::{mode_code, mode_name, tc_bytes, Uplink};
 pub use self::uplink::{owner, HostLoop, Node};
+use super::rehearsal::{Mirror, Operations, ScriptPacket};
 use super::scenarios::Scenario;
 use super::{Sample, SimError, Simulator};
 use crate::acs_loop::StepReport;
@@ -706,6 +710,10 @@ pub struct PilOptions {
     pub timeout_s: u64,
     /// Fly the link-fault case after the scenario (see the [module docs](self)).
     pub link_faults: bool,
+    /// A rehearsal's telecommand script ([`super::rehearsal`]): its packets are flown as the
+    /// schedule says, and the PIL's own test telecommands (the non-finite ones,
+    /// [`non_finite_uplinks`]) are left out. `None`: the PIL's own run.
+    pub script: Option<Vec<ScriptPacket>>,
 }
 
 impl PilOptions {
@@ -726,6 +734,7 @@ impl Default for PilOptions {
             mspdebug: "mspdebug".into(),
             timeout_s: 60,
             link_faults: true,
+            script: None,
         }
     }
 }
@@ -1098,6 +1107,9 @@ pub struct PilRun {
     pub steps: Vec<StepLog>,
     /// Wall-clock steps per second of the run.
     pub steps_per_s: f64,
+    /// The verification reports of the scenario's steps as the images wrote them, back to
+    /// back in the order of the schedule ([`Operations`]; the link-fault case's are left out).
+    pub telemetry: Vec<u8>,
 }
 
 /// The periods of the link-fault case with the link damaged (30 s).
@@ -1149,29 +1161,6 @@ impl LinkFaultFigures {
     }
 }
 
-/// The periods' ground commands split by owner: (the reference node's, the attitude
-/// node's), each in the order of the period. A command of `both` goes to both nodes (the
-/// other node refuses it, failure code 0x104), but an element set only to the reference node
-/// (its telecommand is longer than the attitude node's mailbox).
-fn route(uplinks: &[Uplink], both: &[Uplink]) -> [Vec<Uplink>; 2] {
-    let mut out = [Vec::new(), Vec::new()];
-    for u in uplinks {
-        match owner(u.kind()) {
-            Node::Reference => out[0].push(u.clone()),
-            Node::Attitude => out[1].push(u.clone()),
-        }
-    }
-    for u in both {
-        out[0].push(u.clone());
-        // an element set's telecommand (247 B) does not fit the attitude node's mailbox: the
-        // ground's link does not deliver it there
-        if !matches!(u, Uplink::Elements(_)) {
-            out[1].push(u.clone());
-        }
-    }
-    out
-}
-
 /// Flies `scenario` with the two node images of `options` and the host composition in
 /// lockstep (see the [module docs](self)); `progress` is called after each step with the step
 /// count.
@@ -1200,6 +1189,8 @@ pub fn run(
         .to_words();
     let orbit =
         Sgp4::from_words(&words).map_err(|e| PilError::Input(format!("element words: {e:?}")))?;
+    let mut ops = Operations::new(scenario, &words, options.script.as_deref().unwrap_or(&[]))
+        .map_err(PilError::Input)?;
     let mut acs = HostLoop::new(&CONFIG, orbit.clone())
         .map_err(|e| PilError::Input(format!("flight configuration: {e}")))?;
     let mut sim = Simulator::new(scenario.sim.clone(), scenario.initial.0, scenario.initial.1)?;
@@ -1213,15 +1204,12 @@ pub fn run(
         0
     };
     let reset_at = steps + LINK_FAULT_STEPS;
-    let mut pending: Vec<(f64, crate::acs_loop::Command)> = scenario.commands.clone();
-    let mut grounds = [Ground::default(), Ground::default()];
-    // the ground's telecommand sequence count
-    let mut tc_count = 0u16;
+    let rehearsal = options.script.is_some();
+    let mut mirror = Mirror::default();
+    // the reports of the scenario's steps as the images wrote them, in the schedule's order
+    let mut telemetry = Vec::new();
     let mut host_commands = Commands::default();
     let mut report = StepReport::empty(acs.mode());
-    // the attitude of the STATUS the reference image holds when it takes its uplink: the one
-    // received the period before (see the module docs)
-    let mut held_attitude: Option<Quaternion> = None;
     // the STATUS packet on its way to the reference image, as delivered
     let mut status_in_flight: Option<Vec<u8>> = None;
     let mut samples = Vec::with_capacity(steps);
@@ -1234,28 +1222,29 @@ pub fn run(
     for k in 0..steps + fault_steps {
         let t = sim.truth().t_s;
         let faulty = (steps..reset_at).contains(&k).then(|| k - steps);
-        let mut uplinks = Vec::new();
-        let mut both = Vec::new();
-        if k == 0 {
-            uplinks.push(Uplink::Elements(Box::new(words)));
-            uplinks.push(Uplink::Clock(scenario.sim.start));
-        }
-        if k == steps * 3 / 4 {
-            both.extend(non_finite_uplinks(&words));
+        let mut tcs = ops.due(k, t);
+        if k == steps * 3 / 4 && !rehearsal {
+            // to both nodes, but an element set only to the reference node: its telecommand
+            // (247 B) does not fit the attitude node's mailbox
+            for u in non_finite_uplinks(&words) {
+                tcs.push(ops.telecommand(&u, Node::Reference));
+                if !matches!(u, Uplink::Elements(_)) {
+                    tcs.push(ops.telecommand(&u, Node::Attitude));
+                }
+            }
         }
         if k == reset_at {
             // the ground restores the element set; the clock comes back with a STATUS
-            uplinks.push(Uplink::Elements(Box::new(words)));
+            tcs.push(ops.telecommand(&Uplink::Elements(Box::new(words)), Node::Reference));
         }
-        let mut i = 0;
-        while i < pending.len() {
-            if pending[i].0 <= t {
-                uplinks.push(Uplink::of_command(&pending.remove(i).1));
-            } else {
-                i += 1;
-            }
-        }
-        let [reference_uplinks, attitude_uplinks] = route(&uplinks, &both);
+        let of_node = |node: Node| -> Vec<(u16, Vec<u8>)> {
+            tcs.iter()
+                .filter(|tc| tc.node == node)
+                .map(|tc| (tc.kind, tc.packet.clone()))
+                .collect()
+        };
+        let (reference_encoded, attitude_encoded) =
+            (of_node(Node::Reference), of_node(Node::Attitude));
         if k == reset_at {
             // a power-on reset of the reference image: the STATUS in flight is lost with its RAM
             reference.power_on_reset()?;
@@ -1263,35 +1252,23 @@ pub fn run(
                 .map_err(|e| PilError::Input(format!("flight configuration: {e}")))?;
             status_in_flight = None;
             // and so is its count of verification reports
-            grounds[0] = Ground::default();
+            mirror.reset_reference();
         }
-        let slew_from = held_attitude;
-        held_attitude = acs.last_status().and_then(|s| s.attitude);
-        // the reference image: its uplinks, the STATUS of step k - 1, the REF of step k
-        let mut reference_reports = Vec::new();
-        let mut reference_encoded = Vec::new();
-        for u in &reference_uplinks {
-            let packet = u.telecommand(Node::Reference, tc_count);
-            tc_count = tc_count.wrapping_add(1);
-            reference_reports.push(grounds[0].take(
-                &packet,
-                Node::Reference,
-                &mut acs,
-                slew_from.as_ref(),
-            ));
-            reference_encoded.push((u.kind(), packet));
-        }
+        // the host takes the period's telecommands on the composition's nodes, as the images
+        let host_reports = mirror.period(&mut acs, &tcs);
+        let node_reports = |node: Node| -> Vec<Vec<u8>> {
+            tcs.iter()
+                .zip(&host_reports)
+                .filter(|(tc, _)| tc.node == node)
+                .map(|(_, r)| r.clone())
+                .collect()
+        };
+        let (reference_reports, attitude_reports) =
+            (node_reports(Node::Reference), node_reports(Node::Attitude));
+        // the reference image: its telecommands, the STATUS of step k - 1, the REF of step k
         let (reference_out, reference_cycles) =
             reference.period(None, status_in_flight.as_deref(), &reference_encoded)?;
-        // the host: the attitude node's uplinks, the step on the simulator through the recorder
-        let mut attitude_reports = Vec::new();
-        let mut attitude_encoded = Vec::new();
-        for u in &attitude_uplinks {
-            let packet = u.telecommand(Node::Attitude, tc_count);
-            tc_count = tc_count.wrapping_add(1);
-            attitude_reports.push(grounds[1].take(&packet, Node::Attitude, &mut acs, None));
-            attitude_encoded.push((u.kind(), packet));
-        }
+        // the host: the step on the simulator through the recorder
         let mut recorder = Recorder::new(&mut sim, &mut host_commands);
         acs.step_over_link(&mut recorder, CONTROL_PERIOD_S, &mut report, |d, b| {
             faulty.is_none_or(|i| damage(i, d, b))
@@ -1320,12 +1297,12 @@ pub fn run(
             faults: report.faults.bits(),
             reports: attitude_reports,
         };
-        let kinds = |list: &[Uplink]| list.iter().map(Uplink::kind).collect::<Vec<u16>>();
+        let kinds = |list: &[(u16, Vec<u8>)]| list.iter().map(|(k, _)| *k).collect::<Vec<u16>>();
         let differences = compare(
             Node::Reference,
             &host_reference,
             &reference_out,
-            &kinds(&reference_uplinks),
+            &kinds(&reference_encoded),
         );
         if !differences.is_empty() {
             log.push((k, host_attitude.mode, 0, reference_cycles));
@@ -1354,8 +1331,19 @@ pub fn run(
             Node::Attitude,
             &host_attitude,
             &image,
-            &kinds(&attitude_uplinks),
+            &kinds(&attitude_encoded),
         );
+        if k < steps {
+            // the images' reports, back in the schedule's order
+            let (mut r, mut a) = (reference_out.reports.iter(), image.reports.iter());
+            for tc in &tcs {
+                let next = match tc.node {
+                    Node::Reference => r.next(),
+                    Node::Attitude => a.next(),
+                };
+                telemetry.extend_from_slice(next.map_or(&[][..], Vec::as_slice));
+            }
+        }
         if k < steps {
             samples.push(Sample::of_step(&sim, t, report, scenario.target));
         }
@@ -1417,6 +1405,7 @@ pub fn run(
         mismatch,
         steps_per_s: log.len() as f64 / elapsed.max(1e-9),
         steps: log,
+        telemetry,
     })
 }
 
@@ -1807,20 +1796,6 @@ mod tests {
                 assert_eq!(ok, p == status.to_packet(i as u16), "period {i}");
             }
         }
-    }
-
-    #[test]
-    fn commands_are_routed_to_their_nodes() {
-        let q = Quaternion::IDENTITY;
-        let uplinks = [
-            Uplink::Clock(crate::time::Epoch::DAY0),
-            Uplink::SunSafe,
-            Uplink::Track { target: q },
-            Uplink::MarkFailed(1),
-        ];
-        let [r, a] = route(&uplinks, &[Uplink::Track { target: q }]);
-        assert_eq!(r.iter().map(Uplink::kind).collect::<Vec<_>>(), [5, 2, 2]);
-        assert_eq!(a.iter().map(Uplink::kind).collect::<Vec<_>>(), [1, 6, 2]);
     }
 
     #[test]
