@@ -120,16 +120,16 @@
 //!   refused or never written.
 //!
 //! # Flash and stack
-//! Linked into both node images with [`crate::uplink::telecommand::take`] (branch `pus-nodes`,
-//! nightly-2026-05-20, the flight builds: `acs-reference` at opt-level "s", `acs-attitude` at
-//! "z", LTO, `fg4619-map`), the decoder, service 1 and the node's handling cost 1 498 B on the
-//! reference node and 1 468 B on the attitude node (44 400 → 45 898 B and 44 404 → 45 872 B,
-//! the mailbox uplink they replace included). By symbol: the node's `take` 1 314 and 1 488 B
-//! (the checks, the command's words, its application inlined, the CUC time, the reports),
-//! [`space_packet::decode`] out of line 334 and 342 B (the link's message decoding, which
-//! inlined it, shrinking by 180 and 188 B), the mailbox's handling 84 B, the old uplink's
-//! −160 and −344 B. Services 3 and 5 measured 348 B more with a probe. No constant tables;
-//! worst-case stack +18 B (reference) and +2 B (attitude); static RAM +66 B and −146 B (the
+//! Linked into both node images with [`crate::uplink::telecommand::take`] (nightly-2026-05-20,
+//! the flight builds: `acs-reference` at opt-level "s", `acs-attitude` at "z", LTO,
+//! `fg4619-map`), the decoder, service 1 and the node's handling cost 1 452 B on the reference
+//! node and 1 492 B on the attitude node when they replaced the mailbox uplink (44 400 → 45 852 B
+//! and 44 404 → 45 896 B; paid for since by smaller code elsewhere: `docs/operations.md`). By
+//! symbol, as the images fly: the node's `take` 1 240 and 1 488 B (the checks, the command's
+//! words, its application inlined, the CUC time, the reports), [`space_packet::decode`] out of
+//! line 334 and 342 B (the link's message decoding, which had inlined it, shrank), the
+//! mailbox's handling (`acs_firmware::flight::take_telecommand`) 158 and 132 B. Services 3 and 5
+//! measured 348 B more with a probe. No constant tables. Static RAM +66 B and −146 B (the
 //! mailboxes: 248 B and 36 B of telecommand, 50 B of reports, for 232 B of argument words).
 //!
 //! [`space_packet`]: crate::link::space_packet
@@ -601,7 +601,7 @@ pub fn encode_tm(
 /// bytes for a success, 6 for a failure: this mission's failure notices carry no failure data,
 /// the code says it all). Errors as [`encode_tm`]. Written without [`encode_tm`]'s general
 /// path: the report is the one every node sends, and this shape measured 218 B smaller in the
-/// attitude node's image (branch `pus-nodes`).
+/// attitude node's image.
 #[cfg_attr(target_arch = "msp430", optimize(size))]
 pub fn verification_report(
     header: &TmHeader,
