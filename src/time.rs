@@ -245,10 +245,27 @@ pub const fn days_from_civil(year: i32, month: u8, day: u8) -> i32 {
 
 /// The Gregorian (year, month, day) of a day count from 2000-01-01 (inverse of [`days_from_civil`]).
 ///
-/// Exact for every `i32` day count, in `i32` arithmetic: the 400-year era (|era| ≤ 14 705) and the
-/// day of the era (0..=146 096) come from one division of the day count itself (the usual shift
-/// to 0000-03-01, 730 425 days, would overflow near `i32::MAX`), the rest is small.
+/// Exact for every `i32` day count (see `march_year`).
 pub const fn civil_from_days(days: i32) -> (i32, u8, u8) {
+    let (y, doy, _) = march_year(days);
+    // 0 ≤ mp ≤ 11 (u16 arithmetic is a few instructions on the MSP430, i32 a library call)
+    let mp = (5 * doy + 2) / 153;
+    let d = doy - (153 * mp + 2) / 5 + 1;
+    let m = if 10 > mp { mp + 3 } else { mp - 9 };
+    let year = if 2 >= m { y + 1 } else { y };
+    (year, m as u8, d as u8)
+}
+
+/// The March-based year of a day count from 2000-01-01 (the Gregorian year of its 1 March), the
+/// day's index in it (0 ≤ doy ≤ 365, 0 on 1 March, the leap day last) and the year of its
+/// 400-year era (0 ≤ yoe ≤ 399): the common part of [`civil_from_days`] and
+/// [`year_from_days`].
+///
+/// Exact for every `i32` day count, in `i32` arithmetic: the era (|era| ≤ 14 705) and the day of
+/// the era (0..=146 096) come from one division of the day count itself (the usual shift to
+/// 0000-03-01, 730 425 days, would overflow near `i32::MAX`), the rest is small.
+#[inline(always)]
+const fn march_year(days: i32) -> (i32, u16, u16) {
     // days + 730 425 = (q + 5)·146 097 + (r − 60), with 0 ≤ r < 146 097
     let q = days.div_euclid(146_097);
     let r = days.rem_euclid(146_097);
@@ -257,44 +274,24 @@ pub const fn civil_from_days(days: i32) -> (i32, u8, u8) {
     } else {
         (q + 4, r + 146_037)
     };
-    // From here on everything is non-negative; below the year of the era it fits 16 bits (u16
-    // arithmetic is a few instructions on the MSP430, i32 a library call).
+    // From here on everything is non-negative; below the year of the era it fits 16 bits.
     let doe = doe as u32;
     let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
     let y = yoe as i32 + era * 400;
-    // 0 ≤ doy ≤ 365, 0 ≤ mp ≤ 11
     let doy = (doe - (365 * yoe + yoe / 4 - yoe / 100)) as u16;
-    let mp = (5 * doy + 2) / 153;
-    let d = doy - (153 * mp + 2) / 5 + 1;
-    let m = if 10 > mp { mp + 3 } else { mp - 9 };
-    let year = if 2 >= m { y + 1 } else { y };
-    (year, m as u8, d as u8)
+    (y, doy, yoe as u16)
 }
 
 /// The Gregorian year of a day count from 2000-01-01, the day's index in it (0 on 1 January, as
 /// `days − days_from_civil(year, 1, 1)`) and whether the year is a leap year
 /// ([`is_leap_year`]): the year of [`civil_from_days`], without its month and day.
 ///
-/// The same March-based year of the 400-year era as [`civil_from_days`] (its day 0 is 1 March,
-/// its leap day last), then: its days 306 and on are January and February of the next Gregorian
-/// year, days 0..306 are March to December, after the 59 or 60 days of January and February. The
-/// year's leap test is made on the year of the era (0..400, whose 0 is the era's own multiple of
+/// The same March-based year of the 400-year era as [`civil_from_days`] (`march_year`), then:
+/// its days 306 and on are January and February of the next Gregorian year, days 0..306 are
+/// March to December, after the 59 or 60 days of January and February. The year's leap test is made on the year of the era (0..400, whose 0 is the era's own multiple of
 /// 400), in 16-bit arithmetic; no division of the year itself.
 pub const fn year_from_days(days: i32) -> (i32, u16, bool) {
-    // days + 730 425 = (q + 5)·146 097 + (r − 60), with 0 ≤ r < 146 097 (as civil_from_days)
-    let q = days.div_euclid(146_097);
-    let r = days.rem_euclid(146_097);
-    let (era, doe) = if r >= 60 {
-        (q + 5, r - 60)
-    } else {
-        (q + 4, r + 146_037)
-    };
-    let doe = doe as u32;
-    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
-    let y = yoe as i32 + era * 400;
-    // 0 ≤ doy ≤ 365 (0: 1 March), 0 ≤ yoe ≤ 399
-    let doy = (doe - (365 * yoe + yoe / 4 - yoe / 100)) as u16;
-    let yoe = yoe as u16;
+    let (y, doy, yoe) = march_year(days);
     if doy >= 306 {
         // January or February of year y + 1 (y + 1 ≡ yoe + 1 modulo 400, 1 ≤ yoe + 1 ≤ 400)
         let next = yoe + 1;
@@ -1412,6 +1409,30 @@ mod tests {
                 assert_eq!(civil_from_days(d), (year, month, 1));
             }
         }
+    }
+
+    /// `year_from_days` is the year of `civil_from_days`, the day's index from its 1 January and
+    /// its leap flag, over every day of years −1000..3000 and random day counts (the first 193
+    /// day counts of the `i32` range aside: there `days_from_civil(year, 1, 1)` saturates).
+    #[test]
+    fn year_from_days_is_the_civil_year() {
+        let check = |days: i32| {
+            let (year, _, _) = civil_from_days(days);
+            let first = days_from_civil(year, 1, 1);
+            let expected = (year, (days - first) as u16, is_leap_year(year));
+            assert_eq!(year_from_days(days), expected, "{days}");
+        };
+        for days in days_from_civil(-1000, 1, 1)..days_from_civil(3000, 1, 1) {
+            check(days);
+        }
+        let mut rng = Rng(0x2026_1128_0000_0001);
+        for _ in 0..1_000_000 {
+            let days = rng.i32();
+            if days > i32::MIN + 193 {
+                check(days);
+            }
+        }
+        check(i32::MAX);
     }
 
     fn add_i64<S: TimeScale>(e: &Epoch<S>, span: TimeSpan) -> Epoch<S> {
