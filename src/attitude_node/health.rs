@@ -126,6 +126,12 @@ impl<const N: usize> ActuatorHealth<N> {
         }
     }
 
+    /// Tile `tile`'s wheel read-back word at its last check (1e-7 kg·m²/s,
+    /// [`crate::tiles::WHEEL_LSB_NMS`]); `i16::MIN` if none yet (or no such tile).
+    pub fn wheel_read(&self, tile: usize) -> i16 {
+        self.wheel_read.get(tile).copied().unwrap_or(UNKNOWN)
+    }
+
     /// True if tile `tile`'s wheel is in its allocation.
     pub fn wheel_in(&self, tile: usize) -> bool {
         self.out & mask(tile) == 0

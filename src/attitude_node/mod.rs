@@ -38,6 +38,7 @@ use crate::determination::least_squares::TileSolver;
 use crate::determination::mekf::Mekf;
 use crate::hal::TileBus;
 use crate::link::messages::{GuidanceKind, Reference, Status};
+use crate::telemetry::Housekeeping;
 use crate::tiles::{Tile, TileState, MAX_TILES};
 use crate::time::{Epoch, TimeSpan, Utc};
 
@@ -107,6 +108,11 @@ pub struct AttitudeNode<'c, const N: usize = MAX_TILES> {
     /// Commanded momentum of each tile's wheel, kg·m²/s along the tile normal.
     wheel_h: [f32; N],
     failures: [u8; N],
+    /// Each tile's last device error: the device (high nibble: 1 Sun sensor, 2 magnetometer,
+    /// 3 gyro, 4 wheel) and its [`crate::hal::ErrorKind::code`]; 0 none since reset or restore.
+    last_error: [u8; N],
+    /// The housekeeping schedule the ground sets ([`crate::telemetry`]).
+    housekeeping: Housekeeping,
     /// The wheels' and coils' read-back checks ([`health`]).
     health: ActuatorHealth<N>,
     /// Allocators of the wheels and the coils, rebuilt when their working set changes.
@@ -159,6 +165,8 @@ impl<'c, const N: usize> AttitudeNode<'c, N> {
             estimate: None,
             wheel_h: [0.0; N],
             failures: [0; N],
+            last_error: [0; N],
+            housekeeping: Housekeeping::new(),
             health: ActuatorHealth::new(),
             wheel_allocator: None,
             coil_allocator: None,
@@ -251,6 +259,64 @@ impl<'c, const N: usize> AttitudeNode<'c, N> {
         if let Some(count) = self.failures.get_mut(tile) {
             *count = 0;
         }
+        if let Some(e) = self.last_error.get_mut(tile) {
+            *e = 0;
+        }
+    }
+
+    /// The housekeeping schedule ([`crate::telemetry`]).
+    pub fn housekeeping(&self) -> &Housekeeping {
+        &self.housekeeping
+    }
+
+    /// The housekeeping schedule, for the ground's interval and the image's period count.
+    pub fn housekeeping_mut(&mut self) -> &mut Housekeeping {
+        &mut self.housekeeping
+    }
+
+    /// Consecutive steps without a usable REF (saturating).
+    pub fn steps_without_reference(&self) -> u16 {
+        self.without_reference
+    }
+
+    /// The attitude filter's covariance diagonal ([`Mekf::variances`]), NaN without a filter.
+    pub fn filter_variances(&self) -> [f32; crate::determination::mekf::STATES] {
+        self.estimate.as_ref().map_or(
+            [f32::NAN; crate::determination::mekf::STATES],
+            Mekf::variances,
+        )
+    }
+
+    /// Tile `tile`'s wheel momentum commanded, kg·m²/s (0 for no such tile).
+    pub fn wheel_commanded(&self, tile: usize) -> f32 {
+        self.wheel_h.get(tile).copied().unwrap_or(0.0)
+    }
+
+    /// Bit `c`: coil `c` is failed (the first 8 coils).
+    pub fn coils_failed(&self) -> u8 {
+        (0..8).fold(0, |m, c| m | u8::from(self.health.coil_failed(c)) << c)
+    }
+
+    /// Tile `tile`'s state as a telemetry code: bit 0 out of service, 1 its wheel failed, 2 its
+    /// wheel out of its allocation, 3 its gyro held stuck, 4–7 its read failures in a row (to
+    /// 15); 0 for no such tile.
+    pub fn part_state(&self, tile: usize) -> u8 {
+        let Some(failures) = self.failures.get(tile) else {
+            return 0;
+        };
+        u8::from(!self.is_working(tile))
+            | u8::from(self.health.wheel_failed(tile)) << 1
+            | u8::from(!self.health.wheel_in(tile)) << 2
+            | u8::from(self.stuck.is_held(tile)) << 3
+            | core::cmp::min(*failures, 15) << 4
+    }
+
+    /// Tile `tile`'s last device error since reset or its restore: the device in the high
+    /// nibble (1 Sun sensor, 2 magnetometer, 3 gyro, 4 wheel read-back) and the error in the
+    /// low ([`crate::hal::ErrorKind::code`]; a word pinned at an end of its range is 3, out of
+    /// range); 0 none.
+    pub fn part_error(&self, tile: usize) -> u8 {
+        self.last_error.get(tile).copied().unwrap_or(0)
     }
 
     /// The ground's sun-safe command (the attitude node's own: a dead link never takes it
