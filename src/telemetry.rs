@@ -148,6 +148,13 @@ pub struct LinkCounts {
 }
 
 impl LinkCounts {
+    /// Its three counts, as the reports carry them.
+    fn write(&self, w: &mut Writer<'_>) {
+        w.u16(self.received);
+        w.u16(self.refused);
+        w.u16(self.missed);
+    }
+
     /// Counts one period's outcome: `None` nothing arrived, `Some(true)` a packet decoded,
     /// `Some(false)` one was refused (each count wraps).
     pub fn count(&mut self, outcome: Option<bool>) {
@@ -180,64 +187,42 @@ pub fn attitude_report<const N: usize>(
     link: &LinkCounts,
     out: &mut [u8],
 ) -> Result<usize, PusError> {
+    let len = attitude_data_len(N);
+    let fill = |data: &mut [u8]| {
+        let mut w = Writer { out: data, at: 0 };
+        w.u16(ATTITUDE_STRUCTURE);
+        w.u32(node.step_number());
+        w.u8(report.mode.code() as u8);
+        w.u8(node.coils_failed());
+        w.u16(report.faults.bits());
+        w.u16(node.housekeeping().interval());
+        w.u16(node.steps_without_reference());
+        link.write(&mut w);
+        match &report.attitude {
+            Some(q) => w.quaternion(q),
+            None => w.f32s(&[ABSENT; 4]),
+        }
+        match &report.omega_body_radps {
+            Some(v) => w.f32s(v.as_slice()),
+            None => w.f32s(&[ABSENT; 3]),
+        }
+        w.f32s(&node.filter_variances());
+        w.f32s(report.dipole_body_am2.as_slice());
+        w.bytes(&node.part_states());
+        w.bytes(node.part_errors());
+        w.f32s(node.wheels_commanded());
+        for r in node.health().wheel_reads() {
+            w.u16(*r as u16);
+        }
+    };
     encode_tm_in_place(
         header,
         service::HOUSEKEEPING,
         service::HOUSEKEEPING_REPORT,
-        attitude_data_len(N),
+        len,
         out,
-        |data| {
-            let mut w = Writer { out: data, at: 0 };
-            w.u16(ATTITUDE_STRUCTURE);
-            w.u32(node.step_number());
-            w.u8(report.mode.code() as u8);
-            w.u8(node.coils_failed());
-            w.u16(report.faults.bits());
-            w.u16(node.housekeeping().interval());
-            w.u16(node.steps_without_reference());
-            w.u16(link.received);
-            w.u16(link.refused);
-            w.u16(link.missed);
-            match &report.attitude {
-                Some(q) => w.quaternion(q),
-                None => {
-                    for _ in 0..4 {
-                        w.f32(ABSENT);
-                    }
-                }
-            }
-            absent_vec3(&mut w, report.omega_body_radps.as_ref());
-            let variances = node.filter_variances();
-            for v in variances.iter() {
-                w.f32(*v);
-            }
-            w.vec3(Some(&report.dipole_body_am2));
-            for i in 0..N {
-                w.u8(node.part_state(i));
-            }
-            for i in 0..N {
-                w.u8(node.part_error(i));
-            }
-            for i in 0..N {
-                w.f32(node.wheel_commanded(i));
-            }
-            for i in 0..N {
-                w.u16(node.health().wheel_read(i) as u16);
-            }
-        },
+        fill,
     )
-}
-
-/// Three `f32`, [`ABSENT`] for `None`.
-fn absent_vec3(w: &mut Writer<'_>, v: Option<&crate::linalg::Vec3>) {
-    match v {
-        Some(v) => w.vec3(Some(v)),
-        None => {
-            for _ in 0..3 {
-                w.f32(ABSENT);
-            }
-        }
-    }
 }
 
 /// The shadow code of a REF: 0 unknown (no models), 1 sunlit, 2 penumbra, 3 umbra, 4 antumbra.
@@ -273,29 +258,28 @@ pub fn reference_report<const N: usize, const F: usize>(
     link: &LinkCounts,
     out: &mut [u8],
 ) -> Result<usize, PusError> {
+    let fill = |data: &mut [u8]| {
+        let mut w = Writer { out: data, at: 0 };
+        w.u16(REFERENCE_STRUCTURE);
+        put_cuc(&mut w, reference.clock_valid.then_some(reference.utc));
+        w.u8(u8::from(reference.clock_valid) | u8::from(reference.elements_valid) << 1);
+        w.u8(shadow_code(reference));
+        w.u16(reference.faults);
+        w.u16(node.housekeeping().interval());
+        link.write(&mut w);
+        let g = &reference.guidance;
+        w.u16(g.id);
+        w.u8(guidance_code(g.kind));
+        w.quaternion(&g.target);
+        put_cuc(&mut w, node.elements_epoch());
+    };
     encode_tm_in_place(
         header,
         service::HOUSEKEEPING,
         service::HOUSEKEEPING_REPORT,
         REFERENCE_DATA_LEN,
         out,
-        |data| {
-            let mut w = Writer { out: data, at: 0 };
-            w.u16(REFERENCE_STRUCTURE);
-            put_cuc(&mut w, reference.clock_valid.then_some(reference.utc));
-            w.u8(u8::from(reference.clock_valid) | u8::from(reference.elements_valid) << 1);
-            w.u8(shadow_code(reference));
-            w.u16(reference.faults);
-            w.u16(node.housekeeping().interval());
-            w.u16(link.received);
-            w.u16(link.refused);
-            w.u16(link.missed);
-            let g = &reference.guidance;
-            w.u16(g.id);
-            w.u8(guidance_code(g.kind));
-            w.quaternion(&g.target);
-            put_cuc(&mut w, node.elements_epoch());
-        },
+        fill,
     )
 }
 
@@ -396,6 +380,8 @@ impl Iterator for Events {
 /// ([`EVENT_REPORT_LEN`], 26 B). Errors as [`pus::encode_tm`].
 #[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
 pub fn write_event(header: &TmHeader, event: &Event, out: &mut [u8]) -> Result<usize, PusError> {
+    let [i0, i1] = event.id.to_be_bytes();
+    let [a0, a1] = event.aux;
     encode_tm_in_place(
         header,
         service::EVENT,
@@ -403,9 +389,9 @@ pub fn write_event(header: &TmHeader, event: &Event, out: &mut [u8]) -> Result<u
         EVENT_DATA_LEN,
         out,
         |data| {
-            let mut w = Writer { out: data, at: 0 };
-            w.u16(event.id);
-            w.bytes(&event.aux);
+            if let Some(d) = data.first_chunk_mut::<EVENT_DATA_LEN>() {
+                *d = [i0, i1, a0, a1];
+            }
         },
     )
 }
@@ -414,6 +400,7 @@ pub fn write_event(header: &TmHeader, event: &Event, out: &mut [u8]) -> Result<u
 /// `out`, each with `header` and the next count of `count`; returns the bytes written and the
 /// number of events that did not fit (0 when `out` holds [`MAX_EVENTS`] ×
 /// [`EVENT_REPORT_LEN`] bytes).
+#[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
 pub fn write_events(
     header: &TmHeader,
     count: &mut SequenceCounter,
@@ -423,7 +410,26 @@ pub fn write_events(
 ) -> (usize, usize) {
     let mut written = 0;
     let mut left = 0;
-    for e in events(prev, new) {
+    let changed = prev.faults ^ new.faults;
+    // k 0: the mode; k 1 + i: fault bit i (one loop, no iterator: the images' flash)
+    for k in 0..17u16 {
+        let bit = k.wrapping_sub(1);
+        let (severity, id, aux) = if k == 0 {
+            if prev.mode == new.mode {
+                continue;
+            }
+            (Severity::Informative, MODE_CHANGED, [prev.mode, new.mode])
+        } else if changed >> bit & 1 != 0 {
+            let raised = new.faults >> bit & 1 != 0;
+            let severity = if raised {
+                Severity::Low
+            } else {
+                Severity::Informative
+            };
+            (severity, FAULT_EVENT + bit, new.faults.to_be_bytes())
+        } else {
+            continue;
+        };
         let rest = out.get_mut(written..).unwrap_or_default();
         if EVENT_REPORT_LEN > rest.len() {
             left += 1;
@@ -433,10 +439,28 @@ pub fn write_events(
             sequence_count: count.next_count(),
             ..*header
         };
+        let e = Event { severity, id, aux };
         written += write_event(&h, &e, rest).unwrap_or(0);
     }
     (written, left)
 }
+
+/// The names of the fault word's bits, bit 0 first ([`crate::acs_loop::Faults::bits`]): the
+/// events' names on the ground.
+pub const FAULT_BITS: [&str; 12] = [
+    "device_read",
+    "actuator",
+    "orbit",
+    "model",
+    "field",
+    "rate",
+    "attitude",
+    "saturated",
+    "law",
+    "clock",
+    "extrapolated",
+    "link",
+];
 
 /// The type of a housekeeping parameter, as the ground reads it.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]

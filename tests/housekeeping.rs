@@ -158,27 +158,32 @@ fn attitude_report_decodes_field_by_field() {
         expected.push((format!("DIPOLE_{k}"), f(*x)));
     }
     for i in 0..TILES {
-        expected.push((format!("TILE_STATE_{i}"), u64::from(node.part_state(i))));
+        expected.push((format!("TILE_STATE_{i}"), u64::from(node.part_states()[i])));
     }
     for i in 0..TILES {
-        expected.push((format!("TILE_ERROR_{i}"), u64::from(node.part_error(i))));
+        expected.push((format!("TILE_ERROR_{i}"), u64::from(node.part_errors()[i])));
     }
     for i in 0..TILES {
-        expected.push((format!("WHEEL_CMD_{i}"), f(node.wheel_commanded(i))));
+        expected.push((format!("WHEEL_CMD_{i}"), f(node.wheels_commanded()[i])));
     }
     for i in 0..TILES {
         expected.push((
             format!("WHEEL_READ_{i}"),
-            u64::from(node.health().wheel_read(i) as u16),
+            u64::from(node.health().wheel_reads()[i] as u16),
         ));
     }
     assert_eq!(values, expected);
     // the dead tile: out of service, its error a device absent; the others none
-    assert_eq!(node.part_state(2) & 1, 1);
-    assert_eq!(node.part_error(2) & 0x0F, 1, "{:#x}", node.part_error(2));
-    assert!(node.part_error(2) >> 4 != 0);
+    assert_eq!(node.part_states()[2] & 1, 1);
+    assert_eq!(
+        node.part_errors()[2] & 0x0F,
+        1,
+        "{:#x}",
+        node.part_errors()[2]
+    );
+    assert!(node.part_errors()[2] >> 4 != 0);
     for i in [0, 1, 3, 4, 5] {
-        assert_eq!(node.part_state(i) & 1, 0, "tile {i}");
+        assert_eq!(node.part_states()[i] & 1, 0, "tile {i}");
     }
     // the variances are the filter's: finite, the attitude's positive
     assert!(var.iter().all(|v| v.is_finite()) && var[0] > 0.0);

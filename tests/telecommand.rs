@@ -258,8 +258,8 @@ fn every_refusal_before_the_command_applies_nothing() {
             0x101,
         ),
         (
-            "function 8",
-            sp_tc(apid, 1, 0b1001, 8, 1, &app_data(8, &[])),
+            "function 9",
+            sp_tc(apid, 1, 0b1001, 8, 1, &app_data(9, &[])),
             apid,
             0x101,
         ),

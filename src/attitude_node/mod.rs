@@ -287,36 +287,42 @@ impl<'c, const N: usize> AttitudeNode<'c, N> {
         )
     }
 
-    /// Tile `tile`'s wheel momentum commanded, kg·m²/s (0 for no such tile).
-    pub fn wheel_commanded(&self, tile: usize) -> f32 {
-        self.wheel_h.get(tile).copied().unwrap_or(0.0)
+    /// Each tile's wheel momentum commanded, kg·m²/s.
+    pub fn wheels_commanded(&self) -> &[f32; N] {
+        &self.wheel_h
     }
 
-    /// Bit `c`: coil `c` is failed (the first 8 coils).
+    /// Bit `c`: coil `c` is failed.
     pub fn coils_failed(&self) -> u8 {
-        (0..8).fold(0, |m, c| m | u8::from(self.health.coil_failed(c)) << c)
+        (self.health.masks().0 >> 24) as u8
     }
 
-    /// Tile `tile`'s state as a telemetry code: bit 0 out of service, 1 its wheel failed, 2 its
+    /// Each tile's state as a telemetry code: bit 0 out of service, 1 its wheel failed, 2 its
     /// wheel out of its allocation, 3 its gyro held stuck, 4–7 its read failures in a row (to
-    /// 15); 0 for no such tile.
-    pub fn part_state(&self, tile: usize) -> u8 {
-        let Some(failures) = self.failures.get(tile) else {
-            return 0;
-        };
-        u8::from(!self.is_working(tile))
-            | u8::from(self.health.wheel_failed(tile)) << 1
-            | u8::from(!self.health.wheel_in(tile)) << 2
-            | u8::from(self.stuck.is_held(tile)) << 3
-            | core::cmp::min(*failures, 15) << 4
+    /// 15).
+    #[cfg_attr(target_arch = "msp430", optimize(size))]
+    pub fn part_states(&self) -> [u8; N] {
+        let (mut wheel_failed, mut wheel_out) = self.health.masks();
+        let (mut failed, mut held) = (self.failed, self.stuck.held_mask());
+        let mut out = self.failures;
+        for o in out.iter_mut() {
+            let bits =
+                (failed & 1) | (wheel_failed & 1) << 1 | (wheel_out & 1) << 2 | (held & 1) << 3;
+            *o = core::cmp::min(*o, 15) << 4 | bits as u8;
+            failed >>= 1;
+            wheel_failed >>= 1;
+            wheel_out >>= 1;
+            held >>= 1;
+        }
+        out
     }
 
-    /// Tile `tile`'s last device error since reset or its restore: the device in the high
+    /// Each tile's last device error since reset or its restore: the device in the high
     /// nibble (1 Sun sensor, 2 magnetometer, 3 gyro, 4 wheel read-back) and the error in the
     /// low ([`crate::hal::ErrorKind::code`]; a word pinned at an end of its range is 3, out of
     /// range); 0 none.
-    pub fn part_error(&self, tile: usize) -> u8 {
-        self.last_error.get(tile).copied().unwrap_or(0)
+    pub fn part_errors(&self) -> &[u8; N] {
+        &self.last_error
     }
 
     /// The ground's sun-safe command (the attitude node's own: a dead link never takes it

@@ -256,6 +256,14 @@ impl Writer<'_> {
     pub(crate) fn f32(&mut self, v: f32) {
         self.u32(v.to_bits());
     }
+    /// `f32`s, each as its bits (out of line on the MSP430: the housekeeping's arrays).
+    #[cfg_attr(target_arch = "msp430", inline(never))]
+    pub(crate) fn f32s(&mut self, v: &[f32]) {
+        for x in v {
+            self.u32(x.to_bits());
+        }
+    }
+
     pub(crate) fn vec3(&mut self, v: Option<&Vec3>) {
         let v = v.copied().unwrap_or_else(Vec3::zeros);
         self.f32(v.x);

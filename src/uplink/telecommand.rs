@@ -265,6 +265,7 @@ pub const fn arity(code: u16) -> Option<usize> {
 /// with a clock, 0 (and time 0) without one or before the epoch. The fraction is the
 /// nanoseconds over 15 259, within one unit (15.3 µs) below the exact fraction
 /// (`cuc_fraction_bound`).
+#[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
 pub fn cuc(clock: Option<Epoch<Utc>>) -> (CucTime, u8) {
     match clock {
         // within the 32-bit count: no overflow
