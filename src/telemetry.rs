@@ -55,7 +55,7 @@ pub const FAULT_EVENT: u16 = 0x100;
 pub const MAX_EVENTS: usize = 17;
 /// The bytes of an event report's application data: event ID and 2 B of auxiliary data.
 pub const EVENT_DATA_LEN: usize = 4;
-/// The length of an event report packet (26 B).
+/// The length of an event report packet (25 B).
 pub const EVENT_REPORT_LEN: usize = pus::tm_packet_len(EVENT_DATA_LEN);
 /// The value an absent `f32` parameter is sent as: the quiet NaN.
 pub const ABSENT: f32 = f32::NAN;
@@ -377,7 +377,7 @@ impl Iterator for Events {
 }
 
 /// Writes the event report TM\[5,x\] of `event` to the start of `out`; returns its length
-/// ([`EVENT_REPORT_LEN`], 26 B). Errors as [`pus::encode_tm`].
+/// ([`EVENT_REPORT_LEN`], 25 B). Errors as [`pus::encode_tm`].
 #[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
 pub fn write_event(header: &TmHeader, event: &Event, out: &mut [u8]) -> Result<usize, PusError> {
     let [i0, i1] = event.id.to_be_bytes();
