@@ -347,16 +347,15 @@ fn every_report_decodes_field_by_field() {
     }
 }
 
+/// The states of a packet's fields.
+type States = BTreeMap<String, Vec<(String, u64)>>;
+
 /// The packet definition COSMOS identifies for `bytes` (every ID item matches) and its items'
 /// values, checked for its length and CRC.
 fn identify<'a>(
     packets: &'a Packets,
     bytes: &[u8],
-) -> (
-    &'a str,
-    BTreeMap<String, u64>,
-    &'a BTreeMap<String, Vec<(String, u64)>>,
-) {
+) -> (&'a str, BTreeMap<String, u64>, &'a States) {
     let matching: Vec<_> = packets
         .iter()
         .filter(|(_, (fields, _))| {
@@ -474,9 +473,8 @@ fn the_housekeeping_reports_decode_field_by_field() {
     for (k, x) in node.filter_variances().iter().enumerate() {
         expected.push((format!("VARIANCE_{k}"), f(*x)));
     }
-    let states = node.part_states();
-    for k in 0..acs::flight::TILES {
-        expected.push((format!("TILE_STATE_{k}"), u64::from(states[k])));
+    for (k, state) in node.part_states().iter().enumerate() {
+        expected.push((format!("TILE_STATE_{k}"), u64::from(*state)));
         expected.push((format!("TILE_ERROR_{k}"), u64::from(node.part_errors()[k])));
         expected.push((format!("WHEEL_CMD_{k}"), f(node.wheels_commanded()[k])));
         expected.push((
