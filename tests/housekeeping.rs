@@ -584,3 +584,162 @@ fn the_tables_are_the_lengths() {
         .all(|p| p.count > 0 && !p.name.is_empty()));
     let _ = ParameterType::U8;
 }
+
+fn acs_tool(args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_acs"))
+        .args(args)
+        .output()
+        .expect("the acs binary runs")
+}
+
+/// The ground tool end to end: a flown two-node loop's housekeeping (every period) and events
+/// of 60 s written as the nodes would, read by `acs tm` (its CSV, one line a packet, the report
+/// column naming them) and `acs tm --out DIR` (the decoded structures, the events, the plots);
+/// `acs tc housekeeping` builds the command the nodes take.
+#[test]
+fn acs_tm_decodes_the_housekeeping_and_plots_it() {
+    let sc = scenarios::tracking(None).expect("scenario");
+    let mut sim = sc.simulator().expect("simulator");
+    let mut acs = FlightLoop::new(&CONFIG, sc.orbit().expect("orbit")).expect("loop");
+    let mut bytes = vec![];
+    let mut count = [SequenceCounter::new(), SequenceCounter::new()];
+    let mut prev = [State::default(), State::default()];
+    let mut packets = 0;
+    for k in 0..60 {
+        let t = sim.truth().t_s;
+        let now = sim.epoch_at(t);
+        let report = acs.step(&mut sim, now, 1.0);
+        sim.advance(1.0).expect("advance");
+        let (time, status) = cuc(Some(now));
+        let h = |apid, n: u16| TmHeader {
+            sequence_count: n,
+            time_status: status,
+            time,
+            ..header(apid, 0)
+        };
+        let mut out = [0u8; 512];
+        let node = acs.attitude_node_mut();
+        let n = attitude_report(
+            &h(ATTITUDE_TC_APID, count[0].next_count()),
+            node,
+            &report,
+            &LinkCounts::default(),
+            &mut out,
+        )
+        .expect("written");
+        bytes.extend_from_slice(&out[..n]);
+        let new = State::of_step(&report);
+        let (n, _) = write_events(
+            &h(ATTITUDE_TC_APID, 0),
+            &mut count[0],
+            prev[0],
+            new,
+            &mut out,
+        );
+        packets += 1 + n / EVENT_REPORT_LEN;
+        bytes.extend_from_slice(&out[..n]);
+        prev[0] = new;
+        if k % 10 == 0 {
+            let (ref_packet, _) = acs.packets();
+            let (reference, _) = Reference::from_packet(ref_packet).expect("REF");
+            let node = acs.reference_node_mut();
+            let n = reference_report(
+                &h(REFERENCE_TC_APID, count[1].next_count()),
+                node,
+                &reference,
+                &LinkCounts::default(),
+                &mut out,
+            )
+            .expect("written");
+            let new = State::of_reference(&reference);
+            let (head, tail) = out.split_at_mut(n);
+            let (m, _) = write_events(&h(REFERENCE_TC_APID, 0), &mut count[1], prev[1], new, tail);
+            bytes.extend_from_slice(head);
+            bytes.extend_from_slice(&tail[..m]);
+            packets += m / EVENT_REPORT_LEN;
+            prev[1] = new;
+            packets += 1;
+        }
+    }
+    let dir = std::env::temp_dir().join(format!("acs-hk-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("dir");
+    let file = dir.join("tm.bin");
+    std::fs::write(&file, &bytes).expect("write");
+    let out_dir = dir.join("out");
+    let run = acs_tool(&[
+        "tm",
+        file.to_str().expect("UTF-8"),
+        "--out",
+        out_dir.to_str().expect("UTF-8"),
+    ]);
+    assert_eq!(
+        run.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let csv = String::from_utf8_lossy(&run.stdout).to_string();
+    let mut lines = csv.lines();
+    assert_eq!(lines.next(), Some(acs::host::cli::tm::HEADER));
+    let rows: Vec<&str> = lines.collect();
+    assert_eq!(rows.len(), packets);
+    assert_eq!(
+        rows.iter()
+            .filter(|r| r.contains(",housekeeping attitude,"))
+            .count(),
+        60
+    );
+    assert_eq!(
+        rows.iter()
+            .filter(|r| r.contains(",housekeeping reference,"))
+            .count(),
+        6
+    );
+    assert!(rows.iter().any(|r| r.contains(",mode changed,")), "{csv}");
+    // the decoded files
+    let att = std::fs::read_to_string(out_dir.join("attitude_hk.csv")).expect("attitude_hk.csv");
+    let mut att_lines = att.lines();
+    let head = att_lines.next().expect("header");
+    assert!(
+        head.starts_with("node,apid,sequence_count,time_utc,time_s,STEP,MODE,COILS_FAILED,FAULTS,")
+    );
+    assert!(head.ends_with(",WHEEL_READ_5"));
+    let last: Vec<&str> = att_lines.last().expect("a row").split(',').collect();
+    assert_eq!(last.len(), head.split(',').count());
+    assert_eq!(last[5], "60", "STEP of the last report");
+    let reference = std::fs::read_to_string(out_dir.join("reference_hk.csv")).expect("ref");
+    assert_eq!(reference.lines().count(), 7);
+    let events = std::fs::read_to_string(out_dir.join("events.csv")).expect("events");
+    assert!(
+        events.lines().any(|l| l.contains("mode changed,0,1,")),
+        "{events}"
+    );
+    for svg in ["hk_rates.svg", "hk_wheels.svg", "hk_attitude_sigma.svg"] {
+        let text = std::fs::read_to_string(out_dir.join(svg)).expect(svg);
+        assert!(text.starts_with("<svg") || text.contains("<svg"), "{svg}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    // the command
+    let tc = acs_tool(&["tc", "housekeeping", "30", "--node", "reference"]);
+    assert_eq!(tc.status.code(), Some(0));
+    let hex = String::from_utf8_lossy(&tc.stdout).trim().to_string();
+    let p: Vec<u8> = (0..hex.len() / 2)
+        .map(|i| u8::from_str_radix(&hex[2 * i..2 * i + 2], 16).expect("hex"))
+        .collect();
+    let mut reference = ReferenceNode::<TILES, FIELD_COEFFS>::new(&CONFIG, None).expect("node");
+    let mut out = [0u8; REPORTS_LEN];
+    let n = take(
+        &p,
+        REFERENCE_TC_APID,
+        None,
+        &mut SequenceCounter::new(),
+        &mut out,
+        |k, a| apply_reference(k, a, &mut reference, None),
+    );
+    assert_eq!(n, 50);
+    assert_eq!(reference.housekeeping().interval(), 30);
+    let refused = acs_tool(&["tc", "housekeeping", "3601", "--node", "attitude"]);
+    assert_eq!(refused.status.code(), Some(2));
+    let no_node = acs_tool(&["tc", "housekeeping", "30"]);
+    assert_ne!(no_node.status.code(), Some(0));
+}
