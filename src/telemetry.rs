@@ -206,7 +206,9 @@ pub fn attitude_report<const N: usize>(
             Some(v) => w.f32s(v.as_slice()),
             None => w.f32s(&[ABSENT; 3]),
         }
-        w.f32s(&node.filter_variances());
+        for i in 0..crate::determination::mekf::STATES {
+            w.f32(node.filter().map_or(ABSENT, |f| f.variance(i)));
+        }
         w.f32s(report.dipole_body_am2.as_slice());
         w.bytes(&node.part_states());
         w.bytes(node.part_errors());

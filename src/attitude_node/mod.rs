@@ -279,6 +279,11 @@ impl<'c, const N: usize> AttitudeNode<'c, N> {
         self.without_reference
     }
 
+    /// The attitude filter, if it runs.
+    pub fn filter(&self) -> Option<&Mekf> {
+        self.estimate.as_ref()
+    }
+
     /// The attitude filter's covariance diagonal ([`Mekf::variances`]), NaN without a filter.
     pub fn filter_variances(&self) -> [f32; crate::determination::mekf::STATES] {
         self.estimate.as_ref().map_or(
