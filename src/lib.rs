@@ -53,6 +53,7 @@ pub mod link;
 pub mod orbit;
 pub mod planning;
 pub mod reference_node;
+pub mod telemetry;
 pub mod tiles;
 pub mod time;
 pub mod tle;

@@ -247,7 +247,8 @@ fn every_command_builds_the_packet_the_nodes_take() {
 #[test]
 fn every_report_decodes_field_by_field() {
     let packets = parse(&cosmos_telemetry());
-    assert_eq!(packets.len(), 8);
+    // 4 verification reports, a housekeeping report and 3 event reports of each node
+    assert_eq!(packets.len(), 16);
     let clock = Epoch::from_parts(9_828, 23_415, 500_000_000).ok();
     for apid in [REFERENCE_TC_APID, ATTITUDE_TC_APID] {
         for outcome in [
@@ -341,6 +342,257 @@ fn every_report_decodes_field_by_field() {
                     }
                 }
                 rest = &rest[len..];
+            }
+        }
+    }
+}
+
+/// The states of a packet's fields.
+type States = BTreeMap<String, Vec<(String, u64)>>;
+
+/// The packet definition COSMOS identifies for `bytes` (every ID item matches) and its items'
+/// values, checked for its length and CRC.
+fn identify<'a>(
+    packets: &'a Packets,
+    bytes: &[u8],
+) -> (&'a str, BTreeMap<String, u64>, &'a States) {
+    let matching: Vec<_> = packets
+        .iter()
+        .filter(|(_, (fields, _))| {
+            let mut at = 0;
+            fields.iter().all(|f| {
+                let ok = f.id.is_none_or(|id| {
+                    at + f.bits <= bytes.len() * 8 && get(bytes, at, f.bits) == id
+                });
+                at += f.bits;
+                ok
+            })
+        })
+        .collect();
+    assert_eq!(
+        matching.len(),
+        1,
+        "exactly one definition identifies the packet"
+    );
+    let (name, (fields, states)) = matching[0];
+    let bits: usize = fields.iter().map(|f| f.bits).sum();
+    assert_eq!(bits / 8, bytes.len(), "{name}: the definition's length");
+    let mut value = BTreeMap::new();
+    let mut at = 0;
+    for f in fields {
+        value.insert(f.name.clone(), get(bytes, at, f.bits));
+        at += f.bits;
+    }
+    assert_eq!(value["CCSDS_LENGTH"] as usize + 7, bytes.len(), "{name}");
+    assert_eq!(
+        value["CRC"],
+        u64::from(crc16(&bytes[..bytes.len() - 2])),
+        "{name}"
+    );
+    (name.as_str(), value, states)
+}
+
+/// Both nodes' housekeeping reports, from a flown two-node loop, decode item by item as
+/// COSMOS lays them out: each item is the node's value (floats as their bits).
+#[test]
+fn the_housekeeping_reports_decode_field_by_field() {
+    use acs::acs_loop::StepReport;
+    use acs::flight::{FlightLoop, CONFIG};
+    use acs::host::sim::scenarios;
+    use acs::link::messages::Reference;
+    use acs::link::pus::{CucTime, TmHeader};
+    use acs::telemetry::{attitude_report, reference_report, LinkCounts};
+    use acs::uplink::telecommand::cuc;
+    let packets = parse(&cosmos_telemetry());
+    let sc = scenarios::tracking(None).expect("scenario");
+    let mut sim = sc.simulator().expect("simulator");
+    let mut acs = FlightLoop::new(&CONFIG, sc.orbit().expect("orbit")).expect("loop");
+    let mut report = StepReport::empty(acs.mode());
+    for _ in 0..20 {
+        let t = sim.truth().t_s;
+        let now = sim.epoch_at(t);
+        report = acs.step(&mut sim, now, 1.0);
+        sim.advance(1.0).expect("advance");
+    }
+    assert!(report.attitude.is_some());
+    let header = |apid| TmHeader {
+        apid,
+        sequence_count: 321,
+        time_status: 1,
+        message_counter: 0,
+        destination_id: 0,
+        time: CucTime {
+            seconds: 9_828 * 86_400,
+            fraction: 7,
+        },
+    };
+    let link = LinkCounts {
+        received: 18,
+        refused: 1,
+        missed: 1,
+    };
+    let f = |x: f32| u64::from(x.to_bits());
+    // the attitude node
+    let node = acs.attitude_node_mut();
+    let mut out = [0u8; 200];
+    let n = attitude_report(&header(ATTITUDE_TC_APID), node, &report, &link, &mut out)
+        .expect("written");
+    let (name, v, _) = identify(&packets, &out[..n]);
+    assert_eq!(name, "ATT_HK");
+    let q = report.attitude.expect("attitude");
+    let w = report.omega_body_radps.expect("rate");
+    let mut expected: Vec<(String, u64)> = vec![
+        ("CCSDS_APID".into(), u64::from(ATTITUDE_TC_APID.get())),
+        ("CCSDS_SEQCNT".into(), 321),
+        ("SERVICE".into(), 3),
+        ("SUBTYPE".into(), 25),
+        ("TIME_SECONDS".into(), 9_828 * 86_400),
+        ("TIME_FRACTION".into(), 7),
+        ("STRUCTURE_ID".into(), 1),
+        ("STEP".into(), u64::from(node.step_number())),
+        ("MODE".into(), u64::from(report.mode.code())),
+        ("COILS_FAILED".into(), u64::from(node.coils_failed())),
+        ("FAULTS".into(), u64::from(report.faults.bits())),
+        ("HK_INTERVAL".into(), 10),
+        (
+            "WITHOUT_REF".into(),
+            u64::from(node.steps_without_reference()),
+        ),
+        ("LINK_RECEIVED".into(), 18),
+        ("LINK_REFUSED".into(), 1),
+        ("LINK_MISSED".into(), 1),
+        ("Q_0".into(), f(q.q0)),
+        ("Q_1".into(), f(q.q1)),
+        ("Q_2".into(), f(q.q2)),
+        ("Q_3".into(), f(q.q3)),
+    ];
+    for k in 0..3 {
+        expected.push((format!("RATE_{k}"), f(w[k])));
+        expected.push((format!("DIPOLE_{k}"), f(report.dipole_body_am2[k])));
+    }
+    for (k, x) in node.filter_variances().iter().enumerate() {
+        expected.push((format!("VARIANCE_{k}"), f(*x)));
+    }
+    for (k, state) in node.part_states().iter().enumerate() {
+        expected.push((format!("TILE_STATE_{k}"), u64::from(*state)));
+        expected.push((format!("TILE_ERROR_{k}"), u64::from(node.part_errors()[k])));
+        expected.push((format!("WHEEL_CMD_{k}"), f(node.wheels_commanded()[k])));
+        expected.push((
+            format!("WHEEL_READ_{k}"),
+            u64::from(node.health().wheel_reads()[k] as u16),
+        ));
+    }
+    for (item, value) in &expected {
+        assert_eq!(v.get(item), Some(value), "ATT_HK {item}");
+    }
+    // every item of the definition was checked (the headers' fixed fields aside)
+    let fixed = [
+        "CCSDS_VERSION",
+        "CCSDS_TYPE",
+        "CCSDS_SHF",
+        "CCSDS_SEQFLAGS",
+        "CCSDS_LENGTH",
+        "PUS_VERSION",
+        "TIME_STATUS",
+        "MESSAGE_COUNTER",
+        "DESTINATION_ID",
+        "CRC",
+    ];
+    assert_eq!(v.len(), expected.len() + fixed.len());
+    // the reference node
+    let (ref_packet, _) = acs.packets();
+    let (reference, _) = Reference::from_packet(ref_packet).expect("the last REF");
+    let node = acs.reference_node_mut();
+    let n = reference_report(
+        &header(REFERENCE_TC_APID),
+        node,
+        &reference,
+        &link,
+        &mut out,
+    )
+    .expect("written");
+    let (name, v, _) = identify(&packets, &out[..n]);
+    assert_eq!(name, "REF_HK");
+    let (clock, _) = cuc(Some(reference.utc));
+    let (epoch, _) = cuc(node.elements_epoch());
+    let g = &reference.guidance;
+    let expected: Vec<(&str, u64)> = vec![
+        ("STRUCTURE_ID", 2),
+        ("CLOCK_SECONDS", u64::from(clock.seconds)),
+        ("CLOCK_FRACTION", u64::from(clock.fraction)),
+        ("FLAGS", 3),
+        ("SHADOW", 1),
+        ("FAULTS", u64::from(reference.faults)),
+        ("HK_INTERVAL", 10),
+        ("LINK_RECEIVED", 18),
+        ("LINK_REFUSED", 1),
+        ("LINK_MISSED", 1),
+        ("GUIDANCE_ID", u64::from(g.id)),
+        ("GUIDANCE_KIND", 0),
+        ("TARGET_0", f(g.target.q0)),
+        ("TARGET_1", f(g.target.q1)),
+        ("TARGET_2", f(g.target.q2)),
+        ("TARGET_3", f(g.target.q3)),
+        ("EPOCH_SECONDS", u64::from(epoch.seconds)),
+        ("EPOCH_FRACTION", u64::from(epoch.fraction)),
+    ];
+    for (item, value) in &expected {
+        assert_eq!(v.get(*item), Some(value), "REF_HK {item}");
+    }
+    assert_eq!(v.len(), expected.len() + fixed.len() + 6);
+}
+
+/// Every event report of both nodes (each fault bit raised and cleared, a mode change) decodes
+/// item by item, its fault bit named by its state.
+#[test]
+fn the_event_reports_decode_field_by_field() {
+    use acs::link::pus::{CucTime, TmHeader};
+    use acs::telemetry::{write_events, State, FAULT_BITS};
+    let packets = parse(&cosmos_telemetry());
+    for apid in [REFERENCE_TC_APID, ATTITUDE_TC_APID] {
+        let short = if apid == REFERENCE_TC_APID {
+            "REF"
+        } else {
+            "ATT"
+        };
+        let header = TmHeader {
+            apid,
+            sequence_count: 0,
+            time_status: 1,
+            message_counter: 0,
+            destination_id: 0,
+            time: CucTime::default(),
+        };
+        let mut count = SequenceCounter::new();
+        let mut out = [0u8; 26];
+        let (n, _) = write_events(
+            &header,
+            &mut count,
+            State { mode: 1, faults: 0 },
+            State { mode: 3, faults: 0 },
+            &mut out,
+        );
+        let (name, v, _) = identify(&packets, &out[..n]);
+        assert_eq!(name, format!("{short}_MODE_CHANGED"));
+        assert_eq!((v["OLD_MODE"], v["NEW_MODE"]), (1, 3));
+        for (bit, bit_name) in FAULT_BITS.iter().enumerate() {
+            let on = State {
+                mode: 3,
+                faults: 1 << bit,
+            };
+            let off = State { mode: 3, faults: 0 };
+            for (from, to, what) in [(off, on, "RAISED"), (on, off, "CLEARED")] {
+                let (n, left) = write_events(&header, &mut count, from, to, &mut out);
+                assert_eq!((n, left), (25, 0));
+                let (name, v, states) = identify(&packets, &out[..n]);
+                assert_eq!(name, format!("{short}_FAULT_{what}"));
+                assert_eq!(v["FAULT_BIT"], bit as u64);
+                assert_eq!(v["FAULTS"], u64::from(to.faults));
+                let state = states["FAULT_BIT"]
+                    .iter()
+                    .find(|(_, b)| *b == bit as u64)
+                    .map(|(s, _)| s.to_lowercase());
+                assert_eq!(state.as_deref(), Some(*bit_name));
             }
         }
     }

@@ -60,6 +60,7 @@ FLIGHT = [
     "src/link/mod.rs",
     "src/link/messages.rs",
     "src/two_node.rs",
+    "src/telemetry.rs",
     "src/reference_node/mod.rs",
     "src/reference_node/guidance.rs",
     "src/reference_node/models.rs",

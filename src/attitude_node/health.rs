@@ -126,6 +126,18 @@ impl<const N: usize> ActuatorHealth<N> {
         }
     }
 
+    /// The actuators' failed and out-of-allocation masks: bit `i` tile `i`'s wheel, bit
+    /// `24 + c` coil `c` (telemetry).
+    pub fn masks(&self) -> (u32, u32) {
+        (self.failed, self.out)
+    }
+
+    /// Each tile's wheel read-back word at its last check (1e-7 kg·m²/s,
+    /// [`crate::tiles::WHEEL_LSB_NMS`]); `i16::MIN` if none yet.
+    pub fn wheel_reads(&self) -> &[i16; N] {
+        &self.wheel_read
+    }
+
     /// True if tile `tile`'s wheel is in its allocation.
     pub fn wheel_in(&self, tile: usize) -> bool {
         self.out & mask(tile) == 0

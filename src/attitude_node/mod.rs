@@ -38,6 +38,7 @@ use crate::determination::least_squares::TileSolver;
 use crate::determination::mekf::Mekf;
 use crate::hal::TileBus;
 use crate::link::messages::{GuidanceKind, Reference, Status};
+use crate::telemetry::Housekeeping;
 use crate::tiles::{Tile, TileState, MAX_TILES};
 use crate::time::{Epoch, TimeSpan, Utc};
 
@@ -107,6 +108,11 @@ pub struct AttitudeNode<'c, const N: usize = MAX_TILES> {
     /// Commanded momentum of each tile's wheel, kg·m²/s along the tile normal.
     wheel_h: [f32; N],
     failures: [u8; N],
+    /// Each tile's last device error: the device (high nibble: 1 Sun sensor, 2 magnetometer,
+    /// 3 gyro, 4 wheel) and its [`crate::hal::ErrorKind::code`]; 0 none since reset or restore.
+    last_error: [u8; N],
+    /// The housekeeping schedule the ground sets ([`crate::telemetry`]).
+    housekeeping: Housekeeping,
     /// The wheels' and coils' read-back checks ([`health`]).
     health: ActuatorHealth<N>,
     /// Allocators of the wheels and the coils, rebuilt when their working set changes.
@@ -159,6 +165,8 @@ impl<'c, const N: usize> AttitudeNode<'c, N> {
             estimate: None,
             wheel_h: [0.0; N],
             failures: [0; N],
+            last_error: [0; N],
+            housekeeping: Housekeeping::new(),
             health: ActuatorHealth::new(),
             wheel_allocator: None,
             coil_allocator: None,
@@ -251,6 +259,75 @@ impl<'c, const N: usize> AttitudeNode<'c, N> {
         if let Some(count) = self.failures.get_mut(tile) {
             *count = 0;
         }
+        if let Some(e) = self.last_error.get_mut(tile) {
+            *e = 0;
+        }
+    }
+
+    /// The housekeeping schedule ([`crate::telemetry`]).
+    pub fn housekeeping(&self) -> &Housekeeping {
+        &self.housekeeping
+    }
+
+    /// The housekeeping schedule, for the ground's interval and the image's period count.
+    pub fn housekeeping_mut(&mut self) -> &mut Housekeeping {
+        &mut self.housekeeping
+    }
+
+    /// Consecutive steps without a usable REF (saturating).
+    pub fn steps_without_reference(&self) -> u16 {
+        self.without_reference
+    }
+
+    /// The attitude filter, if it runs.
+    pub fn filter(&self) -> Option<&Mekf> {
+        self.estimate.as_ref()
+    }
+
+    /// The attitude filter's covariance diagonal ([`Mekf::variances`]), NaN without a filter.
+    pub fn filter_variances(&self) -> [f32; crate::determination::mekf::STATES] {
+        self.estimate.as_ref().map_or(
+            [f32::NAN; crate::determination::mekf::STATES],
+            Mekf::variances,
+        )
+    }
+
+    /// Each tile's wheel momentum commanded, kg·m²/s.
+    pub fn wheels_commanded(&self) -> &[f32; N] {
+        &self.wheel_h
+    }
+
+    /// Bit `c`: coil `c` is failed.
+    pub fn coils_failed(&self) -> u8 {
+        (self.health.masks().0 >> 24) as u8
+    }
+
+    /// Each tile's state as a telemetry code: bit 0 out of service, 1 its wheel failed, 2 its
+    /// wheel out of its allocation, 3 its gyro held stuck, 4–7 its read failures in a row (to
+    /// 15).
+    #[cfg_attr(target_arch = "msp430", optimize(size))]
+    pub fn part_states(&self) -> [u8; N] {
+        let (mut wheel_failed, mut wheel_out) = self.health.masks();
+        let (mut failed, mut held) = (self.failed, self.stuck.held_mask());
+        let mut out = self.failures;
+        for o in out.iter_mut() {
+            let bits =
+                (failed & 1) | (wheel_failed & 1) << 1 | (wheel_out & 1) << 2 | (held & 1) << 3;
+            *o = core::cmp::min(*o, 15) << 4 | bits as u8;
+            failed >>= 1;
+            wheel_failed >>= 1;
+            wheel_out >>= 1;
+            held >>= 1;
+        }
+        out
+    }
+
+    /// Each tile's last device error since reset or its restore: the device in the high
+    /// nibble (1 Sun sensor, 2 magnetometer, 3 gyro, 4 wheel read-back) and the error in the
+    /// low ([`crate::hal::ErrorKind::code`]; a word pinned at an end of its range is 3, out of
+    /// range); 0 none.
+    pub fn part_errors(&self) -> &[u8; N] {
+        &self.last_error
     }
 
     /// The ground's sun-safe command (the attitude node's own: a dead link never takes it

@@ -29,6 +29,13 @@ pub(super) fn pinned(x: i16) -> bool {
     x == i16::MAX || x == i16::MIN
 }
 
+/// The telemetry code of a failed read of `device` (1 Sun sensor, 2 magnetometer, 3 gyro, 4
+/// wheel): the device in the high nibble, the error's [`crate::hal::ErrorKind::code`] in the
+/// low (`None`: a pinned word, out of range).
+fn part_error(device: u8, e: Option<crate::hal::ErrorKind>) -> u8 {
+    device << 4 | e.map_or(3, crate::hal::ErrorKind::code)
+}
+
 /// Bit `i` of `mask` (false beyond 31).
 pub(super) fn bit(mask: u32, i: usize) -> bool {
     mask & super::health::mask(i) != 0
@@ -107,6 +114,8 @@ impl<const N: usize> AttitudeNode<'_, N> {
             }
             let here = super::health::mask(i);
             let mut failed = false;
+            // the last failed read's device and kind (0: none this step)
+            let mut error = 0;
             // a word pinned at either end of the i16 range is no reading (a saturated device
             // or a stuck line: no physical Sun angle, field or rate reaches it): a failed read
             if tile.equipment.sun_sensor {
@@ -117,7 +126,10 @@ impl<const N: usize> AttitudeNode<'_, N> {
                         any_read = true;
                     }
                     Ok(None) => any_read = true,
-                    _ => failed = true,
+                    r => {
+                        failed = true;
+                        error = part_error(1, r.err());
+                    }
                 }
             }
             if tile.equipment.magnetometer {
@@ -127,7 +139,10 @@ impl<const N: usize> AttitudeNode<'_, N> {
                         r.mag_read |= here;
                         any_read = true;
                     }
-                    _ => failed = true,
+                    r => {
+                        failed = true;
+                        error = part_error(2, r.err());
+                    }
                 }
             }
             if tile.equipment.gyro {
@@ -137,18 +152,27 @@ impl<const N: usize> AttitudeNode<'_, N> {
                         r.gyro_read |= here;
                         any_read = true;
                     }
-                    _ => failed = true,
+                    r => {
+                        failed = true;
+                        error = part_error(3, r.err());
+                    }
                 }
             }
             if tile.equipment.reaction_wheel && self.health.wheel_in(i) {
                 let commanded = self.wheel_h.get(i).copied().unwrap_or(0.0);
                 let read = bus.read_wheel_momentum(i);
+                if let Err(e) = read {
+                    error = part_error(4, Some(e));
+                }
                 let limit = config.wheel_limit_nms;
                 if self.health.check_wheel(i, read, commanded, limit, faults)
                     && has_twin(&config.tiles, i, |j, t| self.has_working_wheel(j, t))
                 {
                     self.health.take_wheel_out(i);
                 }
+            }
+            if let (Some(last), true) = (self.last_error.get_mut(i), error != 0) {
+                *last = error;
             }
             if let Some(count) = self.failures.get_mut(i) {
                 if failed {

@@ -122,7 +122,15 @@ impl<const N: usize> StuckGyros<N> {
         }
     }
 
-    /// True if tile `i`'s gyro is held as stuck.
+    /// Bit `i`: gyro `i` is held as stuck (telemetry).
+    pub fn held_mask(&self) -> u32 {
+        self.repeats
+            .iter()
+            .rev()
+            .fold(0, |m, r| (m << 1) | u32::from(*r == HELD))
+    }
+
+    /// True if gyro `i` is held as stuck.
     pub fn is_held(&self, i: usize) -> bool {
         self.repeats.get(i) == Some(&HELD)
     }

@@ -463,6 +463,11 @@ impl Mekf {
         )
     }
 
+    /// The variance of error state `i` (`P(i, i)`; 0 beyond [`STATES`]).
+    pub fn variance(&self, i: usize) -> f32 {
+        self.at(i, i)
+    }
+
     /// The covariance's diagonal: attitude (rad²), gyro bias (rad²/s²), magnetometer bias
     /// (nT²).
     #[cfg_attr(target_arch = "msp430", optimize(size))]

@@ -92,6 +92,20 @@ pub enum ErrorKind {
     Other,
 }
 
+impl ErrorKind {
+    /// The kind as a telemetry code ([`crate::telemetry`]): 1 absent, 2 timeout, 3 out of
+    /// range, 4 bus, 5 other.
+    pub fn code(self) -> u8 {
+        match self {
+            Self::DeviceAbsent => 1,
+            Self::Timeout => 2,
+            Self::OutOfRange => 3,
+            Self::Bus => 4,
+            Self::Other => 5,
+        }
+    }
+}
+
 impl fmt::Display for ErrorKind {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let s = match self {

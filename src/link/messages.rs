@@ -228,41 +228,51 @@ impl Reference {
 }
 
 /// Big-endian writer over a fixed buffer (the layouts are constant: every write fits).
-struct Writer<'a> {
-    out: &'a mut [u8],
-    at: usize,
+pub(crate) struct Writer<'a> {
+    pub(crate) out: &'a mut [u8],
+    pub(crate) at: usize,
 }
 
 impl Writer<'_> {
-    fn bytes(&mut self, b: &[u8]) {
+    #[cfg_attr(target_arch = "msp430", inline(never))]
+    pub(crate) fn bytes(&mut self, b: &[u8]) {
         if let Some(slot) = self.out.get_mut(self.at..self.at + b.len()) {
             slot.copy_from_slice(b);
         }
         self.at += b.len();
     }
-    fn u8(&mut self, v: u8) {
+    #[cfg_attr(target_arch = "msp430", inline(never))]
+    pub(crate) fn u8(&mut self, v: u8) {
         self.bytes(&[v]);
     }
     // out of line on the MSP430: a field is then a call, not a bounds check and a copy
     // (reference image -478 B, attitude image -276 B)
     #[cfg_attr(target_arch = "msp430", inline(never))]
-    fn u16(&mut self, v: u16) {
+    pub(crate) fn u16(&mut self, v: u16) {
         self.bytes(&v.to_be_bytes());
     }
     #[cfg_attr(target_arch = "msp430", inline(never))]
-    fn u32(&mut self, v: u32) {
+    pub(crate) fn u32(&mut self, v: u32) {
         self.bytes(&v.to_be_bytes());
     }
-    fn f32(&mut self, v: f32) {
+    pub(crate) fn f32(&mut self, v: f32) {
         self.u32(v.to_bits());
     }
-    fn vec3(&mut self, v: Option<&Vec3>) {
+    /// `f32`s, each as its bits (out of line on the MSP430: the housekeeping's arrays).
+    #[cfg_attr(target_arch = "msp430", inline(never))]
+    pub(crate) fn f32s(&mut self, v: &[f32]) {
+        for x in v {
+            self.u32(x.to_bits());
+        }
+    }
+
+    pub(crate) fn vec3(&mut self, v: Option<&Vec3>) {
         let v = v.copied().unwrap_or_else(Vec3::zeros);
         self.f32(v.x);
         self.f32(v.y);
         self.f32(v.z);
     }
-    fn quaternion(&mut self, q: &Quaternion) {
+    pub(crate) fn quaternion(&mut self, q: &Quaternion) {
         for x in [q.q0, q.q1, q.q2, q.q3] {
             self.f32(x);
         }

@@ -635,6 +635,38 @@ pub fn verification_report(
     Ok(encode_in_place(&primary, data_len, out)?)
 }
 
+/// Bytes before a TM packet's application data: the primary and secondary headers.
+pub const TM_DATA_OFFSET: usize = PRIMARY_HEADER_LEN + TM_SECONDARY_HEADER_LEN;
+
+/// Writes the TM packet of `header`, service `service`, subtype `subtype` with `app_len` bytes
+/// of application data that `fill` writes in place (it gets the packet's application data
+/// field, `app_len` bytes at [`TM_DATA_OFFSET`]) to the start of `out`; returns its length.
+/// For the reports of fixed layout ([`crate::telemetry`]): no copy, no intermediate buffer.
+/// Errors as [`encode_tm`]; on error `out` is unchanged and `fill` is not called.
+#[inline(always)]
+pub fn encode_tm_in_place(
+    header: &TmHeader,
+    service: u8,
+    subtype: u8,
+    app_len: usize,
+    out: &mut [u8],
+    fill: impl FnOnce(&mut [u8]),
+) -> Result<usize, PusError> {
+    let secondary = secondary_header(header, service, subtype)?;
+    let primary = tm_primary(header);
+    let data_len = app_len + TM_SECONDARY_HEADER_LEN;
+    encoded_len(&primary, data_len, out.len())?;
+    // encoded_len checked that out holds the packet: these slices are all there
+    if let Some((sec, app)) = out
+        .get_mut(PRIMARY_HEADER_LEN..)
+        .and_then(|u| u.split_first_chunk_mut::<TM_SECONDARY_HEADER_LEN>())
+    {
+        *sec = secondary;
+        fill(app.get_mut(..app_len).unwrap_or_default());
+    }
+    Ok(encode_in_place(&primary, data_len, out)?)
+}
+
 /// Writes the housekeeping parameter report TM\[3,25\] of structure `structure_id` with the
 /// parameter values `parameters` (the structure's bytes, as the packet dictionary lays them
 /// out) to the start of `out`; returns its length ([`tm_packet_len`]`(2 + parameters.len())`).

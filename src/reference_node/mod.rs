@@ -21,6 +21,7 @@ use crate::env::albedo;
 use crate::env::igrf::coefficient_count;
 use crate::link::messages::{Guidance, Reference, Status};
 use crate::orbit::sgp4::Sgp4;
+use crate::telemetry::Housekeeping;
 use crate::tiles::MAX_TILES;
 use crate::time::{Epoch, TimeSpan, Utc};
 
@@ -49,6 +50,8 @@ pub struct ReferenceNode<
     slew: Option<SlewProgress>,
     /// The id of the last guidance the attitude node accepted (its last STATUS).
     accepted_id: u16,
+    /// The housekeeping schedule the ground sets ([`crate::telemetry`]).
+    housekeeping: Housekeeping,
 }
 
 impl<'c, const N: usize, const F: usize> ReferenceNode<'c, N, F> {
@@ -71,6 +74,7 @@ impl<'c, const N: usize, const F: usize> ReferenceNode<'c, N, F> {
             guidance: Guidance::NONE,
             slew: None,
             accepted_id: 0,
+            housekeeping: Housekeeping::new(),
         })
     }
 
@@ -88,6 +92,21 @@ impl<'c, const N: usize, const F: usize> ReferenceNode<'c, N, F> {
     /// The guidance in force (the next REF's, before a slew's momentum is updated to its UTC).
     pub fn guidance(&self) -> &Guidance {
         &self.guidance
+    }
+
+    /// The element set's epoch, if the node holds one.
+    pub fn elements_epoch(&self) -> Option<Epoch<Utc>> {
+        self.orbit.as_ref().map(Sgp4::epoch)
+    }
+
+    /// The housekeeping schedule ([`crate::telemetry`]).
+    pub fn housekeeping(&self) -> &Housekeeping {
+        &self.housekeeping
+    }
+
+    /// The housekeeping schedule, for the ground's interval and the image's period count.
+    pub fn housekeeping_mut(&mut self) -> &mut Housekeeping {
+        &mut self.housekeeping
     }
 
     /// The clock (the UTC of the step the next REF is for), if set.

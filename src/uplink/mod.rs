@@ -14,6 +14,7 @@
 //! | [`kind::ELEMENTS`] (4) | new element set | 0–57: the words of [`Sgp4::to_words`] (`acs elements`) |
 //! | [`kind::CLOCK`] (5) | set the clock (UTC) | 0: days since 2000-01-01 (i32); 1: second of day; 2: nanoseconds |
 //! | [`kind::MARK_FAILED`] (6) / [`kind::RESTORE`] (7) | mark a tile or a coil failed / restore it | 0: tile (or coil) index; 1: 0 a tile (with its devices and its wheel), 1 a coil ([`crate::attitude_node::health`]) |
+//! | [`kind::HOUSEKEEPING`] (8) | housekeeping interval (either node, its own) | 0: control periods between reports, 0 none, at most [`crate::telemetry::MAX_INTERVAL`] |
 //!
 //! [`apply`] checks the arguments completely before it changes anything: a refused command
 //! (a quaternion that is not finite or zero, a time out of range, an unknown tile, an element
@@ -29,6 +30,7 @@ use crate::attitude::Quaternion;
 use crate::attitude_node::AttitudeNode;
 use crate::orbit::sgp4::{Sgp4, Sgp4Error, ELEMENT_WORDS};
 use crate::reference_node::ReferenceNode;
+use crate::telemetry::Housekeeping;
 use crate::tiles::TileState;
 use crate::time::{Epoch, Utc};
 use crate::two_node::TwoNodeLoop;
@@ -52,6 +54,8 @@ pub mod kind {
     pub const MARK_FAILED: u16 = 6;
     /// Return a tile to service.
     pub const RESTORE: u16 = 7;
+    /// Set the node's housekeeping interval (both nodes: each keeps its own).
+    pub const HOUSEKEEPING: u16 = 8;
 }
 
 /// Why an uplinked command was refused (the loop and the clock are unchanged).
@@ -138,6 +142,11 @@ pub trait UplinkTarget {
     fn restore(&mut self, tile: usize);
     /// Fails a coil (`failed`) or returns it to service; false if there is no such coil.
     fn set_coil_failed(&mut self, coil: usize, failed: bool) -> bool;
+    /// Sets the housekeeping interval of the nodes (checked before); false if this loop has
+    /// no housekeeping (the one-image [`AcsLoop`]: the command is refused as unknown).
+    fn set_housekeeping(&mut self, _periods: u16) -> bool {
+        false
+    }
     /// A ground command (`attitude`: the last filtered attitude, reference TEME → body, which
     /// a slew is planned from; `now`: the next step's UTC).
     fn command(
@@ -149,8 +158,9 @@ pub trait UplinkTarget {
 }
 
 macro_rules! uplink_target {
-    ($loop:ident) => {
+    ($loop:ident, {$($extra:tt)*}) => {
         impl<const N: usize, const F: usize> UplinkTarget for $loop<'_, N, F> {
+            $($extra)*
             fn set_orbit(&mut self, orbit: Sgp4) {
                 $loop::set_orbit(self, orbit);
             }
@@ -177,8 +187,14 @@ macro_rules! uplink_target {
         }
     };
 }
-uplink_target!(AcsLoop);
-uplink_target!(TwoNodeLoop);
+uplink_target!(AcsLoop, {});
+uplink_target!(TwoNodeLoop, {
+    fn set_housekeeping(&mut self, periods: u16) -> bool {
+        let p = u32::from(periods);
+        self.reference_node_mut().housekeeping_mut().set_interval(p)
+            && self.attitude_node_mut().housekeeping_mut().set_interval(p)
+    }
+});
 
 /// The element set of the argument words, checked whole ([`Sgp4::from_words`]) before it
 /// replaces the loop's (out of line: the new set's temporaries stay off the other commands'
@@ -249,12 +265,24 @@ pub fn apply_reference<const N: usize, const F: usize>(
                 Epoch::from_parts(a0 as i32, a1, a2).map_err(|_| UplinkError::InvalidArgument)?;
             node.set_clock(utc);
         }
+        kind::HOUSEKEEPING => housekeeping(args, node.housekeeping_mut())?,
         kind::SUN_SAFE | kind::MARK_FAILED | kind::RESTORE => {
             return Err(UplinkError::NotThisNode(code))
         }
         _ => return Err(UplinkError::UnknownCommand(code)),
     }
     Ok(())
+}
+
+/// The ground's housekeeping interval, word 0, set in `schedule` (refused beyond
+/// [`crate::telemetry::MAX_INTERVAL`]).
+fn housekeeping(args: &[u32; ARG_WORDS], schedule: &mut Housekeeping) -> Result<(), UplinkError> {
+    let [a0, ..] = *args;
+    if schedule.set_interval(a0) {
+        Ok(())
+    } else {
+        Err(UplinkError::InvalidArgument)
+    }
 }
 
 /// The element set of the argument words, checked whole, for the reference node (out of line:
@@ -288,6 +316,7 @@ pub fn apply_attitude<const N: usize>(
                 _ => return Err(UplinkError::InvalidArgument),
             }
         }
+        kind::HOUSEKEEPING => housekeeping(args, node.housekeeping_mut())?,
         kind::TRACK | kind::SLEW | kind::ELEMENTS | kind::CLOCK => {
             return Err(UplinkError::NotThisNode(code))
         }
@@ -328,6 +357,15 @@ pub fn apply<A: UplinkTarget>(
             *clock =
                 Epoch::from_parts(a0 as i32, a1, a2).map_err(|_| UplinkError::InvalidArgument)?;
             return Ok(());
+        }
+        kind::HOUSEKEEPING => {
+            let mut schedule = Housekeeping::new();
+            housekeeping(args, &mut schedule)?;
+            return if acs.set_housekeeping(schedule.interval()) {
+                Ok(())
+            } else {
+                Err(UplinkError::UnknownCommand(code))
+            };
         }
         kind::MARK_FAILED | kind::RESTORE => {
             let failed = code == kind::MARK_FAILED;

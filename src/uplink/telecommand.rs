@@ -12,7 +12,7 @@
 //!
 //! | bytes | field |
 //! |---|---|
-//! | 2 | function ID: the command code ([`crate::uplink::kind`], 1–7) |
+//! | 2 | function ID: the command code ([`crate::uplink::kind`], 1–8) |
 //! | 4 × n | the command's argument words, n = [`arity`] of the code (0–58; the words of the mailbox table in [`crate::uplink`]) |
 //!
 //! # The reports
@@ -157,7 +157,7 @@ const PART: [Argument; 2] = [
 /// Every command the ground sends: the source of the packet dictionary
 /// (`ground/cosmos`, [`crate::uplink`]'s table), checked against [`arity`] and the codes by
 /// the tests.
-pub const COMMANDS: [Definition; 7] = [
+pub const COMMANDS: [Definition; 9] = [
     Definition {
         name: "SUN_SAFE",
         code: kind::SUN_SAFE,
@@ -223,7 +223,29 @@ pub const COMMANDS: [Definition; 7] = [
         description: "return a tile or a coil to service",
         arguments: &PART,
     },
+    Definition {
+        name: "REF_HOUSEKEEPING",
+        code: kind::HOUSEKEEPING,
+        apid: REFERENCE_TC_APID,
+        description: "set the reference node's housekeeping interval",
+        arguments: &HOUSEKEEPING,
+    },
+    Definition {
+        name: "ATT_HOUSEKEEPING",
+        code: kind::HOUSEKEEPING,
+        apid: ATTITUDE_TC_APID,
+        description: "set the attitude node's housekeeping interval",
+        arguments: &HOUSEKEEPING,
+    },
 ];
+
+/// The housekeeping interval (both nodes own the command, each for itself).
+const HOUSEKEEPING: [Argument; 1] = [word(
+    "PERIODS",
+    WordType::U32,
+    "periods",
+    "control periods between housekeeping reports: 0 none, at most 3600 (reset: 10)",
+)];
 
 /// The number of argument words of command `code`, `None` for an unknown code.
 pub const fn arity(code: u16) -> Option<usize> {
@@ -234,6 +256,7 @@ pub const fn arity(code: u16) -> Option<usize> {
         kind::ELEMENTS => Some(ARG_WORDS),
         kind::CLOCK => Some(3),
         kind::MARK_FAILED | kind::RESTORE => Some(2),
+        kind::HOUSEKEEPING => Some(1),
         _ => None,
     }
 }
@@ -243,6 +266,7 @@ pub const fn arity(code: u16) -> Option<usize> {
 /// with a clock, 0 (and time 0) without one or before the epoch. The fraction is the
 /// nanoseconds over 15 259, within one unit (15.3 µs) below the exact fraction
 /// (`cuc_fraction_bound`).
+#[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
 pub fn cuc(clock: Option<Epoch<Utc>>) -> (CucTime, u8) {
     match clock {
         // within the 32-bit count: no overflow
@@ -366,14 +390,14 @@ mod tests {
 
     #[test]
     fn the_definitions_are_the_codes_and_their_words() {
-        let mut codes: [u16; 7] = COMMANDS.map(|d| d.code);
+        let mut codes: [u16; 9] = COMMANDS.map(|d| d.code);
         codes.sort_unstable();
-        assert_eq!(codes, [1, 2, 3, 4, 5, 6, 7]);
+        assert_eq!(codes, [1, 2, 3, 4, 5, 6, 7, 8, 8]);
         for d in COMMANDS {
             let words: usize = d.arguments.iter().map(|a| a.count).sum();
             assert_eq!(Some(words), arity(d.code), "{}", d.name);
         }
-        assert!(arity(0).is_none() && arity(8).is_none());
+        assert!(arity(0).is_none() && arity(9).is_none());
     }
 
     #[test]

@@ -15,6 +15,7 @@
 //! acs tc clock UTC                         (ISO 8601, as `acs sun` reads it)
 //! acs tc mark-failed tile|coil INDEX
 //! acs tc restore tile|coil INDEX
+//! acs tc housekeeping PERIODS --node reference|attitude   (0: none; at most 3600)
 //!   [--count N] [--source ID] [--ack acceptance,completion|none] [--format hex|bin]
 //! ```
 //! stdout: the packet as one line of lower-case hex digits (`hex`, default) or its bytes
@@ -110,6 +111,15 @@ enum TcCommand {
         /// Its index.
         index: u32,
     },
+    /// Set a node's housekeeping interval: PERIODS control periods between reports, 0 none
+    /// (either node, each its own; 10 at reset).
+    Housekeeping {
+        /// Control periods between reports (0: none; at most 3600).
+        periods: u32,
+        /// The node: `reference` or `attitude`.
+        #[arg(long, value_parser = ["reference", "attitude"])]
+        node: String,
+    },
 }
 
 /// A quaternion's words, refused (exit 2) if not finite or zero, as the node would.
@@ -156,6 +166,20 @@ fn command(c: &TcCommand) -> Result<(Apid, u16, Vec<u32>), CliError> {
         }
         TcCommand::Restore { part: p, index } => {
             (ATTITUDE_TC_APID, kind::RESTORE, vec![*index, part(p)])
+        }
+        TcCommand::Housekeeping { periods, node } => {
+            if *periods > u32::from(crate::telemetry::MAX_INTERVAL) {
+                return Err(CliError::Input(format!(
+                    "housekeeping interval {periods}: beyond {} periods",
+                    crate::telemetry::MAX_INTERVAL
+                )));
+            }
+            let apid = if node == "reference" {
+                REFERENCE_TC_APID
+            } else {
+                ATTITUDE_TC_APID
+            };
+            (apid, kind::HOUSEKEEPING, vec![*periods])
         }
     })
 }

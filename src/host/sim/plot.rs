@@ -37,7 +37,8 @@ pub fn csv(samples: &[Sample]) -> String {
     out
 }
 
-type Series<'a> = (&'a str, Vec<(f64, f64)>, RGBColor);
+/// One series of a chart: its name, its (time s, value) points and its colour.
+pub type Series<'a> = (&'a str, Vec<(f64, f64)>, RGBColor);
 
 /// One SVG chart of several series against time (minutes), with the eclipse shaded grey.
 fn chart(
@@ -49,6 +50,29 @@ fn chart(
     log_y: bool,
 ) -> Result<(), String> {
     let t_max = samples.last().map_or(1.0, |s| s.t_s / 60.0).max(1e-3);
+    chart_spans(
+        path,
+        title,
+        y_label,
+        t_max,
+        &eclipse_spans(samples),
+        series,
+        log_y,
+    )
+}
+
+/// One SVG chart of several series against time (minutes, to `t_max` min), the spans
+/// `shaded` (minutes) grey: [`write_all`]'s charts, and the housekeeping's of `acs tm`.
+pub fn chart_spans(
+    path: &Path,
+    title: &str,
+    y_label: &str,
+    t_max: f64,
+    shaded: &[(f64, f64)],
+    series: &[Series],
+    log_y: bool,
+) -> Result<(), String> {
+    let t_max = t_max.max(1e-3);
     let values = series.iter().flat_map(|s| s.1.iter().map(|p| p.1));
     let (mut lo, mut hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
         (a.min(v), b.max(v))
@@ -80,7 +104,7 @@ fn chart(
             .y_desc(y_label)
             .draw()
             .map_err(|e| e.to_string())?;
-        shade_eclipse(&mut c, samples, lo, hi)?;
+        shade(&mut c, shaded, lo, hi)?;
         for (name, pts, color) in series {
             let color = *color;
             c.draw_series(LineSeries::new(
@@ -105,7 +129,7 @@ fn chart(
             .y_desc(y_label)
             .draw()
             .map_err(|e| e.to_string())?;
-        shade_eclipse(&mut c, samples, lo - pad, hi + pad)?;
+        shade(&mut c, shaded, lo - pad, hi + pad)?;
         for (name, pts, color) in series {
             let color = *color;
             c.draw_series(LineSeries::new(
@@ -124,13 +148,8 @@ fn chart(
     root.present().map_err(|e| e.to_string())
 }
 
-fn shade_eclipse<DB: DrawingBackend, Y: Ranged<ValueType = f64>>(
-    c: &mut ChartContext<'_, DB, Cartesian2d<plotters::coord::types::RangedCoordf64, Y>>,
-    samples: &[Sample],
-    lo: f64,
-    hi: f64,
-) -> Result<(), String> {
-    let grey = RGBColor(225, 225, 225).filled();
+/// The eclipses of a run (sunlit fraction under one half), minutes.
+fn eclipse_spans(samples: &[Sample]) -> Vec<(f64, f64)> {
     let mut start: Option<f64> = None;
     let mut spans = Vec::new();
     for s in samples {
@@ -147,10 +166,20 @@ fn shade_eclipse<DB: DrawingBackend, Y: Ranged<ValueType = f64>>(
     if let (Some(t0), Some(last)) = (start, samples.last()) {
         spans.push((t0, last.t_s / 60.0));
     }
+    spans
+}
+
+fn shade<DB: DrawingBackend, Y: Ranged<ValueType = f64>>(
+    c: &mut ChartContext<'_, DB, Cartesian2d<plotters::coord::types::RangedCoordf64, Y>>,
+    spans: &[(f64, f64)],
+    lo: f64,
+    hi: f64,
+) -> Result<(), String> {
+    let grey = RGBColor(225, 225, 225).filled();
     c.draw_series(
         spans
-            .into_iter()
-            .map(|(a, b)| Rectangle::new([(a, lo), (b, hi)], grey)),
+            .iter()
+            .map(|(a, b)| Rectangle::new([(*a, lo), (*b, hi)], grey)),
     )
     .map_err(|e| e.to_string())?;
     Ok(())
