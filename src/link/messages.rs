@@ -234,14 +234,12 @@ pub(crate) struct Writer<'a> {
 }
 
 impl Writer<'_> {
-    #[cfg_attr(target_arch = "msp430", inline(never))]
     pub(crate) fn bytes(&mut self, b: &[u8]) {
         if let Some(slot) = self.out.get_mut(self.at..self.at + b.len()) {
             slot.copy_from_slice(b);
         }
         self.at += b.len();
     }
-    #[cfg_attr(target_arch = "msp430", inline(never))]
     pub(crate) fn u8(&mut self, v: u8) {
         self.bytes(&[v]);
     }
