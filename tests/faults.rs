@@ -313,20 +313,8 @@ fn back_under(run: &Run, from: f64, to: f64, bound: f64) -> Option<f64> {
     at
 }
 
-const NAMES: [&str; 12] = [
-    "device_read",
-    "actuator",
-    "orbit",
-    "model",
-    "field",
-    "rate",
-    "attitude",
-    "saturated",
-    "law",
-    "clock",
-    "extrapolated",
-    "link",
-];
+/// The fault bits' names, bit 0 first (the ground's, `acs::telemetry`).
+const NAMES: [&str; 12] = acs::telemetry::FAULT_BITS;
 
 /// Steps of `[a, b)` with each fault bit set, as `name n` (only the bits seen).
 fn bit_counts(run: &Run, a: f64, b: f64) -> String {
