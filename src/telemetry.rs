@@ -447,6 +447,127 @@ pub fn write_events(
     (written, left)
 }
 
+/// A node's telemetry after each of its steps ([`Downlink::attitude`],
+/// [`Downlink::reference`]): the events from its state after the step before (at reset: mode
+/// 0, no fault), then its housekeeping report when [`Housekeeping::due`]. Each packet is
+/// written on the caller's stack and handed to `send` as soon as it is complete (the node
+/// images: `acs_firmware::flight::downlink`), counted by the node's TM sequence counter (its
+/// verification reports' too) and stamped with the node's clock ([`cuc`]). The image keeps one,
+/// and so does the host's copy of it (the processor-in-the-loop run, the rehearsal), which
+/// sends the same bytes.
+#[derive(Copy, Clone, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Downlink {
+    /// The node's state after its step before: what the events compare against.
+    prev: State,
+    /// What the node's link layer counted (the image counts, the reports carry it).
+    pub link: LinkCounts,
+}
+
+impl Downlink {
+    /// The telemetry at reset: no step before (mode 0, no fault), nothing counted.
+    pub const fn new() -> Self {
+        Self {
+            prev: State { mode: 0, faults: 0 },
+            link: LinkCounts {
+                received: 0,
+                refused: 0,
+                missed: 0,
+            },
+        }
+    }
+
+    /// The attitude node's telemetry after its step of `report` (see [`Downlink`]): its
+    /// events, then its housekeeping report (structure [`ATTITUDE_STRUCTURE`]) if due. For
+    /// the flight configuration's [`crate::flight::TILES`] tiles, whose report the node
+    /// images send.
+    #[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
+    pub fn attitude(
+        &mut self,
+        node: &mut AttitudeNode<'_, TILES>,
+        report: &StepReport,
+        count: &mut SequenceCounter,
+        mut send: impl FnMut(&[u8]),
+    ) {
+        let apid = crate::link::messages::ATTITUDE_TC_APID;
+        let clock = node.clock();
+        self.events(apid, clock, State::of_step(report), count, &mut send);
+        if node.housekeeping_mut().due() {
+            let mut out = [0u8; pus::tm_packet_len(attitude_data_len(TILES))];
+            let header = tm_header(apid, clock, count);
+            if let Ok(n) = attitude_report(&header, node, report, &self.link, &mut out) {
+                send(out.get(..n).unwrap_or_default());
+            }
+        }
+    }
+
+    /// The reference node's telemetry after it made `reference` (see [`Downlink`]): its
+    /// events (the guidance kind as its mode), then its housekeeping report (structure
+    /// [`REFERENCE_STRUCTURE`]) if due.
+    #[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
+    pub fn reference<const N: usize, const F: usize>(
+        &mut self,
+        node: &mut ReferenceNode<'_, N, F>,
+        reference: &Reference,
+        count: &mut SequenceCounter,
+        mut send: impl FnMut(&[u8]),
+    ) {
+        let apid = crate::link::messages::REFERENCE_TC_APID;
+        let clock = node.clock();
+        self.events(
+            apid,
+            clock,
+            State::of_reference(reference),
+            count,
+            &mut send,
+        );
+        if node.housekeeping_mut().due() {
+            let mut out = [0u8; REFERENCE_REPORT_LEN];
+            let header = tm_header(apid, clock, count);
+            if let Ok(n) = reference_report(&header, node, reference, &self.link, &mut out) {
+                send(out.get(..n).unwrap_or_default());
+            }
+        }
+    }
+
+    /// Sends the events from the state before to `new`, and keeps `new`.
+    fn events(
+        &mut self,
+        apid: crate::link::space_packet::Apid,
+        clock: Option<Epoch<Utc>>,
+        new: State,
+        count: &mut SequenceCounter,
+        send: &mut impl FnMut(&[u8]),
+    ) {
+        for e in events(self.prev, new) {
+            let mut out = [0u8; EVENT_REPORT_LEN];
+            let header = tm_header(apid, clock, count);
+            if let Ok(n) = write_event(&header, &e, &mut out) {
+                send(out.get(..n).unwrap_or_default());
+            }
+        }
+        self.prev = new;
+    }
+}
+
+/// The header of a node's next report: its APID, the next count of `count`, the time of
+/// `clock` (status 0 and time 0 without one, [`cuc`]).
+fn tm_header(
+    apid: crate::link::space_packet::Apid,
+    clock: Option<Epoch<Utc>>,
+    count: &mut SequenceCounter,
+) -> TmHeader {
+    let (time, time_status) = cuc(clock);
+    TmHeader {
+        apid,
+        sequence_count: count.next_count(),
+        time_status,
+        message_counter: 0,
+        destination_id: 0,
+        time,
+    }
+}
+
 /// The names of the fault word's bits, bit 0 first ([`crate::acs_loop::Faults::bits`]): the
 /// events' names on the ground.
 pub const FAULT_BITS: [&str; 12] = [

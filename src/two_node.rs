@@ -69,6 +69,10 @@ pub struct TwoNodeLoop<'c, const N: usize = MAX_TILES, const F: usize = FULL_COE
     /// The last step's packets, as on the link.
     reference_packet: [u8; REFERENCE_PACKET_BYTES],
     status_packet: [u8; STATUS_PACKET_BYTES],
+    /// The last step's REF as the reference node made it.
+    reference_made: Option<Reference>,
+    /// What each node's link layer made of the last step's packet ([`TwoNodeLoop::received`]).
+    received: [Option<bool>; 2],
 }
 
 impl<'c, const N: usize, const F: usize> TwoNodeLoop<'c, N, F> {
@@ -87,6 +91,8 @@ impl<'c, const N: usize, const F: usize> TwoNodeLoop<'c, N, F> {
             status_count: SequenceCounter::new(),
             reference_packet: [0; REFERENCE_PACKET_BYTES],
             status_packet: [0; STATUS_PACKET_BYTES],
+            reference_made: None,
+            received: [None; 2],
         })
     }
 
@@ -207,19 +213,34 @@ impl<'c, const N: usize, const F: usize> TwoNodeLoop<'c, N, F> {
         let reference = self.reference.reference(step, self.status.as_ref());
         self.reference_step = step.wrapping_add(1);
         self.reference_packet = reference.to_packet(self.reference_count.next_count());
+        self.reference_made = Some(reference);
         let mut delivered = self.reference_packet;
         let reference = link(LinkDirection::Reference, &mut delivered)
-            .then(|| Reference::from_packet(&delivered).ok())
-            .flatten();
+            .then(|| Reference::from_packet(&delivered).ok());
+        self.received[0] = reference.as_ref().map(Option::is_some);
+        let reference = reference.flatten();
         let status = self
             .attitude
             .step_into(bus, reference.as_ref().map(|(r, _)| r), dt_s, report);
         self.status_packet = status.to_packet(self.status_count.next_count());
         let mut delivered = self.status_packet;
-        self.status = link(LinkDirection::Status, &mut delivered)
-            .then(|| Status::from_packet(&delivered).ok())
-            .flatten()
-            .map(|(s, _)| s);
+        let status = link(LinkDirection::Status, &mut delivered)
+            .then(|| Status::from_packet(&delivered).ok().map(|(s, _)| s));
+        self.received[1] = status.as_ref().map(Option::is_some);
+        self.status = status.flatten();
+    }
+
+    /// What the last step's packets were at their receivers, as the images count them
+    /// ([`crate::telemetry::LinkCounts::count`]): the REF at the attitude node, then the STATUS at
+    /// the reference node; each `None` if it was dropped, `Some(true)` if it decoded,
+    /// `Some(false)` if it was refused.
+    pub fn received(&self) -> [Option<bool>; 2] {
+        self.received
+    }
+
+    /// The last step's REF as the reference node made it (`None` before the first step).
+    pub fn reference_made(&self) -> Option<&Reference> {
+        self.reference_made.as_ref()
     }
 
     /// A power-on reset of the reference node: a fresh node with `orbit` (its element set at
@@ -229,6 +250,7 @@ impl<'c, const N: usize, const F: usize> TwoNodeLoop<'c, N, F> {
     pub fn reset_reference(&mut self, orbit: impl Into<Option<Sgp4>>) -> Result<(), AcsError> {
         self.reference = ReferenceNode::new(self.config, orbit)?;
         self.status = None;
+        self.received[1] = None;
         self.reference_step = 0;
         self.reference_count = SequenceCounter::new();
         Ok(())

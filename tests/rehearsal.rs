@@ -94,7 +94,8 @@ fn scenario_and_script(dir: &Path) -> (PathBuf, PathBuf) {
     (scenario, script)
 }
 
-/// `acs tm FILE` as (node, report, request sequence count, failure code) per report.
+/// `acs tm FILE` as (node, report, request sequence count, failure code) per verification
+/// report (service 1).
 fn reports(tm: &Path) -> Vec<(String, String, u16, String)> {
     let out = acs(&["tm", path(tm)]);
     assert_eq!(out.status.code(), Some(0), "acs tm: {}", text(&out.stderr));
@@ -102,13 +103,15 @@ fn reports(tm: &Path) -> Vec<(String, String, u16, String)> {
     let mut lines = csv.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
     let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
-    let (node, report, count, code) = (
+    let (node, report, count, code, service) = (
         col("node"),
         col("report"),
         col("request_sequence_count"),
         col("failure_code"),
+        col("service"),
     );
     lines
+        .filter(|l| l.split(',').nth(service) == Some("1"))
         .map(|l| {
             let f: Vec<&str> = l.split(',').collect();
             (

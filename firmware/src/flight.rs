@@ -16,7 +16,8 @@
 //! loop, `0x100 + i` element set refused at word `i`, the elements in use kept) into
 //! `UPLINK_STATUS`.
 //!
-//! The node images take PUS telecommands instead ([`Ground`], [`take_telecommand`]).
+//! The node images take PUS telecommands instead ([`Ground`], [`take_telecommand`]), and hand
+//! their telemetry to the ground link packet by packet ([`downlink`]).
 //!
 //! After each step the firmware publishes the mode (`STEP_MODE`, [`acs::acs_loop::Mode::code`])
 //! and the faults (`STEP_FAULTS`, [`acs::acs_loop::Faults::bits`]).
@@ -146,6 +147,34 @@ impl<const N: usize> Ground<N> {
     };
 }
 
+/// Hands the telemetry packet `packet` (a TM\[3,25\] or TM\[5,x\] report,
+/// [`acs::telemetry::Downlink`]) to the ground link: [`fw_downlink`] with its address and
+/// length.
+#[inline(always)]
+pub fn downlink(packet: &[u8]) {
+    fw_downlink(packet.as_ptr(), packet.len());
+}
+
+/// The ground link's entry for a telemetry packet: `len` bytes at `packet`, valid for this
+/// call only (the node writes each packet on its stack). The communication subsystem's driver
+/// belongs here, as it writes [`Ground`]'s telecommands: it is not part of this firmware, and
+/// the processor-in-the-loop host reads each packet at this function's entry (its arguments in
+/// R12 and R13, the MSP430 EABI's). The address and length are kept in those registers.
+#[no_mangle]
+#[inline(never)]
+pub extern "C" fn fw_downlink(packet: *const u8, len: usize) {
+    // SAFETY: the two moves have no effect; the operands pin the arguments to R12 and R13
+    // (read by the processor-in-the-loop host at the entry) and keep the function and its
+    // symbol. Not a bare `nop`: the linker's identical code folding would merge this function
+    // with `fw_period_start` (the host checks that the two differ).
+    #[cfg(target_arch = "msp430")]
+    unsafe {
+        core::arch::asm!("mov r12, r12", "mov r13, r13", in("r12") packet, in("r13") len)
+    };
+    #[cfg(not(target_arch = "msp430"))]
+    let _ = (packet, len);
+}
+
 /// Takes the telecommand pending in `ground`, if any ([`acs::uplink::telecommand::take`], for
 /// the node of `apid`, stamped with `clock(node)` at this call and counted by `count`): `apply`
 /// applies the command to `node` ([`acs::uplink::apply_reference`] or
@@ -153,7 +182,7 @@ impl<const N: usize> Ground<N> {
 /// mailbox is taken as an empty packet (refused, reported). `node` and `ground` are passed in,
 /// not captured, so that a debugger that calls this again with the same registers (the
 /// processor-in-the-loop run, several telecommands in a period) gets each one stamped with the
-/// clock as the previous ones left it.
+/// clock as the previous ones left it. True if a telecommand was pending.
 #[inline(never)]
 #[cfg_attr(target_arch = "msp430", optimize(size))]
 pub fn take_telecommand<T, const N: usize>(
@@ -163,7 +192,7 @@ pub fn take_telecommand<T, const N: usize>(
     node: &mut T,
     clock: fn(&T) -> Option<Epoch<Utc>>,
     apply: impl FnOnce(&mut T, u16, &[u32; ARG_WORDS]) -> Result<(), UplinkError>,
-) {
+) -> bool {
     // `black_box` hides the pointer's origin, so the compiler cannot fold the reads to the
     // static's initial value (nothing in the program writes the telecommand).
     let ground = core::hint::black_box(ground);
@@ -174,7 +203,7 @@ pub fn take_telecommand<T, const N: usize>(
     unsafe {
         let len = core::ptr::read_volatile(&raw const (*ground).tc_len);
         if len == 0 {
-            return;
+            return false;
         }
         let tc = &*(&raw const (*ground).tc);
         let reports = &mut *(&raw mut (*ground).reports);
@@ -186,6 +215,7 @@ pub fn take_telecommand<T, const N: usize>(
         core::ptr::write_volatile(&raw mut (*ground).reports_len, n as u16);
         core::ptr::write_volatile(&raw mut (*ground).tc_len, 0);
     }
+    true
 }
 
 /// Publishes a step's mode and faults (`STEP_MODE`, `STEP_FAULTS`) from their codes.

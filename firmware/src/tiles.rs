@@ -13,13 +13,14 @@
 //! | `TILE_SUN_SEEN` | `u16` | bit `i`: tile `i`'s sensor sees the Sun (clear: `Ok(None)`) |
 //! | `TILE_MAG` | `[[i16; 2]; 6]` | magnetometer, tile x and y, 10 nT |
 //! | `TILE_GYRO` | `[i16; 6]` | gyro rate about tile z, 1e-4 rad/s |
-//! | `TILE_READ_ERRORS` | `u32` | bits `i`, `8 + i`, `16 + i`: tile `i`'s sun sensor, magnetometer, gyro does not answer (a bus error) |
+//! | `TILE_READ_ERRORS` | `u32` | bits `i`, `8 + i`, `16 + i`: tile `i`'s sun sensor, magnetometer, gyro does not answer (the kind: `ERROR_KINDS`) |
 //! | `ACTUATOR_REFUSE` | `u16` | bits `i`, `8 + c`: wheel `i`, coil `c` refuses its command |
 //! | `CMD_WHEEL_NMS` | `[f32; 6]` | wheel momentum commands, kg·m²/s along tile z |
 //! | `CMD_DIPOLE_AM2` | `[f32; 3]` | coil dipole commands, A·m² |
 //! | `TILE_WHEEL` | `[i16; 6]` | wheel momentum read-back, 1e-7 kg·m²/s |
 //! | `COIL_READ` | `[i16; 3]` | coil dipole read-back, 1e-5 A·m² |
-//! | `READBACK_ERRORS` | `u16` | bits `i`, `8 + c`: the read-back of wheel `i`, coil `c` fails (a bus error) |
+//! | `READBACK_ERRORS` | `u16` | bits `i`, `8 + c`: the read-back of wheel `i`, coil `c` fails (the kind: `ERROR_KINDS`) |
+//! | `ERROR_KINDS` | `[u8; 40]` | the kind of each failure above ([`acs::hal::ErrorKind::code`]): entry `b` for bit `b` of `TILE_READ_ERRORS`, `24 + b` for bit `b` of `READBACK_ERRORS`; another value a bus error |
 
 use acs::flight::TILES;
 use acs::hal::{ErrorKind, TileBus};
@@ -60,6 +61,20 @@ pub static mut COIL_READ: [i16; COILS] = [0; COILS];
 /// Read-backs that fail (see the [module docs](self)).
 #[no_mangle]
 pub static mut READBACK_ERRORS: u16 = 0;
+/// The kind of each failure of [`TILE_READ_ERRORS`] and [`READBACK_ERRORS`] (see the
+/// [module docs](self)).
+#[no_mangle]
+pub static mut ERROR_KINDS: [u8; ERROR_KINDS_LEN] = [0; ERROR_KINDS_LEN];
+/// Entries of [`ERROR_KINDS`]: 24 device bits, then 16 read-back bits.
+pub const ERROR_KINDS_LEN: usize = 40;
+
+/// The kind of the failure in entry `i` of [`ERROR_KINDS`] (a bus error for a code that is not
+/// a kind's).
+fn error_kind(i: usize) -> ErrorKind {
+    element(&raw const ERROR_KINDS, i)
+        .and_then(ErrorKind::from_code)
+        .unwrap_or(ErrorKind::Bus)
+}
 
 /// Bit `i` of `mask` (false beyond 31).
 fn bit(mask: u32, i: usize) -> bool {
@@ -92,13 +107,14 @@ fn set_element<T, const L: usize>(
     Ok(())
 }
 
-/// The read error of device bit `i` of [`TILE_READ_ERRORS`], if set.
+/// The read error of device bit `i` of [`TILE_READ_ERRORS`], if set (its kind from
+/// [`ERROR_KINDS`]).
 fn read_error(i: usize) -> Result<(), ErrorKind> {
     // SAFETY: single-threaded firmware, no interrupt touches the mailboxes; volatile: written
     // from outside the program.
     let errors = unsafe { core::ptr::read_volatile(&raw const TILE_READ_ERRORS) };
     if bit(errors, i) {
-        Err(ErrorKind::Bus)
+        Err(error_kind(i))
     } else {
         Ok(())
     }
@@ -109,7 +125,7 @@ fn readback_error(i: usize) -> Result<(), ErrorKind> {
     // SAFETY: as in `read_error`.
     let errors = unsafe { core::ptr::read_volatile(&raw const READBACK_ERRORS) };
     if bit(u32::from(errors), i) {
-        Err(ErrorKind::Bus)
+        Err(error_kind(24 + i))
     } else {
         Ok(())
     }

@@ -104,6 +104,18 @@ impl ErrorKind {
             Self::Other => 5,
         }
     }
+
+    /// The kind of telemetry code `code` ([`ErrorKind::code`]), `None` for another value.
+    pub fn from_code(code: u8) -> Option<Self> {
+        Some(match code {
+            1 => Self::DeviceAbsent,
+            2 => Self::Timeout,
+            3 => Self::OutOfRange,
+            4 => Self::Bus,
+            5 => Self::Other,
+            _ => return None,
+        })
+    }
 }
 
 impl fmt::Display for ErrorKind {

@@ -599,9 +599,8 @@ pub fn encode_tm(
 /// Writes the verification report TM\[1,1\], \[1,2\], \[1,7\] or \[1,8\] (`report`) on the
 /// telecommand `request` to the start of `out`; returns its length ([`tm_packet_len`] of 4
 /// bytes for a success, 6 for a failure: this mission's failure notices carry no failure data,
-/// the code says it all). Errors as [`encode_tm`]. Written without [`encode_tm`]'s general
-/// path: the report is the one every node sends, and this shape measured 218 B smaller in the
-/// attitude node's image.
+/// the code says it all). Errors as [`encode_tm`]. Written through [`finish_tm`], which the
+/// node images' housekeeping and event reports share, not [`encode_tm`]'s general path.
 #[cfg_attr(target_arch = "msp430", optimize(size))]
 pub fn verification_report(
     header: &TmHeader,
@@ -615,24 +614,17 @@ pub fn verification_report(
             Some(*code)
         }
     };
-    let secondary = secondary_header(header, service::VERIFICATION, report.subtype())?;
-    let primary = tm_primary(header);
-    let data_len = TM_SECONDARY_HEADER_LEN + if code.is_some() { 6 } else { REQUEST_ID_LEN };
-    encoded_len(&primary, data_len, out.len())?;
+    let app_len = if code.is_some() { 6 } else { REQUEST_ID_LEN };
     let [p0, p1, s0, s1] = request.to_bytes();
     let [c0, c1] = code.unwrap_or(0).to_be_bytes();
-    // encoded_len checked that out holds the packet: its CRC's two bytes at least follow the
-    // request ID, so the six bytes land (a success's last two are the CRC's place)
-    if let Some((sec, app)) = out
-        .get_mut(PRIMARY_HEADER_LEN..)
-        .and_then(|u| u.split_first_chunk_mut::<TM_SECONDARY_HEADER_LEN>())
-    {
-        *sec = secondary;
-        if let Some(app) = app.first_chunk_mut::<6>() {
-            *app = [p0, p1, s0, s1, c0, c1];
-        }
-    }
-    Ok(encode_in_place(&primary, data_len, out)?)
+    finish_tm(
+        header,
+        service::VERIFICATION,
+        report.subtype(),
+        &[p0, p1, s0, s1, c0, c1],
+        app_len,
+        out,
+    )
 }
 
 /// Bytes before a TM packet's application data: the primary and secondary headers.
@@ -642,7 +634,8 @@ pub const TM_DATA_OFFSET: usize = PRIMARY_HEADER_LEN + TM_SECONDARY_HEADER_LEN;
 /// of application data that `fill` writes in place (it gets the packet's application data
 /// field, `app_len` bytes at [`TM_DATA_OFFSET`]) to the start of `out`; returns its length.
 /// For the reports of fixed layout ([`crate::telemetry`]): no copy, no intermediate buffer.
-/// Errors as [`encode_tm`]; on error `out` is unchanged and `fill` is not called.
+/// Errors as [`encode_tm`]; `fill` is called only if `out` holds the packet, and on error `out`
+/// holds at most the application data.
 #[inline(always)]
 pub fn encode_tm_in_place(
     header: &TmHeader,
@@ -652,17 +645,45 @@ pub fn encode_tm_in_place(
     out: &mut [u8],
     fill: impl FnOnce(&mut [u8]),
 ) -> Result<usize, PusError> {
+    // the CRC's two bytes must follow the data: else finish_tm refuses the buffer
+    if out.len() >= TM_DATA_OFFSET.saturating_add(app_len).saturating_add(2) {
+        if let Some(app) = out
+            .get_mut(TM_DATA_OFFSET..)
+            .and_then(|a| a.get_mut(..app_len))
+        {
+            fill(app);
+        }
+    }
+    finish_tm(header, service, subtype, &[], app_len, out)
+}
+
+/// Completes the TM packet at the start of `out` of `header`, `service` and `subtype` with
+/// `app_len` bytes of application data at [`TM_DATA_OFFSET`], the first of them copied from
+/// `data` (at most `app_len`; the others the caller wrote there): its headers, the copy, and
+/// its CRC; returns its length. Out of line: the one copy of the headers' code for the
+/// verification reports and every report of fixed layout ([`encode_tm_in_place`]). Errors as
+/// [`encode_tm`], checked before anything is written.
+#[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
+pub fn finish_tm(
+    header: &TmHeader,
+    service: u8,
+    subtype: u8,
+    data: &[u8],
+    app_len: usize,
+    out: &mut [u8],
+) -> Result<usize, PusError> {
     let secondary = secondary_header(header, service, subtype)?;
     let primary = tm_primary(header);
-    let data_len = app_len + TM_SECONDARY_HEADER_LEN;
+    let data_len = app_len.saturating_add(TM_SECONDARY_HEADER_LEN);
     encoded_len(&primary, data_len, out.len())?;
-    // encoded_len checked that out holds the packet: these slices are all there
     if let Some((sec, app)) = out
         .get_mut(PRIMARY_HEADER_LEN..)
         .and_then(|u| u.split_first_chunk_mut::<TM_SECONDARY_HEADER_LEN>())
     {
         *sec = secondary;
-        fill(app.get_mut(..app_len).unwrap_or_default());
+        for (o, b) in app.iter_mut().zip(data.iter().take(app_len)) {
+            *o = *b;
+        }
     }
     Ok(encode_in_place(&primary, data_len, out)?)
 }

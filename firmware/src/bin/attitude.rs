@@ -3,8 +3,10 @@
 //! take the ground's telecommand (sun-safe, the tiles: [`acs::uplink::apply_attitude`], answered
 //! with its verification reports: [`acs::uplink::telecommand`]), take the
 //! REF packet the reference node sent for this step (none, or one for another step or without a
-//! valid clock: the step runs without reference, reported), step, send STATUS, publish. STATUS
-//! carries the resets since power-on ([`acs_firmware::boot_count`]).
+//! valid clock: the step runs without reference, reported), step, send STATUS, publish, and
+//! hand the step's telemetry to the ground link (its events, and its housekeeping when due:
+//! [`acs::telemetry::Downlink::attitude`], [`flight::downlink`]). STATUS carries the resets
+//! since power-on ([`acs_firmware::boot_count`]).
 //!
 //! Two builds (`firmware/Cargo.toml`): with feature `pil` the tiles, the link and the period
 //! are the RAM mailboxes the processor-in-the-loop host drives ([`tiles::MailboxBus`],
@@ -23,6 +25,7 @@ use acs::attitude_node::AttitudeNode;
 use acs::flight::{CONFIG, CONTROL_PERIOD_S, TILES};
 use acs::link::messages::{Reference, ATTITUDE_TC_APID};
 use acs::link::sequence::SequenceCounter;
+use acs::telemetry::Downlink;
 use acs::uplink::telecommand::ATTITUDE_TC_BYTES;
 use acs_firmware::flight::Ground;
 use acs_firmware::node_link::LINK_BYTES;
@@ -56,14 +59,15 @@ fn run() -> ! {
     let mut report = StepReport::empty(node.mode());
     let mut count = SequenceCounter::new();
     let mut tm_count = SequenceCounter::new();
+    let mut downlink = Downlink::new();
     let mut packet = [0u8; LINK_BYTES];
     loop {
         acs_firmware::fw_period_start();
         acs_firmware::kick_watchdog();
         take_telecommand(&mut tm_count, &mut node);
-        let reference = node_link::receive(&mut packet)
-            .and_then(|n| packet.get(..n))
-            .and_then(|p| Reference::from_packet(p).ok());
+        let received = node_link::receive(&mut packet).and_then(|n| packet.get(..n));
+        let reference = received.and_then(|p| Reference::from_packet(p).ok());
+        downlink.link.count(received.map(|_| reference.is_some()));
         let status = node.step_into(
             &mut bus,
             reference.as_ref().map(|(r, _)| r),
@@ -72,6 +76,7 @@ fn run() -> ! {
         );
         node_link::send(&status.to_packet(count.next_count()));
         flight::publish_codes(report.mode.code(), report.faults.bits());
+        downlink.attitude(&mut node, &report, &mut tm_count, flight::downlink);
         acs_firmware::kick_watchdog();
     }
 }
@@ -103,18 +108,27 @@ fn run() -> ! {
     let mut report = StepReport::empty(node.mode());
     let mut count = SequenceCounter::new();
     let mut tm_count = SequenceCounter::new();
+    let mut downlink = Downlink::new();
     let mut packet = [0u8; LINK_BYTES];
     loop {
         periph::wait_period();
         acs_firmware::fw_period_start();
         acs_firmware::kick_watchdog();
         take_telecommand(&mut tm_count, &mut node);
+        let mut arrived = false;
         let reference = periph::receive_last(&mut link, &mut packet, |p| {
-            Reference::from_packet(p).ok().map(|(r, _)| r)
+            arrived = true;
+            let r = Reference::from_packet(p).ok().map(|(r, _)| r);
+            downlink.link.count(Some(r.is_some()));
+            r
         });
+        if !arrived {
+            downlink.link.count(None);
+        }
         let status = node.step_into(&mut bus, reference.as_ref(), CONTROL_PERIOD_S, &mut report);
         periph::send(&mut link, &status.to_packet(count.next_count()));
         flight::publish_codes(report.mode.code(), report.faults.bits());
+        downlink.attitude(&mut node, &report, &mut tm_count, flight::downlink);
         acs_firmware::kick_watchdog();
     }
 }
@@ -126,7 +140,7 @@ static mut GROUND: Ground<ATTITUDE_TC_BYTES> = Ground::EMPTY;
 /// Takes the telecommand in [`GROUND`], if any, for the attitude node
 /// ([`acs::uplink::apply_attitude`]); its reports counted by `tm_count`.
 fn take_telecommand(tm_count: &mut SequenceCounter, node: &mut AttitudeNode<'static, TILES>) {
-    flight::take_telecommand(
+    let _ = flight::take_telecommand(
         &raw mut GROUND,
         ATTITUDE_TC_APID,
         tm_count,

@@ -2,8 +2,11 @@
 //! IGRF, guidance. Each control period: take the ground's telecommand (clock, elements, track,
 //! slew: [`acs::uplink::apply_reference`]; a slew is planned from the attitude of the last
 //! STATUS; answered with its verification reports: [`acs::uplink::telecommand`]),
-//! take the STATUS packet the attitude node sent, answer with the REF for its next step, and
-//! publish. Its clock is not valid until the ground sets it or a STATUS brings the attitude
+//! take the STATUS packet the attitude node sent, answer with the REF for its next step,
+//! publish, and hand its telemetry to the ground link (its events, and its housekeeping when
+//! due: [`acs::telemetry::Downlink::reference`], [`flight::downlink`]) unless it took a
+//! telecommand in that period (then with the next REF: the telecommand's period is the node's
+//! longest, a slew's planning, and has no room for more). Its clock is not valid until the ground sets it or a STATUS brings the attitude
 //! node's copy back (after a reset: [`acs::reference_node`]).
 //!
 //! Two builds (`firmware/Cargo.toml`): with feature `pil` the link and the period are the RAM
@@ -31,6 +34,7 @@ use acs::flight::{CONFIG, FIELD_COEFFS, TILES};
 use acs::link::messages::{Reference, Status, REFERENCE_TC_APID};
 use acs::link::sequence::SequenceCounter;
 use acs::reference_node::ReferenceNode;
+use acs::telemetry::Downlink;
 use acs::uplink::telecommand::REFERENCE_TC_BYTES;
 use acs_firmware::flight::{self, Ground};
 #[cfg(feature = "pil")]
@@ -62,12 +66,14 @@ fn run() -> ! {
         tm_count: SequenceCounter::new(),
         status: None,
         step: 0,
+        downlink: Downlink::new(),
+        took: false,
     };
     loop {
         acs_firmware::fw_period_start();
         acs_firmware::kick_watchdog();
         let attitude = link.status.and_then(|s| s.attitude);
-        flight::take_telecommand(
+        link.took = flight::take_telecommand(
             &raw mut GROUND,
             REFERENCE_TC_APID,
             &mut link.tm_count,
@@ -97,6 +103,8 @@ fn run() -> ! {
         tm_count: SequenceCounter::new(),
         status: None,
         step: 0,
+        downlink: Downlink::new(),
+        took: false,
         uart: periph::link(),
     };
     let mut events = periph::Events::now();
@@ -108,7 +116,7 @@ fn run() -> ! {
         acs_firmware::kick_watchdog();
         if tick {
             let attitude = link.status.and_then(|s| s.attitude);
-            flight::take_telecommand(
+            link.took |= flight::take_telecommand(
                 &raw mut GROUND,
                 REFERENCE_TC_APID,
                 &mut link.tm_count,
@@ -126,7 +134,7 @@ fn run() -> ! {
         }
         // a STATUS is answered at once; without one for two periods, a REF each period
         let status = if frame {
-            receive_status(&mut link.uart)
+            receive_status(&mut link.uart, &mut link.downlink)
         } else {
             None
         };
@@ -134,6 +142,7 @@ fn run() -> ! {
             quiet = 0;
             link.answer(&mut node, status);
         } else if tick && quiet >= 2 {
+            link.downlink.link.count(None);
             link.answer(&mut node, None);
         }
         acs_firmware::kick_watchdog();
@@ -149,6 +158,12 @@ struct Link {
     status: Option<Status>,
     /// The step the next REF is for: the last STATUS's next, counted on without one.
     step: u32,
+    /// The node's telemetry ([`acs::telemetry::Downlink`]): its events, its housekeeping, the
+    /// STATUS packets counted.
+    downlink: Downlink,
+    /// A telecommand was taken since the last REF: the next REF's telemetry waits for the one
+    /// after.
+    took: bool,
     /// The link over USCI_A0 (flight build).
     #[cfg(not(feature = "pil"))]
     uart: periph::Link,
@@ -161,7 +176,7 @@ impl Link {
     #[cfg(feature = "pil")]
     #[inline(never)]
     fn exchange(&mut self, node: &mut ReferenceNode<'static, TILES, FIELD_COEFFS>) {
-        self.status = receive_status();
+        self.status = receive_status(&mut self.downlink);
         if let Some(s) = &self.status {
             self.step = s.step.wrapping_add(1);
         }
@@ -169,6 +184,19 @@ impl Link {
         send_reference(&reference, self.count.next_count());
         flight::publish_codes(0, reference.faults);
         self.step = self.step.wrapping_add(1);
+        self.telemetry(node, &reference);
+    }
+
+    /// The telemetry after a REF, unless a telecommand was taken since the REF before.
+    fn telemetry(
+        &mut self,
+        node: &mut ReferenceNode<'static, TILES, FIELD_COEFFS>,
+        reference: &Reference,
+    ) {
+        if !core::mem::take(&mut self.took) {
+            self.downlink
+                .reference(node, reference, &mut self.tm_count, flight::downlink);
+        }
     }
 
     /// Answers `status` (the STATUS just received; `None`: none came for two periods, the
@@ -189,27 +217,31 @@ impl Link {
         send_reference(&mut self.uart, &reference, self.count.next_count());
         flight::publish_codes(0, reference.faults);
         self.step = self.step.wrapping_add(1);
+        self.telemetry(node, &reference);
     }
 }
 
-/// The STATUS in `LINK_RX`, if a valid one came.
+/// The STATUS in `LINK_RX`, if a valid one came; counted in `downlink`.
 #[cfg(feature = "pil")]
 #[inline(never)]
-fn receive_status() -> Option<Status> {
+fn receive_status(downlink: &mut Downlink) -> Option<Status> {
     let mut packet = [0u8; LINK_BYTES];
-    node_link::receive(&mut packet)
-        .and_then(|n| packet.get(..n))
-        .and_then(|p| Status::from_packet(p).ok())
-        .map(|(s, _)| s)
+    let received = node_link::receive(&mut packet).and_then(|n| packet.get(..n));
+    let status = received.and_then(|p| Status::from_packet(p).ok());
+    downlink.link.count(received.map(|_| status.is_some()));
+    status.map(|(s, _)| s)
 }
 
-/// The last valid STATUS that arrived over the link since the last call.
+/// The last valid STATUS that arrived over the link since the last call; each packet counted
+/// in `downlink` (a period without one is counted by the caller).
 #[cfg(not(feature = "pil"))]
 #[inline(never)]
-fn receive_status(uart: &mut periph::Link) -> Option<Status> {
+fn receive_status(uart: &mut periph::Link, downlink: &mut Downlink) -> Option<Status> {
     let mut packet = [0u8; LINK_BYTES];
     periph::receive_last(uart, &mut packet, |p| {
-        Status::from_packet(p).ok().map(|(s, _)| s)
+        let s = Status::from_packet(p).ok().map(|(s, _)| s);
+        downlink.link.count(Some(s.is_some()));
+        s
     })
 }
 

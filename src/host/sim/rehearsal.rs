@@ -268,6 +268,27 @@ impl Mirror {
             .collect()
     }
 
+    /// The two nodes' telemetry after the period's step on `acs` (its report `report`), as
+    /// the images send it ([`Ground::telemetry`]): the reference node's packets, then the
+    /// attitude node's. `status_received` is what the reference node made of the STATUS of
+    /// the step before ([`crate::two_node::TwoNodeLoop::received`] before the step), `tcs` the
+    /// period's telecommands.
+    pub fn telemetry(
+        &mut self,
+        acs: &mut HostLoop<'_>,
+        report: &StepReport,
+        status_received: Option<bool>,
+        tcs: &[Telecommand],
+    ) -> [Vec<Vec<u8>>; 2] {
+        let took = tcs.iter().any(|tc| tc.node == Node::Reference);
+        let [reference, attitude] = &mut self.grounds;
+        let ref_received = acs.received()[0];
+        [
+            reference.telemetry(Node::Reference, acs, report, status_received, took),
+            attitude.telemetry(Node::Attitude, acs, report, ref_received, false),
+        ]
+    }
+
     /// A power-on reset of the reference node: its count of reports starts again.
     pub fn reset_reference(&mut self) {
         self.grounds[0] = Ground::default();
@@ -329,12 +350,26 @@ pub struct Rehearsal {
     pub sent: Vec<(usize, Telecommand)>,
     /// The verification reports of each telecommand of `sent`.
     pub reports: Vec<Vec<u8>>,
+    /// Each period's telemetry packets after its step: the reference node's, then the
+    /// attitude node's ([`Mirror::telemetry`]).
+    pub downlinked: Vec<Vec<Vec<u8>>>,
 }
 
 impl Rehearsal {
-    /// Every report, back to back (`acs tm` reads it).
+    /// Every packet, back to back (`acs tm` reads it): period by period, the verification
+    /// reports of its telecommands in the order sent, then its telemetry.
     pub fn telemetry(&self) -> Vec<u8> {
-        self.reports.concat()
+        let mut out = Vec::new();
+        let mut reports = self.sent.iter().zip(&self.reports).peekable();
+        for (k, packets) in self.downlinked.iter().enumerate() {
+            while let Some((_, r)) = reports.next_if(|((at, _), _)| *at == k) {
+                out.extend_from_slice(r);
+            }
+            for p in packets {
+                out.extend_from_slice(p);
+            }
+        }
+        out
     }
 }
 
@@ -353,13 +388,17 @@ pub fn fly(scenario: &Scenario, script: &[ScriptPacket]) -> Result<Rehearsal, Re
         samples: Vec::with_capacity(steps),
         sent: Vec::new(),
         reports: Vec::new(),
+        downlinked: Vec::with_capacity(steps),
     };
     for k in 0..steps {
         let t = sim.truth().t_s;
         let tcs = ops.due(k, t);
         out.reports.extend(mirror.period(&mut acs, &tcs));
-        out.sent.extend(tcs.into_iter().map(|tc| (k, tc)));
+        let status_received = acs.received()[1];
         acs.step_over_link(&mut sim, CONTROL_PERIOD_S, &mut report, |_, _| true);
+        let [r, a] = mirror.telemetry(&mut acs, &report, status_received, &tcs);
+        out.downlinked.push(r.into_iter().chain(a).collect());
+        out.sent.extend(tcs.into_iter().map(|tc| (k, tc)));
         out.samples
             .push(Sample::of_step(&sim, t, report, scenario.target));
         sim.advance(scenario.dt_s).map_err(RehearsalError::Sim)?;

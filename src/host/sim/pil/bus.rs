@@ -15,6 +15,7 @@
 //! | `TILE_WHEEL` | [`Readings::wheel`] (the wheels' momentum read-back, 1e-7 kg·m²/s) | `[i16; 6]`, 12 |
 //! | `COIL_READ` | [`Readings::coil`] (the coils' dipole read-back, 1e-5 A·m²) | `[i16; 3]`, 6 |
 //! | `READBACK_ERRORS` | [`Readings::readback_errors`] (bits `i`, `8 + c`: the read-back of wheel `i`, coil `c` fails) | `u16`, 2 |
+//! | `ERROR_KINDS` | [`Readings::error_kinds`] (the kind of each failure, [`ErrorKind::code`]: entry `b` for read bit `b`, `24 + b` for read-back bit `b`; 0, a bus error, where nothing failed or nothing was read) | `[u8; 40]`, 40 |
 //! | `CMD_WHEEL_NMS` | [`Commands::wheel_nms`] | `[f32; 6]`, 24 |
 //! | `CMD_DIPOLE_AM2` | [`Commands::dipole_am2`] | `[f32; 3]`, 12 |
 //!
@@ -29,6 +30,9 @@ use crate::hal::{ErrorKind, TileBus};
 
 /// The number of magnetorquer coils of the flight image's command mailbox.
 pub const COILS: usize = 3;
+
+/// Entries of the `ERROR_KINDS` mailbox: 24 read bits, then 16 read-back bits.
+pub const ERROR_KINDS_LEN: usize = 40;
 
 /// The raw tile readings of one step, as the image's mailboxes hold them (see the
 /// [module docs](self)).
@@ -54,6 +58,10 @@ pub struct Readings {
     /// Read-backs that failed (or were not read): bits `i` (wheel of tile `i`) and `8 + c`
     /// (coil `c`).
     pub readback_errors: u16,
+    /// The kind of each failure ([`ErrorKind::code`]): entry `b` for bit `b` of
+    /// `read_errors`, `24 + b` for bit `b` of `readback_errors`; 0 (the image reads a bus
+    /// error) where nothing failed or nothing was read.
+    pub error_kinds: [u8; ERROR_KINDS_LEN],
 }
 
 impl Default for Readings {
@@ -72,6 +80,7 @@ impl Default for Readings {
             wheel: [0; TILES],
             coil: [0; COILS],
             readback_errors: ((1u16 << COILS) - 1) << 8 | tiles as u16,
+            error_kinds: [0; ERROR_KINDS_LEN],
         }
     }
 }
@@ -83,7 +92,7 @@ fn i16_bytes(values: impl IntoIterator<Item = i16>) -> Vec<u8> {
 impl Readings {
     /// The mailbox contents: (symbol, little-endian bytes), in the order of the
     /// [module docs](self).
-    pub fn mailboxes(&self) -> [(&'static str, Vec<u8>); 9] {
+    pub fn mailboxes(&self) -> [(&'static str, Vec<u8>); 10] {
         [
             ("TILE_SUN", i16_bytes(self.sun.iter().flatten().copied())),
             ("TILE_SUN_SEEN", self.sun_seen.to_le_bytes().to_vec()),
@@ -97,6 +106,7 @@ impl Readings {
                 "READBACK_ERRORS",
                 self.readback_errors.to_le_bytes().to_vec(),
             ),
+            ("ERROR_KINDS", self.error_kinds.to_vec()),
         ]
     }
 }
@@ -243,6 +253,13 @@ impl<'a, B: TileBus> Recorder<'a, B> {
         true
     }
 
+    /// Records the kind of a failure in entry `i` of [`Readings::error_kinds`].
+    fn kind(&mut self, i: usize, e: ErrorKind) {
+        if let Some(k) = self.readings.error_kinds.get_mut(i) {
+            *k = e.code();
+        }
+    }
+
     /// Records the outcome of a command to actuator bit `b`.
     fn outcome(&mut self, b: u32, ok: bool) {
         let b = b as u16;
@@ -261,12 +278,15 @@ impl<B: TileBus> TileBus for Recorder<'_, B> {
         }
         let r = self.bus.read_sun(tile);
         if self.first_read(bit(tile), "sun sensor", tile) {
-            if let Ok(seen) = r {
-                self.readings.read_errors &= !bit(tile);
-                if let Some(angles) = seen {
-                    self.readings.sun[tile] = angles;
-                    self.readings.sun_seen |= bit(tile) as u16;
+            match r {
+                Ok(seen) => {
+                    self.readings.read_errors &= !bit(tile);
+                    if let Some(angles) = seen {
+                        self.readings.sun[tile] = angles;
+                        self.readings.sun_seen |= bit(tile) as u16;
+                    }
                 }
+                Err(e) => self.kind(tile, e),
             }
         }
         r
@@ -278,9 +298,12 @@ impl<B: TileBus> TileBus for Recorder<'_, B> {
         }
         let r = self.bus.read_magnetometer(tile);
         if self.first_read(bit(8 + tile), "magnetometer", tile) {
-            if let Ok(xy) = r {
-                self.readings.read_errors &= !bit(8 + tile);
-                self.readings.mag[tile] = xy;
+            match r {
+                Ok(xy) => {
+                    self.readings.read_errors &= !bit(8 + tile);
+                    self.readings.mag[tile] = xy;
+                }
+                Err(e) => self.kind(8 + tile, e),
             }
         }
         r
@@ -292,9 +315,12 @@ impl<B: TileBus> TileBus for Recorder<'_, B> {
         }
         let r = self.bus.read_gyro(tile);
         if self.first_read(bit(16 + tile), "gyro", tile) {
-            if let Ok(w) = r {
-                self.readings.read_errors &= !bit(16 + tile);
-                self.readings.gyro[tile] = w;
+            match r {
+                Ok(w) => {
+                    self.readings.read_errors &= !bit(16 + tile);
+                    self.readings.gyro[tile] = w;
+                }
+                Err(e) => self.kind(16 + tile, e),
             }
         }
         r
@@ -370,8 +396,10 @@ impl<B: TileBus> Recorder<'_, B> {
             return Err(ErrorKind::Other);
         }
         self.read_back |= mask;
-        if let Ok(Some(_)) = r {
-            self.readings.readback_errors &= !mask;
+        match r {
+            Ok(Some(_)) => self.readings.readback_errors &= !mask,
+            Err(e) => self.kind(24 + b, e),
+            Ok(None) => {}
         }
         r
     }
@@ -460,6 +488,13 @@ mod tests {
         assert_eq!(bytes("TILE_SUN_SEEN"), vec![1, 0]);
         assert_eq!(bytes("TILE_READ_ERRORS"), vec![0x3c, 0x3c, 0x3c, 0]);
         assert_eq!(bytes("ACTUATOR_REFUSE"), vec![8, 0]);
+        // tile 2's failures with their kinds (timeout, bus, out of range); the devices not
+        // read, 0
+        let mut kinds = vec![0u8; ERROR_KINDS_LEN];
+        kinds[2] = ErrorKind::Timeout.code();
+        kinds[8 + 2] = ErrorKind::Bus.code();
+        kinds[16 + 2] = ErrorKind::OutOfRange.code();
+        assert_eq!(bytes("ERROR_KINDS"), kinds);
     }
 
     #[test]

@@ -135,7 +135,7 @@ pub mod uplink;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use self::bus::{Commands, Readings, Recorder, COILS};
+use self::bus::{Commands, Readings, Recorder, COILS, ERROR_KINDS_LEN};
 use self::elf::{Elf, EM_MSP430};
 use self::mspdebug::{Mspdebug, MspdebugError, Registers};
 use self::uplink::{mode_code, mode_name, tc_bytes, Uplink};
@@ -167,7 +167,8 @@ pub const NODE_MAILBOXES: [(&str, usize); 6] = [
 ];
 
 /// The attitude image's tile mailboxes (`firmware/src/tiles.rs`, [`bus`]) and their sizes.
-pub const TILE_MAILBOXES: [(&str, usize); 11] = [
+/// ([`ERROR_KINDS_LEN`]: the kinds of the read and read-back failures.)
+pub const TILE_MAILBOXES: [(&str, usize); 12] = [
     ("TILE_SUN", 4 * TILES),
     ("TILE_SUN_SEEN", 2),
     ("TILE_MAG", 4 * TILES),
@@ -179,6 +180,7 @@ pub const TILE_MAILBOXES: [(&str, usize); 11] = [
     ("TILE_WHEEL", 2 * TILES),
     ("COIL_READ", 2 * COILS),
     ("READBACK_ERRORS", 2),
+    ("ERROR_KINDS", ERROR_KINDS_LEN),
 ];
 
 /// The bytes of `node`'s ground mailbox (`acs_firmware::flight::Ground`): the telecommand's
@@ -255,6 +257,8 @@ pub struct ImageMap {
     /// The reset handler (`Reset`), where a watchdog reset enters.
     reset: Option<u32>,
     take_telecommand: u32,
+    /// `fw_downlink`, where the image hands each telemetry packet to the ground link.
+    downlink: u32,
     /// `__ebss` and `_stack_top`: the painted stack area.
     stack: Option<(u32, u32)>,
     /// `__sdata` (or `__sbss`) and `_stack_top`: the RAM a power-on reset clears.
@@ -304,6 +308,18 @@ impl ImageMap {
                     "the image has no (single) `acs_firmware::flight::take_telecommand`".into(),
                 )
             })?;
+        let (period_start, halt, downlink) = (
+            function("fw_period_start")?,
+            function("fw_halt")?,
+            function("fw_downlink")?,
+        );
+        if downlink == period_start || downlink == halt {
+            return Err(PilError::Input(
+                "`fw_downlink` shares its address with `fw_period_start` or `fw_halt` (folded \
+                 by the linker)"
+                    .into(),
+            ));
+        }
         let top = elf.symbol("_stack_top");
         let stack = elf.symbol("__ebss").zip(top).map(|(b, t)| (b.addr, t.addr));
         let ram = elf
@@ -314,10 +330,11 @@ impl ImageMap {
         Ok(Self {
             node,
             mailboxes: found,
-            period_start: function("fw_period_start")?,
-            halt: function("fw_halt")?,
+            period_start,
+            halt,
             reset: elf.symbol("Reset").map(|s| s.addr),
             take_telecommand: take_telecommand.addr,
+            downlink,
             stack,
             ram,
             boots: elf.symbol("BOOTS").map(|s| s.addr),
@@ -349,7 +366,14 @@ pub struct StepOutputs {
     pub faults: u16,
     /// The verification reports of each telecommand of the period (`GROUND`'s reports).
     pub reports: Vec<Vec<u8>>,
+    /// The telemetry packets the node sent after its step (`fw_downlink`): its events, then
+    /// its housekeeping report when due ([`crate::telemetry::Downlink`]).
+    pub telemetry: Vec<Vec<u8>>,
 }
+
+/// The longest telemetry packet a node sends (the attitude node's housekeeping report): a
+/// longer one is an image fault.
+pub const MAX_DOWNLINK_BYTES: usize = 256;
 
 /// One difference between the image's and the host's outputs of a step.
 #[derive(Clone, Debug, PartialEq)]
@@ -399,6 +423,13 @@ pub enum Difference {
     Reports {
         /// Its command code.
         kind: u16,
+        /// Host bytes.
+        host: Vec<u8>,
+        /// Image bytes.
+        target: Vec<u8>,
+    },
+    /// The telemetry packets after the step (events, housekeeping), back to back.
+    Telemetry {
         /// Host bytes.
         host: Vec<u8>,
         /// Image bytes.
@@ -456,6 +487,9 @@ impl std::fmt::Display for Difference {
                 hex(host),
                 hex(target)
             ),
+            Self::Telemetry { host, target } => {
+                write!(f, "telemetry: host {}, target {}", hex(host), hex(target))
+            }
         }
     }
 }
@@ -521,6 +555,12 @@ pub fn compare(
                 target: t,
             });
         }
+    }
+    if host.telemetry != target.telemetry {
+        out.push(Difference::Telemetry {
+            host: host.telemetry.concat(),
+            target: target.telemetry.concat(),
+        });
     }
     out
 }
@@ -766,6 +806,9 @@ pub struct Target {
     cycles: u64,
     /// The stack high-water mark of the image's lives before its last power-on reset.
     stack_before_reset: Option<u32>,
+    /// The telemetry packets the image handed to `fw_downlink` since the last period's
+    /// outputs were taken.
+    downlinked: Vec<Vec<u8>>,
 }
 
 impl Target {
@@ -797,12 +840,14 @@ impl Target {
         dbg.command("simio add hwmult m")?;
         dbg.set_break(map.period_start)?;
         let halt_break = dbg.set_break(map.halt)?;
+        dbg.set_break(map.downlink)?;
         let mut target = Self {
             dbg,
             map,
             halt_break,
             cycles: 0,
             stack_before_reset: None,
+            downlinked: Vec::new(),
         };
         target.run_to_period_start("at start-up")?;
         Ok(target)
@@ -832,8 +877,21 @@ impl Target {
         }
     }
 
+    /// Runs to the next `fw_period_start`, taking each telemetry packet on the way (at
+    /// `fw_downlink`'s entry: its address in R12, its length in R13).
     fn run_to_period_start(&mut self, what: &str) -> Result<(), PilError> {
-        let regs = self.dbg.run()?;
+        let mut regs = self.dbg.run()?;
+        while u32::from(regs[0]) == self.map.downlink {
+            let (at, len) = (u32::from(regs[12]), usize::from(regs[13]));
+            if len > MAX_DOWNLINK_BYTES {
+                return Err(PilError::Image(format!(
+                    "{}: a telemetry packet of {len} B",
+                    self.map.node.name()
+                )));
+            }
+            self.downlinked.push(self.dbg.read(at, len)?);
+            regs = self.dbg.run()?;
+        }
         self.stopped_at(regs[0], self.map.period_start, what)?;
         self.cycles = self.dbg.cycles()?;
         Ok(())
@@ -1068,6 +1126,7 @@ impl Target {
             mode: self.read_u16("STEP_MODE")?,
             faults: self.read_u16("STEP_FAULTS")?,
             reports,
+            telemetry: std::mem::take(&mut self.downlinked),
         };
         let cycles = self.cycles.saturating_sub(start).saturating_sub(extra);
         Ok((outputs, cycles))
@@ -1256,6 +1315,8 @@ pub fn run(
         }
         // the host takes the period's telecommands on the composition's nodes, as the images
         let host_reports = mirror.period(&mut acs, &tcs);
+        // what the reference image makes of the STATUS of step k - 1 (counted before its REF)
+        let status_received = acs.received()[1];
         let node_reports = |node: Node| -> Vec<Vec<u8>> {
             tcs.iter()
                 .zip(&host_reports)
@@ -1274,6 +1335,8 @@ pub fn run(
             faulty.is_none_or(|i| damage(i, d, b))
         });
         let readings = recorder.finish().map_err(PilError::Record)?;
+        let [reference_telemetry, attitude_telemetry] =
+            mirror.telemetry(&mut acs, &report, status_received, &tcs);
         if k >= steps {
             link_fault.steps_without_reference += usize::from(report.faults.link);
         }
@@ -1289,6 +1352,7 @@ pub fn run(
             faults: Reference::from_packet(&host_ref).map_or(u16::MAX, |(r, _)| r.faults),
             packet: host_ref,
             reports: reference_reports,
+            telemetry: reference_telemetry,
         };
         let host_attitude = StepOutputs {
             commands: host_commands,
@@ -1296,6 +1360,7 @@ pub fn run(
             mode: mode_code(report.mode),
             faults: report.faults.bits(),
             reports: attitude_reports,
+            telemetry: attitude_telemetry,
         };
         let kinds = |list: &[(u16, Vec<u8>)]| list.iter().map(|(k, _)| *k).collect::<Vec<u16>>();
         let differences = compare(
@@ -1342,6 +1407,10 @@ pub fn run(
                     Node::Attitude => a.next(),
                 };
                 telemetry.extend_from_slice(next.map_or(&[][..], Vec::as_slice));
+            }
+            // then the nodes' telemetry of the period, the reference node's first
+            for p in reference_out.telemetry.iter().chain(&image.telemetry) {
+                telemetry.extend_from_slice(p);
             }
         }
         if k < steps {
@@ -1554,6 +1623,7 @@ mod tests {
                 vec![0x08, 0x50, 0xc0, 0x00],
                 vec![0x08, 0x50, 0xc0, 0x01, 0x01],
             ],
+            telemetry: vec![vec![0x08, 0x50, 0xc0, 0x02, 0x00]],
         }
     }
 
@@ -1693,6 +1763,7 @@ mod tests {
             .collect();
         symbols.push(("fw_period_start", 0x4000, 4));
         symbols.push(("fw_halt", 0x4010, 6));
+        symbols.push(("fw_downlink", 0x4020, 6));
         symbols.push((
             "_RINvNtCshTh0V548xLH_12acs_firmware6flight16take_telecommandNtNtCs5YbJjKyC2MG_3acs13attitude_node12AttitudeNodeKj6_NCNvCs5YbJjKyC2MG_12acs_attitude3run0EBZ_",
             0x4100,
@@ -1709,6 +1780,14 @@ mod tests {
         assert_eq!(map.mailbox("LINK_RX"), Some(0x1600));
         assert_eq!(map.mailbox("TILE_MAG"), Some(0x1100 + 0x100 * 9));
         assert_eq!(map.take_telecommand, 0x4100);
+        assert_eq!(map.downlink, 0x4020);
+        // an image whose fw_downlink was folded into fw_period_start is refused
+        let mut folded = symbols.clone();
+        let d = folded.iter().position(|s| s.0 == "fw_downlink").unwrap();
+        folded[d].1 = 0x4000;
+        let elf = Elf::parse(&elf::tests::tiny_elf(&folded, 0)).unwrap();
+        let e = ImageMap::of(&elf, Node::Attitude).unwrap_err().to_string();
+        assert!(e.contains("folded by the linker"), "{e}");
         // each node's image has its own ground mailbox, and only the attitude image has tile
         // mailboxes
         let e = ImageMap::of(&elf, Node::Reference).unwrap_err().to_string();

@@ -10,7 +10,7 @@
 //! into a DCM after normalising it, so the host composition gets the same DCM only through the
 //! mailbox; that is why the host is commanded through it too.
 
-use crate::acs_loop::{Command, Mode};
+use crate::acs_loop::{Command, Mode, StepReport};
 use crate::attitude::Quaternion;
 use crate::flight::{FIELD_COEFFS, TILES};
 use crate::link::messages::{ATTITUDE_TC_APID, REFERENCE_TC_APID};
@@ -18,6 +18,7 @@ use crate::link::pus::{decode_tm, encode_tc, AckFlags, TcHeader, TC_OVERHEAD};
 use crate::link::sequence::SequenceCounter;
 use crate::link::space_packet::Apid;
 use crate::orbit::sgp4::ELEMENT_WORDS;
+use crate::telemetry::Downlink;
 use crate::time::{Epoch, Utc};
 use crate::two_node::TwoNodeLoop;
 use crate::uplink::telecommand::{self, ATTITUDE_TC_BYTES, REFERENCE_TC_BYTES, REPORTS_LEN};
@@ -206,9 +207,44 @@ impl Uplink {
 #[derive(Clone, Debug, Default)]
 pub struct Ground {
     count: SequenceCounter,
+    /// The node's telemetry, as its image keeps it.
+    downlink: Downlink,
 }
 
 impl Ground {
+    /// The telemetry `node`'s image sends after the step of `report` on the host composition
+    /// `acs` ([`Downlink::attitude`], [`Downlink::reference`]), its packets in order:
+    /// `received` what its link layer made of the packet of the period (the attitude node: the
+    /// REF of the step; the reference node: the STATUS of the step before), `took` whether it
+    /// took a telecommand in the period (the reference node then sends none).
+    pub fn telemetry(
+        &mut self,
+        node: Node,
+        acs: &mut HostLoop<'_>,
+        report: &StepReport,
+        received: Option<bool>,
+        took: bool,
+    ) -> Vec<Vec<u8>> {
+        let mut out = Vec::new();
+        let send = |p: &[u8]| out.push(p.to_vec());
+        self.downlink.link.count(received);
+        match node {
+            Node::Reference => {
+                if let Some(r) = acs.reference_made().copied() {
+                    if !took {
+                        let n = acs.reference_node_mut();
+                        self.downlink.reference(n, &r, &mut self.count, send);
+                    }
+                }
+            }
+            Node::Attitude => {
+                let n = acs.attitude_node_mut();
+                self.downlink.attitude(n, report, &mut self.count, send);
+            }
+        }
+        out
+    }
+
     /// Takes the telecommand `packet` on `node` of the host composition, as that node's image
     /// does: stamped with the node's clock now, applied with
     /// [`crate::uplink::apply_reference`] (a slew planned from `attitude`, the attitude of the
