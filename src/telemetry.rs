@@ -539,10 +539,36 @@ impl Downlink {
         count: &mut SequenceCounter,
         send: &mut impl FnMut(&[u8]),
     ) {
-        for e in events(self.prev, new) {
+        let prev = self.prev;
+        let changed = prev.faults ^ new.faults;
+        // k 0: the mode; k 1 + i: fault bit i ([`events`]' order; one loop: the images' flash)
+        for k in 0..17u16 {
+            let bit = k.wrapping_sub(1);
+            let event = if k == 0 {
+                if prev.mode == new.mode {
+                    continue;
+                }
+                Event {
+                    severity: Severity::Informative,
+                    id: MODE_CHANGED,
+                    aux: [prev.mode, new.mode],
+                }
+            } else if changed >> bit & 1 != 0 {
+                Event {
+                    severity: if new.faults >> bit & 1 != 0 {
+                        Severity::Low
+                    } else {
+                        Severity::Informative
+                    },
+                    id: FAULT_EVENT + bit,
+                    aux: new.faults.to_be_bytes(),
+                }
+            } else {
+                continue;
+            };
             let mut out = [0u8; EVENT_REPORT_LEN];
             let header = tm_header(apid, clock, count);
-            if let Ok(n) = write_event(&header, &e, &mut out) {
+            if let Ok(n) = write_event(&header, &event, &mut out) {
                 send(out.get(..n).unwrap_or_default());
             }
         }
