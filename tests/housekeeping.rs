@@ -16,10 +16,11 @@ use acs::link::sequence::SequenceCounter;
 use acs::link::space_packet::Apid;
 use acs::reference_node::ReferenceNode;
 use acs::telemetry::{
-    attitude_data_len, attitude_report, events, reference_report, write_events, Housekeeping,
-    LinkCounts, Parameter, ParameterType, State, ATTITUDE_PARAMETERS, ATTITUDE_STRUCTURE,
-    DEFAULT_INTERVAL, EVENT_REPORT_LEN, FAULT_EVENT, MAX_EVENTS, MAX_INTERVAL, MODE_CHANGED,
-    REFERENCE_DATA_LEN, REFERENCE_PARAMETERS, REFERENCE_REPORT_LEN, REFERENCE_STRUCTURE,
+    attitude_data_len, attitude_report, events, reference_report, write_events, Downlink,
+    Housekeeping, LinkCounts, Parameter, ParameterType, State, ATTITUDE_PARAMETERS,
+    ATTITUDE_STRUCTURE, DEFAULT_INTERVAL, EVENT_REPORT_LEN, FAULT_EVENT, MAX_EVENTS, MAX_INTERVAL,
+    MODE_CHANGED, REFERENCE_DATA_LEN, REFERENCE_PARAMETERS, REFERENCE_REPORT_LEN,
+    REFERENCE_STRUCTURE,
 };
 use acs::uplink::telecommand::{cuc, take, REPORTS_LEN, SERVICE, SUBTYPE};
 use acs::uplink::{apply, apply_attitude, apply_reference, kind, UplinkError, ARG_WORDS};
@@ -742,4 +743,106 @@ fn acs_tm_decodes_the_housekeeping_and_plots_it() {
     assert_eq!(refused.status.code(), Some(2));
     let no_node = acs_tool(&["tc", "housekeeping", "30"]);
     assert_ne!(no_node.status.code(), Some(0));
+}
+
+/// The packets of a node's downlink call as (service, subtype, sequence count) with
+/// spacepackets, CRC checked, and their time, the node's clock.
+fn read_downlink(packets: &[Vec<u8>], apid: Apid, clock: CucTime) -> Vec<(u8, u8, u16)> {
+    packets
+        .iter()
+        .map(|p| {
+            let r = PusTmReader::new(p, TIME_LEN).expect("spacepackets reads it, CRC checked");
+            assert_eq!(r.apid().value(), apid.get());
+            let t = r.timestamp();
+            let seconds = u32::from_be_bytes([t[0], t[1], t[2], t[3]]);
+            assert_eq!(
+                (seconds, u16::from_be_bytes([t[4], t[5]])),
+                (clock.seconds, clock.fraction),
+                "stamped with the node's clock"
+            );
+            (
+                PusPacket::service_type_id(&r),
+                PusPacket::message_subtype_id(&r),
+                r.seq_count().value(),
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn the_downlink_sends_the_events_then_the_housekeeping_when_due() {
+    let (mut acs, report) = flown();
+    assert_eq!(report.mode, Mode::Tracking);
+    let reference = *acs.reference_made().expect("a REF was made");
+    let received = acs.received();
+    assert_eq!(received, [Some(true), Some(true)], "every packet delivered");
+    // the attitude node: from reset (mode 0, no fault) to the flown step's state
+    let mut downlink = Downlink::new();
+    downlink.link.count(received[0]);
+    let mut count = SequenceCounter::new();
+    let mut sent: Vec<Vec<u8>> = Vec::new();
+    let node = acs.attitude_node_mut();
+    let clock = cuc(node.clock()).0;
+    downlink.attitude(node, &report, &mut count, |p| sent.push(p.to_vec()));
+    let new = State::of_step(&report);
+    let events_expected = events(State::default(), new).count();
+    assert!(events_expected >= 2, "the mode and a fault bit at least");
+    let got = read_downlink(&sent, ATTITUDE_TC_APID, clock);
+    assert_eq!(got.len(), events_expected + 1);
+    for (i, (service, _, count)) in got.iter().enumerate() {
+        let service_expected = if i < events_expected { 5 } else { 3 };
+        assert_eq!((*service, *count), (service_expected, i as u16));
+    }
+    // the same bytes as the library's writers: the events, then the report
+    let h = |n: u16| TmHeader {
+        time_status: 1,
+        time: clock,
+        ..header(ATTITUDE_TC_APID, n)
+    };
+    let mut events_bytes = [0u8; MAX_EVENTS * EVENT_REPORT_LEN];
+    let mut c = SequenceCounter::new();
+    let (n, _) = write_events(&h(0), &mut c, State::default(), new, &mut events_bytes);
+    assert_eq!(sent[..events_expected].concat(), events_bytes[..n]);
+    let link = LinkCounts {
+        received: 1,
+        ..LinkCounts::default()
+    };
+    let mut out = [0u8; tm_packet_len(attitude_data_len(TILES))];
+    let m = attitude_report(
+        &h(events_expected as u16),
+        acs.attitude_node_mut(),
+        &report,
+        &link,
+        &mut out,
+    )
+    .expect("written");
+    assert_eq!(sent[events_expected], out[..m]);
+    // the same state again: no event, and no report before the interval is over
+    for k in 1..DEFAULT_INTERVAL {
+        sent.clear();
+        let node = acs.attitude_node_mut();
+        downlink.attitude(node, &report, &mut count, |p| sent.push(p.to_vec()));
+        assert!(sent.is_empty(), "period {k}");
+    }
+    sent.clear();
+    let node = acs.attitude_node_mut();
+    downlink.attitude(node, &report, &mut count, |p| sent.push(p.to_vec()));
+    assert_eq!(
+        read_downlink(&sent, ATTITUDE_TC_APID, clock),
+        [(3, 25, events_expected as u16 + 1)]
+    );
+
+    // the reference node: its guidance (track) a mode change, then its report
+    let mut downlink = Downlink::new();
+    let mut count = SequenceCounter::new();
+    sent.clear();
+    let node = acs.reference_node_mut();
+    let clock = cuc(node.clock()).0;
+    downlink.reference(node, &reference, &mut count, |p| sent.push(p.to_vec()));
+    let got = read_downlink(&sent, REFERENCE_TC_APID, clock);
+    let events_expected = events(State::default(), State::of_reference(&reference)).count();
+    assert_eq!(got.len(), events_expected + 1);
+    assert_eq!(got[0], (5, 1, 0), "the guidance kind changed: 0 → 1");
+    assert_eq!(got[events_expected], (3, 25, events_expected as u16));
+    assert_eq!(sent[events_expected].len(), REFERENCE_REPORT_LEN);
 }

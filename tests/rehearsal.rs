@@ -170,6 +170,34 @@ fn a_script_is_flown_and_every_command_accepted_and_completed() {
             );
         }
     }
+    // the nodes' housekeeping, every 10 periods from the first: tile 2 out of service from its
+    // MARK_FAILED (taken in period 200) until its RESTORE (220.5 s: taken in period 221), so in
+    // the reports after the steps of periods 200, 210 and 220 (STEP, the next step's number:
+    // 201, 211, 221)
+    let hk = dir.join("hk");
+    let out = acs(&["tm", path(&tm), "--out", path(&hk)]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let table = |name: &str| -> (Vec<String>, Vec<Vec<String>>) {
+        let csv = std::fs::read_to_string(hk.join(name)).unwrap();
+        let mut lines = csv.lines();
+        let header = lines.next().unwrap().split(',').map(str::to_string).collect();
+        let rows = lines
+            .map(|l| l.split(',').map(str::to_string).collect())
+            .collect();
+        (header, rows)
+    };
+    let (header, rows) = table("attitude_hk.csv");
+    assert_eq!(rows.len(), 30, "300 periods, a report every 10");
+    let col = |name: &str| header.iter().position(|h| h == name).unwrap();
+    let (step, state) = (col("STEP"), col("TILE_STATE_2"));
+    let out_of_service: Vec<u32> = rows
+        .iter()
+        .filter(|r| r[state].parse::<u8>().unwrap() & 1 != 0)
+        .map(|r| r[step].parse().unwrap())
+        .collect();
+    assert_eq!(out_of_service, [201, 211, 221], "{out_of_service:?}");
+    let (_, rows) = table("reference_hk.csv");
+    assert_eq!(rows.len(), 30);
     let _ = std::fs::remove_dir_all(&dir);
 }
 
