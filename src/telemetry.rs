@@ -347,35 +347,41 @@ impl Iterator for Events {
     type Item = Event;
 
     fn next(&mut self) -> Option<Event> {
-        if self.next == 0 {
-            self.next = 1;
-            if self.prev.mode != self.new.mode {
-                return Some(Event {
-                    severity: Severity::Informative,
-                    id: MODE_CHANGED,
-                    aux: [self.prev.mode, self.new.mode],
-                });
-            }
-        }
-        let changed = self.prev.faults ^ self.new.faults;
         while 17 > self.next {
-            let bit = self.next - 1;
+            let k = self.next;
             self.next += 1;
-            if changed >> bit & 1 != 0 {
-                let raised = self.new.faults >> bit & 1 != 0;
-                return Some(Event {
-                    severity: if raised {
-                        Severity::Low
-                    } else {
-                        Severity::Informative
-                    },
-                    id: FAULT_EVENT + u16::from(bit),
-                    aux: self.new.faults.to_be_bytes(),
-                });
+            if let Some(e) = event_at(self.prev, self.new, u16::from(k)) {
+                return Some(e);
             }
         }
         None
     }
+}
+
+/// Event `k` from `prev` to `new`, if it happened: `k` 0 the mode change, 1 + *i* fault bit
+/// *i* raised or cleared (the order of [`events`]).
+#[inline(always)]
+fn event_at(prev: State, new: State, k: u16) -> Option<Event> {
+    if k == 0 {
+        return (prev.mode != new.mode).then_some(Event {
+            severity: Severity::Informative,
+            id: MODE_CHANGED,
+            aux: [prev.mode, new.mode],
+        });
+    }
+    let bit = k - 1;
+    if (prev.faults ^ new.faults) >> bit & 1 == 0 {
+        return None;
+    }
+    Some(Event {
+        severity: if new.faults >> bit & 1 != 0 {
+            Severity::Low
+        } else {
+            Severity::Informative
+        },
+        id: FAULT_EVENT + bit,
+        aux: new.faults.to_be_bytes(),
+    })
 }
 
 /// Writes the event report TM\[5,x\] of `event` to the start of `out`; returns its length
@@ -412,24 +418,9 @@ pub fn write_events(
 ) -> (usize, usize) {
     let mut written = 0;
     let mut left = 0;
-    let changed = prev.faults ^ new.faults;
-    // k 0: the mode; k 1 + i: fault bit i (one loop, no iterator: the images' flash)
+    // one loop, no iterator: the images' flash
     for k in 0..17u16 {
-        let bit = k.wrapping_sub(1);
-        let (severity, id, aux) = if k == 0 {
-            if prev.mode == new.mode {
-                continue;
-            }
-            (Severity::Informative, MODE_CHANGED, [prev.mode, new.mode])
-        } else if changed >> bit & 1 != 0 {
-            let raised = new.faults >> bit & 1 != 0;
-            let severity = if raised {
-                Severity::Low
-            } else {
-                Severity::Informative
-            };
-            (severity, FAULT_EVENT + bit, new.faults.to_be_bytes())
-        } else {
+        let Some(e) = event_at(prev, new, k) else {
             continue;
         };
         let rest = out.get_mut(written..).unwrap_or_default();
@@ -441,7 +432,6 @@ pub fn write_events(
             sequence_count: count.next_count(),
             ..*header
         };
-        let e = Event { severity, id, aux };
         written += write_event(&h, &e, rest).unwrap_or(0);
     }
     (written, left)
@@ -539,31 +529,9 @@ impl Downlink {
         count: &mut SequenceCounter,
         send: &mut impl FnMut(&[u8]),
     ) {
-        let prev = self.prev;
-        let changed = prev.faults ^ new.faults;
-        // k 0: the mode; k 1 + i: fault bit i ([`events`]' order; one loop: the images' flash)
+        // one loop, no iterator: the images' flash
         for k in 0..17u16 {
-            let bit = k.wrapping_sub(1);
-            let event = if k == 0 {
-                if prev.mode == new.mode {
-                    continue;
-                }
-                Event {
-                    severity: Severity::Informative,
-                    id: MODE_CHANGED,
-                    aux: [prev.mode, new.mode],
-                }
-            } else if changed >> bit & 1 != 0 {
-                Event {
-                    severity: if new.faults >> bit & 1 != 0 {
-                        Severity::Low
-                    } else {
-                        Severity::Informative
-                    },
-                    id: FAULT_EVENT + bit,
-                    aux: new.faults.to_be_bytes(),
-                }
-            } else {
+            let Some(event) = event_at(self.prev, new, k) else {
                 continue;
             };
             let mut out = [0u8; EVENT_REPORT_LEN];
