@@ -180,7 +180,12 @@ fn a_script_is_flown_and_every_command_accepted_and_completed() {
     let table = |name: &str| -> (Vec<String>, Vec<Vec<String>>) {
         let csv = std::fs::read_to_string(hk.join(name)).unwrap();
         let mut lines = csv.lines();
-        let header = lines.next().unwrap().split(',').map(str::to_string).collect();
+        let header = lines
+            .next()
+            .unwrap()
+            .split(',')
+            .map(str::to_string)
+            .collect();
         let rows = lines
             .map(|l| l.split(',').map(str::to_string).collect())
             .collect();
@@ -371,10 +376,18 @@ fn the_pil_flies_the_same_bytes() {
     assert_eq!(out.status.code(), Some(0), "{}{stdout}", text(&out.stderr));
     assert!(stdout.contains("pil_mismatches: 0\n"), "{stdout}");
     let (host, pil) = (std::fs::read(&host).unwrap(), std::fs::read(&pil).unwrap());
-    assert_eq!(host.len(), 16 * 25, "eight commands, two reports each");
+    assert_eq!(
+        reports(&dir.join("host.tm")).len(),
+        16,
+        "eight commands, two reports each"
+    );
+    assert!(
+        host.len() > 30 * (169 + 66),
+        "and both nodes' housekeeping, 30 reports each"
+    );
     assert!(
         host == pil,
-        "the images' reports differ from the host run's"
+        "the images' reports and telemetry differ from the host run's"
     );
     // the run itself: the same samples up to the first slew command (60 s), as the PIL's
     // module docs say of a plain run; here the host run flies the nodes as the images do, so
