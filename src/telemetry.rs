@@ -20,6 +20,17 @@
 //! Events are reported as they happen: [`events`] compares the node's [`State`] (mode and
 //! fault word) after a step with the one after the step before.
 //!
+//! # Sent
+//! Each node image keeps a [`Downlink`] and calls it after each step (the reference node:
+//! after each REF it makes), which writes the step's events, then its housekeeping report if
+//! due, each on the stack, and hands each packet to the ground link as soon as it is written
+//! (`acs_firmware::flight::downlink`); one TM sequence count per node, shared with its
+//! verification reports. The reference image skips the call in a period in which it took a
+//! telecommand: that period is its longest (a slew's planning), and its events come one REF
+//! later, its schedule one period later. The processor-in-the-loop run and the rehearsal make
+//! the same calls on the host (`host::sim::pil::uplink::Ground::telemetry`) and compare or
+//! record the same bytes.
+//!
 //! # Events
 //! | event ID | severity (subtype) | when | auxiliary data (2 B) |
 //! |---:|---|---|---|

@@ -1,7 +1,8 @@
 //! Rehearsing an operation (issue 31, item 5): `acs sim SCENARIO --tc SCRIPT --tm FILE` flies
 //! a time-tagged telecommand script ([`parse_script`]) with the scenario and records every
-//! verification report of the run, in the simulator ([`fly`]) and in the two-node
-//! processor-in-the-loop run ([`super::pil`]) with the same bytes.
+//! packet the nodes send (the verification reports, the events and the housekeeping), in the
+//! simulator ([`fly`]) and in the two-node processor-in-the-loop run ([`super::pil`]) with the
+//! same bytes.
 //!
 //! # The schedule: [`Operations`]
 //! Both runs take their telecommands from one schedule, period by period ([`Operations::due`]):
@@ -26,8 +27,9 @@
 //! count of reports, a slew planned from the attitude of the STATUS the reference node received
 //! the period before), and the composition is stepped as the images step
 //! ([`crate::two_node::TwoNodeLoop::step_over_link`], every packet delivered; the reference
-//! node's clock the one the ground set). So the reports are the ones the images send, and the
-//! processor-in-the-loop run of the same scenario and script writes the same bytes. A plain
+//! node's clock the one the ground set), and after each step the nodes' telemetry is made as
+//! the images make it ([`Mirror::telemetry`]). So the packets are the ones the images send, and
+//! the processor-in-the-loop run of the same scenario and script writes the same bytes. A plain
 //! `acs sim` (no script) flies [`super::scenarios::Scenario::run`] instead: commands given to
 //! the loop directly, without telecommands.
 

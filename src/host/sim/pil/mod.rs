@@ -3,15 +3,20 @@
 //! its own `mspdebug` MSP430 simulator against the host simulator's truth, in lockstep with the
 //! host composition of the same nodes ([`crate::two_node::TwoNodeLoop`] over [`CONFIG`],
 //! [`HostLoop`]), and everything the images produce is checked bit for bit against the host's:
-//! actuator commands, both nodes' packets, mode, faults and the verification reports of every
-//! telecommand.
+//! actuator commands, both nodes' packets, mode, faults, the verification reports of every
+//! telecommand and every telemetry packet (events, housekeeping).
 //!
 //! # The images
 //! Each image loops: `fw_period_start()` (the host's break point), take the telecommand in its
 //! ground mailbox (`GROUND`: the packet in, its verification reports out,
 //! `acs_firmware::flight::take_telecommand`; each node applies only its own commands, another
 //! node's is refused with failure code 0x104), take the packet in its `LINK_RX`/`LINK_RX_LEN` mailbox, do its
-//! work, put its packet in `LINK_TX`/`LINK_TX_LEN`, publish `STEP_MODE`/`STEP_FAULTS`. The
+//! work, put its packet in `LINK_TX`/`LINK_TX_LEN`, publish `STEP_MODE`/`STEP_FAULTS`, and hand
+//! its telemetry packets to `fw_downlink` (`acs_firmware::flight::downlink`: the host stops at
+//! its entry, a break point kept all run, and reads each packet from R12 and R13; the host
+//! composition's are [`crate::telemetry::Downlink`]'s through the mirror,
+//! [`uplink::Ground::telemetry`]; the reference image sends none in a period in which it took a
+//! telecommand). The
 //! attitude image also has the tile mailboxes ([`TILE_MAILBOXES`], [`bus`]); its packet is
 //! STATUS(k), which it sends after step k using the REF delivered to it if that was made for
 //! step k with a valid clock. The reference image answers STATUS(k) with REF(k + 1) (without a
@@ -889,7 +894,12 @@ impl Target {
                     self.map.node.name()
                 )));
             }
-            self.downlinked.push(self.dbg.read(at, len)?);
+            let packet = if len == 0 {
+                Vec::new()
+            } else {
+                self.dbg.read(at, len)?
+            };
+            self.downlinked.push(packet);
             regs = self.dbg.run()?;
         }
         self.stopped_at(regs[0], self.map.period_start, what)?;
@@ -1166,8 +1176,9 @@ pub struct PilRun {
     pub steps: Vec<StepLog>,
     /// Wall-clock steps per second of the run.
     pub steps_per_s: f64,
-    /// The verification reports of the scenario's steps as the images wrote them, back to
-    /// back in the order of the schedule ([`Operations`]; the link-fault case's are left out).
+    /// The packets the images sent in the scenario's steps, back to back: period by period the
+    /// verification reports in the order of the schedule ([`Operations`]), then the reference
+    /// image's telemetry, then the attitude image's (the link-fault case's are left out).
     pub telemetry: Vec<u8>,
 }
 
