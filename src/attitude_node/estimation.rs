@@ -9,7 +9,7 @@
 use super::sensing::Readings;
 use super::{AttitudeNode, Faults};
 use crate::acs_loop::StepReport;
-use crate::determination::least_squares::{angular_rate_body_cached, magnetic_field_body_cached};
+use crate::determination::least_squares::{self, solve_cached};
 use crate::determination::mekf::{self, StepInputs, SunObservation};
 use crate::determination::sun_sensor::{incidence_inv_cos2, sun_direction_body};
 use crate::env::eclipse::Shadow;
@@ -158,23 +158,38 @@ impl<const N: usize> AttitudeNode<'_, N> {
         dt
     }
 
-    /// The body field from the magnetometers (least squares, cached operator), nT. Out of line,
-    /// as [`Self::rate_body`] and [`Self::sun_body`]: each converts its readings in its own frame.
+    /// The body field from the magnetometers (`field`, nT) or the body rate from the gyros
+    /// (rad/s): least squares with the cached operator. One copy of the solver's call for
+    /// both (their readings differ in kind only); out of line, as [`Self::sun_body`]: it
+    /// converts its readings in its own frame.
     #[cfg_attr(target_arch = "msp430", inline(never))]
-    fn field_body(&mut self, readings: &Readings<N>) -> Option<Vec3> {
+    fn tile_solve(&mut self, readings: &Readings<N>, field: bool) -> Option<Vec3> {
         let tiles = self.config.tiles.as_slice();
-        let mag = readings.mag_nt();
-        let mag = mag.get(..tiles.len())?;
-        magnetic_field_body_cached(&mut self.mag_solver, tiles, mag).ok()
+        let (mag, gyro);
+        let (cache, r) = if field {
+            mag = readings.mag_nt();
+            (
+                &mut self.mag_solver,
+                least_squares::Readings::Field(mag.get(..tiles.len())?),
+            )
+        } else {
+            gyro = readings.gyro_radps();
+            (
+                &mut self.gyro_solver,
+                least_squares::Readings::Rate(gyro.get(..tiles.len())?),
+            )
+        };
+        solve_cached(cache, tiles, r).ok()
+    }
+
+    /// The body field from the magnetometers (least squares, cached operator), nT.
+    fn field_body(&mut self, readings: &Readings<N>) -> Option<Vec3> {
+        self.tile_solve(readings, true)
     }
 
     /// The body rate from the gyros (least squares, cached operator), rad/s.
-    #[cfg_attr(target_arch = "msp430", inline(never))]
     fn rate_body(&mut self, readings: &Readings<N>) -> Option<Vec3> {
-        let tiles = self.config.tiles.as_slice();
-        let gyro = readings.gyro_radps();
-        let gyro = gyro.get(..tiles.len())?;
-        angular_rate_body_cached(&mut self.gyro_solver, tiles, gyro).ok()
+        self.tile_solve(readings, false)
     }
 
     /// The Sun direction in body axes from the lit tiles' sensors (unit).

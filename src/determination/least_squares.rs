@@ -73,7 +73,7 @@ pub const GRAM_REL_TOL: f32 = 1.0e-5;
 /// components (rows `x̂_m·B = φ_xm`, `ŷ_m·B = φ_ym`) or the gyros' one (`ẑ_m·ω = ω_zm`). One
 /// (non-generic) copy of the solvers serves both.
 #[derive(Copy, Clone)]
-enum Readings<'a> {
+pub(crate) enum Readings<'a> {
     Field(&'a [Option<Vec2>]),
     Rate(&'a [Option<f32>]),
 }
@@ -274,7 +274,7 @@ fn contributing_32(tiles: &[Tile], readings: Readings) -> u32 {
 /// where the caller's readings are a short array (the flight loop), the compiler sees that
 /// there are at most 32 and drops the one-shot fallback; the rest is one shared copy.
 #[inline(always)]
-fn solve_cached(
+pub(crate) fn solve_cached(
     cache: &mut Option<TileSolver>,
     tiles: &[Tile],
     readings: Readings,
