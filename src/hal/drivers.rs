@@ -326,22 +326,35 @@ fn drive_bridge<P: SetDutyCycle, D: OutputPin>(
     value: f32,
     limit: f32,
 ) -> Result<(), ErrorKind> {
-    let magnitude = if value >= 0.0 { value } else { -value };
-    if !value.is_finite() || magnitude > limit {
+    let Some(num) = bridge_fraction(value, limit) else {
         pwm.set_duty_cycle_fully_off()
             .map_err(|_| ErrorKind::Other)?;
         return Err(ErrorKind::OutOfRange);
-    }
-    const SCALE: u16 = 10_000;
-    // rounded fraction of full scale, 0..=SCALE (magnitude ≤ limit)
-    let num = (magnitude / limit * f32::from(SCALE) + 0.5) as u16;
+    };
     if value >= 0.0 {
         dir.set_high().map_err(|_| ErrorKind::Other)?;
     } else {
         dir.set_low().map_err(|_| ErrorKind::Other)?;
     }
-    pwm.set_duty_cycle_fraction(core::cmp::min(num, SCALE), SCALE)
+    pwm.set_duty_cycle_fraction(num, BRIDGE_SCALE)
         .map_err(|_| ErrorKind::Other)
+}
+
+/// The denominator of [`bridge_fraction`].
+const BRIDGE_SCALE: u16 = 10_000;
+
+/// [`drive_bridge`]'s rounded fraction of full scale of `value`, in `BRIDGE_SCALE`ths
+/// (0..=`BRIDGE_SCALE`), `None` for a value beyond `limit` or not finite. Out of line on the
+/// MSP430: one copy for the wheels' and the coils' bridges.
+#[cfg_attr(target_arch = "msp430", inline(never))]
+fn bridge_fraction(value: f32, limit: f32) -> Option<u16> {
+    let magnitude = if value >= 0.0 { value } else { -value };
+    if !value.is_finite() || magnitude > limit {
+        return None;
+    }
+    // rounded fraction of full scale, 0..=SCALE (magnitude ≤ limit)
+    let num = (magnitude / limit * f32::from(BRIDGE_SCALE) + 0.5) as u16;
+    Some(core::cmp::min(num, BRIDGE_SCALE))
 }
 
 /// A magnetorquer coil driven by PWM through an H-bridge with a direction pin: the dipole is
