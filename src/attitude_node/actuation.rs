@@ -118,9 +118,11 @@ impl<const N: usize> AttitudeNode<'_, N> {
             faults.law = true;
             return false;
         }
+        // all zero (one `memset`): an entry beyond the tiles is not working, its axis and
+        // limit never read
         let mut wheels = [Wheel {
-            axis_body: Vec3::z(),
-            limit: 1.0,
+            axis_body: Vec3::zeros(),
+            limit: 0.0,
             working: false,
         }; N];
         for (i, (w, t)) in wheels.iter_mut().zip(self.config.tiles.iter()).enumerate() {
@@ -175,9 +177,10 @@ impl<const N: usize> AttitudeNode<'_, N> {
     /// Allocates a body dipole to the coils (least squares over their axes, saturated keeping
     /// direction) and commands them; returns the dipole commanded.
     fn command_coils<B: TileBus>(&mut self, bus: &mut B, m: &Vec3, faults: &mut Faults) -> Vec3 {
+        // all zero, as the wheels' in `command_wheels`
         let mut coils = [Wheel {
-            axis_body: Vec3::z(),
-            limit: 1.0,
+            axis_body: Vec3::zeros(),
+            limit: 0.0,
             working: false,
         }; MAX_COILS];
         for (i, (c, cfg)) in coils.iter_mut().zip(self.config.coils.iter()).enumerate() {
