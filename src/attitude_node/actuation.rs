@@ -24,7 +24,7 @@ fn cached_allocation<const N: usize>(
         *cache = Some(Allocator::new(actuators)?);
     }
     match cache {
-        Some(a) => a.allocate(actuators, l_body),
+        Some(a) => a.allocate_current(actuators, l_body),
         None => Err(WheelError::StaleAllocator),
     }
 }
