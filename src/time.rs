@@ -517,6 +517,41 @@ impl<S: TimeScale> Epoch<S> {
         }
     }
 
+    /// [`Epoch::add`] of a span that is not negative (the attitude node's control period,
+    /// [`TimeSpan::from_seconds_f32`] of a positive number): the same epoch, in fewer bytes
+    /// of MSP430 code (no branch for the negative spans, an unsigned division for a span of a
+    /// day or more). A negative span is taken as its `u32` reading: the caller must not pass
+    /// one.
+    pub(crate) fn add_nonnegative(&self, span: TimeSpan) -> Self {
+        let s = span.seconds as u32;
+        let (mut days, rem) = if SECONDS_PER_DAY > s {
+            (0, s)
+        } else {
+            (s / SECONDS_PER_DAY, s % SECONDS_PER_DAY)
+        };
+        // as `add`: nano < 2e9 and 0 ≤ second ≤ 86 399 + 86 400 + 1 fit u32
+        let mut nano = self.nano + span.nano;
+        let mut second = self.second + rem;
+        if nano >= NANOS_PER_SECOND {
+            nano -= NANOS_PER_SECOND;
+            second += 1;
+        }
+        if second >= 2 * SECONDS_PER_DAY {
+            second -= 2 * SECONDS_PER_DAY;
+            days += 2;
+        } else if second >= SECONDS_PER_DAY {
+            second -= SECONDS_PER_DAY;
+            days += 1;
+        }
+        // days ≤ 24 855 + 2: exact in i32, the epoch's day saturates as `add`'s
+        Self {
+            day: self.day.saturating_add(days as i32),
+            second,
+            nano,
+            scale: PhantomData,
+        }
+    }
+
     /// Reinterprets the same calendar reading in another scale (no offset applied). Used for
     /// documented approximations such as UT1 ≈ UTC.
     pub const fn relabel<T: TimeScale>(self) -> Epoch<T> {
@@ -1622,6 +1657,41 @@ mod tests {
             let nano = (rng.next() % 1_000_000_000) as u32;
             let e = Epoch::<Ut1>::from_parts(day, second, nano).unwrap();
             assert_eq!(gmst_rad(&e).to_bits(), gmst_rad_u64(&e).to_bits(), "{e:?}");
+        }
+    }
+
+    /// [`Epoch::add_nonnegative`] is [`Epoch::add`] for every span that is not negative: random
+    /// epochs (leap seconds included) and spans of every magnitude, and the ends.
+    #[test]
+    fn add_nonnegative_is_add() {
+        let mut rng = Rng(0x5EED_0ADD);
+        let days = [i32::MIN, i32::MIN + 1, -24_857, -1, 0, 1, 24_857, i32::MAX - 3, i32::MAX];
+        let seconds = [0, 1, 86_399, 86_400, 86_401, 172_799, 172_800, i32::MAX - 1, i32::MAX];
+        let mut check = |e: Epoch<Utc>, span: TimeSpan| {
+            assert_eq!(e.add_nonnegative(span), e.add(span), "{e:?} + {span:?}");
+        };
+        for day in days {
+            for second in [0, 1, 43_200, 86_399, 86_400] {
+                for nano in [0, 1, 999_999_999] {
+                    let e = Epoch::<Utc>::from_parts(day, second, nano).unwrap();
+                    for s in seconds {
+                        for n in [0, 1, 500_000_000, 999_999_999] {
+                            check(e, TimeSpan { seconds: s, nano: n });
+                        }
+                    }
+                }
+            }
+        }
+        for _ in 0..1_000_000 {
+            let day = rng.i32();
+            let second = (rng.next() % 86_401) as u32;
+            let nano = (rng.next() % u64::from(NANOS_PER_SECOND)) as u32;
+            let e = Epoch::<Utc>::from_parts(day, second, nano).unwrap();
+            let span = TimeSpan {
+                seconds: rng.i32().checked_abs().unwrap_or(i32::MAX),
+                nano: (rng.next() % u64::from(NANOS_PER_SECOND)) as u32,
+            };
+            check(e, span);
         }
     }
 }

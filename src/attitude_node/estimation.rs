@@ -97,7 +97,7 @@ impl<const N: usize> AttitudeNode<'_, N> {
         };
         self.clock = match reference {
             Some(r) => Some(r.utc),
-            None => self.clock.map(|t| t.add(self.period)),
+            None => self.clock.map(|t| t.add_nonnegative(self.period)),
         };
         // A step is one control period: a gap of any other size or sign (a clock correction, a
         // reset) must not be integrated into the wheels (a +60 s correction once kicked a
