@@ -451,6 +451,34 @@ impl<S: TimeScale> Epoch<S> {
         whole + frac
     }
 
+    /// [`Epoch::seconds_since_f32`], the same value in fewer bytes of MSP430 code (the attitude
+    /// node's clock check): the span's whole seconds as `clamp(d·86 400 + Δs)` with one
+    /// saturating addition (`(t + Δs) + t`, `t = d·43 200`) instead of [`Epoch::span_since`]'s
+    /// sign-split terms; the same ends.
+    pub(crate) fn seconds_since_f32_small(&self, earlier: &Self) -> f32 {
+        let (nano, borrow) = match self.nano.checked_sub(earlier.nano) {
+            Some(n) => (n, 0),
+            None => ((self.nano + NANOS_PER_SECOND) - earlier.nano, 1),
+        };
+        // −86 401 ≤ ds ≤ 86 400
+        let ds = self.second as i32 - earlier.second as i32 - borrow;
+        let later = self.day >= earlier.day;
+        let d = self.day.wrapping_sub(earlier.day);
+        // a wrapped difference, or one beyond ±24 856 days: saturated, as `span_since`
+        let seconds = if later != (d >= 0) || !(-24_856..=24_856).contains(&d) {
+            if later {
+                i32::MAX
+            } else {
+                i32::MIN
+            }
+        } else {
+            // |t| ≤ 1 073 779 200 and |t + ds| fit i32: one saturating addition, exact
+            let t = d * (SECONDS_PER_DAY / 2) as i32;
+            (t + ds).saturating_add(t)
+        };
+        seconds as f32 + nano as f32 * 1e-9
+    }
+
     /// The span from `earlier` to `self` (negative if `earlier` is later). UTC days count 86 400 s.
     /// Saturates at the ends of [`TimeSpan`] (±68 years).
     pub fn span_since(&self, earlier: &Self) -> TimeSpan {
@@ -1692,6 +1720,64 @@ mod tests {
                 nano: (rng.next() % u64::from(NANOS_PER_SECOND)) as u32,
             };
             check(e, span);
+        }
+    }
+
+    /// [`Epoch::seconds_since_f32_small`] gives [`Epoch::seconds_since_f32`]'s bits: random
+    /// pairs of epochs (leap seconds included) at every distance, and the ends.
+    #[test]
+    fn seconds_since_small_is_seconds_since() {
+        let mut rng = Rng(0x5EED_5117);
+        let days = [
+            i32::MIN,
+            i32::MIN + 1,
+            -24_857,
+            -24_856,
+            -24_855,
+            -1,
+            0,
+            1,
+            24_855,
+            24_856,
+            24_857,
+            i32::MAX - 1,
+            i32::MAX,
+        ];
+        let check = |a: Epoch<Utc>, b: Epoch<Utc>| {
+            assert_eq!(
+                a.seconds_since_f32_small(&b).to_bits(),
+                a.seconds_since_f32(&b).to_bits(),
+                "{a:?} since {b:?}"
+            );
+        };
+        let ends = |day: i32| {
+            [(0, 0), (0, 999_999_999), (86_399, 5), (86_400, 0), (86_400, 999_999_999)]
+                .map(|(second, nano)| Epoch::<Utc>::from_parts(day, second, nano).unwrap())
+        };
+        for a in days {
+            for b in days {
+                for x in ends(a) {
+                    for y in ends(b) {
+                        check(x, y);
+                    }
+                }
+            }
+        }
+        for _ in 0..1_000_000 {
+            let epoch = |rng: &mut Rng, near: Option<i32>| {
+                let day = match near {
+                    Some(d) => d.wrapping_add((rng.next() % 5) as i32 - 2),
+                    None => rng.i32(),
+                };
+                let second = (rng.next() % 86_401) as u32;
+                let nano = (rng.next() % u64::from(NANOS_PER_SECOND)) as u32;
+                Epoch::<Utc>::from_parts(day, second, nano).unwrap()
+            };
+            let a = epoch(&mut rng, None);
+            let near = (rng.next() % 2 == 0).then(|| a.day());
+            let b = epoch(&mut rng, near);
+            check(a, b);
+            check(b, a);
         }
     }
 }

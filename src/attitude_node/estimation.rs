@@ -92,7 +92,7 @@ impl<const N: usize> AttitudeNode<'_, N> {
         // the node's copy of the clock: the REF's UTC, or one period on without a REF (a
         // REF after a gap of the link then follows by one period, no clock fault)
         let elapsed = match reference {
-            Some(r) => self.clock.map(|t| r.utc.seconds_since_f32(&t)),
+            Some(r) => self.clock.map(|t| r.utc.seconds_since_f32_small(&t)),
             None => None,
         };
         self.clock = match reference {
