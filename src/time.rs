@@ -456,10 +456,13 @@ impl<S: TimeScale> Epoch<S> {
     /// saturating addition (`(t + Δs) + t`, `t = d·43 200`) instead of [`Epoch::span_since`]'s
     /// sign-split terms; the same ends.
     pub(crate) fn seconds_since_f32_small(&self, earlier: &Self) -> f32 {
-        let (nano, borrow) = match self.nano.checked_sub(earlier.nano) {
-            Some(n) => (n, 0),
-            None => ((self.nano + NANOS_PER_SECOND) - earlier.nano, 1),
-        };
+        // as `span_since`'s borrow: (self.nano + 1e9) − earlier.nano when it is smaller
+        let mut nano = self.nano.wrapping_sub(earlier.nano);
+        let mut borrow = 0;
+        if earlier.nano > self.nano {
+            nano = nano.wrapping_add(NANOS_PER_SECOND);
+            borrow = 1;
+        }
         // −86 401 ≤ ds ≤ 86 400
         let ds = self.second as i32 - earlier.second as i32 - borrow;
         let later = self.day >= earlier.day;
