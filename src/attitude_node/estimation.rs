@@ -91,14 +91,21 @@ impl<const N: usize> AttitudeNode<'_, N> {
         });
         // the node's copy of the clock: the REF's UTC, or one period on without a REF (a
         // REF after a gap of the link then follows by one period, no clock fault)
-        let elapsed = match reference {
-            Some(r) => self.clock.map(|t| r.utc.seconds_since_f32_small(&t)),
-            None => None,
-        };
-        self.clock = match reference {
-            Some(r) => Some(r.utc),
-            None => self.clock.map(|t| t.add_nonnegative(self.period)),
-        };
+        // (in place: on the MSP430 each copy of an `Option<Epoch>` is a `memcpy`)
+        let mut elapsed = None;
+        match reference {
+            Some(r) => {
+                if let Some(t) = &self.clock {
+                    elapsed = Some(r.utc.seconds_since_f32_small(t));
+                }
+                self.clock = Some(r.utc);
+            }
+            None => {
+                if let Some(t) = &mut self.clock {
+                    *t = t.add_nonnegative(self.period);
+                }
+            }
+        }
         // A step is one control period: a gap of any other size or sign (a clock correction, a
         // reset) must not be integrated into the wheels (a +60 s correction once kicked a
         // tracking satellite to 1.8 °/s). It restarts the filter and the B-dot derivative,
