@@ -153,15 +153,22 @@ impl<const N: usize> AttitudeNode<'_, N> {
             &mut report.omega_body_radps,
         );
         faults.device_read |= held;
-        let estimate = self.estimate.as_ref();
-        let attitude = estimate.map(|e| e.attitude);
-        faults.attitude = attitude.is_none();
         report.b_body_nt = b_body_nt;
-        report.attitude_sigma_rad = estimate.map(|e| e.attitude_sigma_rad());
         report.refused_measurements = outcome.refused;
         report.sun_body = sun_body;
-        report.measured_attitude = attitude.filter(|_| outcome.started);
-        report.attitude = attitude;
+        // written in place, then copied once (on the MSP430 each copy is a `memcpy`)
+        report.attitude = None;
+        report.attitude_sigma_rad = None;
+        if let Some(e) = &self.estimate {
+            report.attitude = Some(e.attitude);
+            report.attitude_sigma_rad = Some(e.attitude_sigma_rad());
+        }
+        faults.attitude = report.attitude.is_none();
+        report.measured_attitude = if outcome.started {
+            report.attitude
+        } else {
+            None
+        };
         dt
     }
 
