@@ -121,23 +121,27 @@ impl<const N: usize> AttitudeNode<'_, N> {
                 period
             }
         };
-        let sun = match (sun_body, sun_ref) {
-            (Some(body), Some((reference_teme, d_reference_d_albedo))) => Some(SunObservation {
-                body,
-                reference_teme,
-                d_reference_d_albedo,
-                variance_rad2: self.sun_variance(readings, &body),
-            }),
-            _ => None,
-        };
-        let inputs = StepInputs {
+        // the filter's inputs built in place (on the MSP430 each copy of an option is a
+        // `memcpy`)
+        let mut inputs = StepInputs {
             omega_body_radps: omega,
-            sun,
-            field: b_body_nt.zip(b_teme_nt),
+            sun: None,
+            field: None,
             mag_tiles: self.mag_solver.as_ref().map_or(0, |s| s.tiles()),
             gyro_tiles: self.gyro_solver.as_ref().map_or(0, |s| s.tiles()),
             dt_s: dt,
         };
+        if let (Some(body), Some((reference_teme, d_reference_d_albedo))) = (&sun_body, &sun_ref) {
+            inputs.sun = Some(SunObservation {
+                body: *body,
+                reference_teme: *reference_teme,
+                d_reference_d_albedo: *d_reference_d_albedo,
+                variance_rad2: self.sun_variance(readings, body),
+            });
+        }
+        if let (Some(b), Some(m)) = (&b_body_nt, &b_teme_nt) {
+            inputs.field = Some((*b, *m));
+        }
         // the gyros' own rate: a law's command must not depend on the filter's state (a REF
         // lost changes the estimate, not the commands of a mode without attitude); the bias
         // left in the rate (≤ 1e-4 rad/s) moves the tracking law's equilibrium by ζ·b/ω_n ≈
