@@ -1696,8 +1696,28 @@ mod tests {
     #[test]
     fn add_nonnegative_is_add() {
         let mut rng = Rng(0x5EED_0ADD);
-        let days = [i32::MIN, i32::MIN + 1, -24_857, -1, 0, 1, 24_857, i32::MAX - 3, i32::MAX];
-        let seconds = [0, 1, 86_399, 86_400, 86_401, 172_799, 172_800, i32::MAX - 1, i32::MAX];
+        let days = [
+            i32::MIN,
+            i32::MIN + 1,
+            -24_857,
+            -1,
+            0,
+            1,
+            24_857,
+            i32::MAX - 3,
+            i32::MAX,
+        ];
+        let seconds = [
+            0,
+            1,
+            86_399,
+            86_400,
+            86_401,
+            172_799,
+            172_800,
+            i32::MAX - 1,
+            i32::MAX,
+        ];
         let mut check = |e: Epoch<Utc>, span: TimeSpan| {
             assert_eq!(e.add_nonnegative(span), e.add(span), "{e:?} + {span:?}");
         };
@@ -1707,7 +1727,13 @@ mod tests {
                     let e = Epoch::<Utc>::from_parts(day, second, nano).unwrap();
                     for s in seconds {
                         for n in [0, 1, 500_000_000, 999_999_999] {
-                            check(e, TimeSpan { seconds: s, nano: n });
+                            check(
+                                e,
+                                TimeSpan {
+                                    seconds: s,
+                                    nano: n,
+                                },
+                            );
                         }
                     }
                 }
@@ -1754,8 +1780,14 @@ mod tests {
             );
         };
         let ends = |day: i32| {
-            [(0, 0), (0, 999_999_999), (86_399, 5), (86_400, 0), (86_400, 999_999_999)]
-                .map(|(second, nano)| Epoch::<Utc>::from_parts(day, second, nano).unwrap())
+            [
+                (0, 0),
+                (0, 999_999_999),
+                (86_399, 5),
+                (86_400, 0),
+                (86_400, 999_999_999),
+            ]
+            .map(|(second, nano)| Epoch::<Utc>::from_parts(day, second, nano).unwrap())
         };
         for a in days {
             for b in days {

@@ -81,7 +81,6 @@ impl<const N: usize> AttitudeNode<'_, N> {
         } else {
             self.sun_body(readings)
         };
-        let b_teme_nt = reference.and_then(|r| r.b_teme_nt);
         // the Sun as the sensors see it, with the albedo
         let sun_ref = reference.and_then(|r| {
             let fraction = r.illumination.map_or(1.0, |i| i.fraction);
@@ -139,7 +138,7 @@ impl<const N: usize> AttitudeNode<'_, N> {
                 variance_rad2: self.sun_variance(readings, body),
             });
         }
-        if let (Some(b), Some(m)) = (&b_body_nt, &b_teme_nt) {
+        if let (Some(b), Some(m)) = (&b_body_nt, reference.and_then(|r| r.b_teme_nt.as_ref())) {
             inputs.field = Some((*b, *m));
         }
         // the gyros' own rate: a law's command must not depend on the filter's state (a REF

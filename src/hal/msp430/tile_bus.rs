@@ -167,7 +167,11 @@ impl<I: I2c> SetDutyCycle for WheelSetpoint<I> {
     /// Writes `duty` (at most [`WHEEL_FULL_SCALE`]) to the set-point register.
     fn set_duty_cycle(&mut self, duty: u16) -> Result<(), WheelWriteError> {
         let [hi, lo] = core::cmp::min(duty, WHEEL_FULL_SCALE).to_be_bytes();
-        write_wheel(&mut self.i2c, self.address, &[WHEEL_SETPOINT_REGISTER, hi, lo])
+        write_wheel(
+            &mut self.i2c,
+            self.address,
+            &[WHEEL_SETPOINT_REGISTER, hi, lo],
+        )
     }
 }
 
