@@ -52,7 +52,9 @@ impl<const N: usize> AttitudeNode<'_, N> {
         faults: &mut Faults,
         report: &mut StepReport,
     ) -> f32 {
-        let mut b_body_nt = self.field_body(readings);
+        // the body field and the Sun straight into the report (on the MSP430 each copy of an
+        // option is a `memcpy`); the filter's inputs borrow them
+        report.b_body_nt = self.field_body(readings);
         // the model's |B|² and the tolerance: the REF's; without a REF the last one's, the
         // tolerance widening with the time since
         if let Some(r) = reference {
@@ -66,17 +68,17 @@ impl<const N: usize> AttitudeNode<'_, N> {
                 FIELD_MAGNITUDE_TOLERANCE + FIELD_MAGNITUDE_DRIFT_PER_S * since_s
             }
         };
-        if let (Some(b), Some(m2)) = (&b_body_nt, self.last_field_nt2) {
+        if let (Some(b), Some(m2)) = (&report.b_body_nt, self.last_field_nt2) {
             if !magnitude_within(b, m2, tolerance) {
-                b_body_nt = None;
+                report.b_body_nt = None;
             }
         }
         let omega = self.rate_body(readings);
-        faults.field = b_body_nt.is_none();
+        faults.field = report.b_body_nt.is_none();
         faults.rate = omega.is_none();
         // without a REF, the last one's shadow: no Sun reading believed if it was the umbra
         let in_umbra = self.last_umbra;
-        let sun_body = if in_umbra {
+        report.sun_body = if in_umbra {
             None
         } else {
             self.sun_body(readings)
@@ -130,7 +132,9 @@ impl<const N: usize> AttitudeNode<'_, N> {
             gyro_tiles: self.gyro_solver.as_ref().map_or(0, |s| s.tiles()),
             dt_s: dt,
         };
-        if let (Some(body), Some((reference_teme, d_reference_d_albedo))) = (&sun_body, &sun_ref) {
+        if let (Some(body), Some((reference_teme, d_reference_d_albedo))) =
+            (&report.sun_body, &sun_ref)
+        {
             inputs.sun = Some(SunObservation {
                 body: *body,
                 reference_teme: *reference_teme,
@@ -138,7 +142,10 @@ impl<const N: usize> AttitudeNode<'_, N> {
                 variance_rad2: self.sun_variance(readings, body),
             });
         }
-        if let (Some(b), Some(m)) = (&b_body_nt, reference.and_then(|r| r.b_teme_nt.as_ref())) {
+        if let (Some(b), Some(m)) = (
+            &report.b_body_nt,
+            reference.and_then(|r| r.b_teme_nt.as_ref()),
+        ) {
             inputs.field = Some((*b, *m));
         }
         // the gyros' own rate: a law's command must not depend on the filter's state (a REF
@@ -156,9 +163,7 @@ impl<const N: usize> AttitudeNode<'_, N> {
             &mut report.omega_body_radps,
         );
         faults.device_read |= held;
-        report.b_body_nt = b_body_nt;
         report.refused_measurements = outcome.refused;
-        report.sun_body = sun_body;
         // written in place, then copied once (on the MSP430 each copy is a `memcpy`)
         report.attitude = None;
         report.attitude_sigma_rad = None;
