@@ -6,7 +6,7 @@
 use super::laws::reported;
 use super::modes::ModeState;
 use super::{AttitudeNode, Faults};
-use crate::acs_loop::{StepReport, MAX_COILS};
+use crate::acs_loop::MAX_COILS;
 use crate::control::magnetorquer::dumping_dipole;
 use crate::control::wheels::{Allocator, Wheel, WheelAllocation, WheelError};
 use crate::hal::TileBus;
@@ -61,39 +61,37 @@ impl<const N: usize> AttitudeNode<'_, N> {
 
     /// Step phase 5c: wheel momentum (the target, or the momentum in force re-sent: it stops
     /// failed tiles' wheels), momentum dumping through the coils outside detumble, coil dipole.
-    /// Returns the dipole commanded and the wheels' total momentum now commanded (body).
+    /// `dipole` holds the law's dipole and receives the dipole commanded, `h_wheels` the
+    /// wheels' total momentum now commanded (body): in place, in the step's report (on the
+    /// MSP430 each copy of a vector is a `memcpy`).
     #[inline(never)]
     pub(super) fn actuate<B: TileBus>(
         &mut self,
         bus: &mut B,
-        det: &StepReport,
-        dipole: Vec3,
-        h_target: Option<Vec3>,
+        b_body_nt: Option<&Vec3>,
+        (dipole, h_wheels): (&mut Vec3, &mut Vec3),
+        h_target: Option<&Vec3>,
         faults: &mut Faults,
-    ) -> (Vec3, Vec3) {
-        let h = h_target.unwrap_or_else(|| self.wheels_body());
+    ) {
+        let h = h_target.copied().unwrap_or_else(|| self.wheels_body());
         faults.saturated |= self.command_wheels(bus, &h, faults);
         // a failed actuator is reported every step until the ground restores it
         faults.actuator |= self.health.any_failed();
         // what the wheels now hold: dumped through the coils and reported
-        let h_wheels = self.wheels_body();
-        let mut dipole = dipole;
+        *h_wheels = self.wheels_body();
         if !matches!(self.mode, ModeState::Detumble)
             && self.config.dumping_gain_per_s > 0.0
             && self.have_wheels()
         {
-            if let Some(b) = det.b_body_nt {
-                let dump = dumping_dipole(
-                    &h_wheels,
-                    &Vec3::zeros(),
-                    self.config.dumping_gain_per_s,
-                    &b,
-                )
-                .ok();
-                dipole += reported(dump, faults);
+            if let Some(b) = b_body_nt {
+                let dump =
+                    dumping_dipole(h_wheels, &Vec3::zeros(), self.config.dumping_gain_per_s, b)
+                        .ok();
+                *dipole += reported(dump, faults);
             }
         }
-        (self.command_coils(bus, &dipole, faults), h_wheels)
+        let m = *dipole;
+        *dipole = self.command_coils(bus, &m, faults);
     }
 
     /// True if any tile has a working wheel.

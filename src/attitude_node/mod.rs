@@ -424,17 +424,22 @@ impl<'c, const N: usize> AttitudeNode<'c, N> {
         self.change_mode(report);
         let guidance = reference.map(|r| &r.guidance);
         let (dipole, h_target) = self.laws(report, dt, guidance, &mut faults);
-        let (dipole, h_wheels) = self.actuate(bus, report, dipole, h_target, &mut faults);
-        report.mode = self.mode();
         report.dipole_body_am2 = dipole;
-        report.h_wheels_body = h_wheels;
+        self.actuate(
+            bus,
+            report.b_body_nt.as_ref(),
+            (&mut report.dipole_body_am2, &mut report.h_wheels_body),
+            h_target.as_ref(),
+            &mut faults,
+        );
+        report.mode = self.mode();
         report.faults = faults;
         let status = Status {
             step: self.step,
             boot_count: self.boot_count,
             mode: self.mode().code() as u8,
             attitude: report.attitude,
-            h_wheels_body_nms: h_wheels,
+            h_wheels_body_nms: report.h_wheels_body,
             guidance_id: self.guidance_id,
             faults: faults.bits(),
             utc: self.clock,
