@@ -79,22 +79,26 @@ impl<const N: usize> AttitudeNode<'_, N> {
         let mut torque: Option<Vec3> = None;
         let mut h_target: Option<Vec3> = None;
         match &self.mode {
-            ModeState::Detumble => {
-                dipole = match (omega, b_body_nt) {
-                    (Some(w), Some(b)) => {
-                        // the derivative form must not difference against a sample taken
-                        // before a gyro outage: forget it while the gyro form runs
-                        self.bdot.reset();
-                        reported(bdot_from_rates(&self.config.bdot, w, b).ok(), faults)
+            // the command written into `dipole` in place (on the MSP430 each copy of a vector
+            // is a `memcpy`); a refusal leaves it zero, reported
+            ModeState::Detumble => match (omega, b_body_nt) {
+                (Some(w), Some(b)) => {
+                    // the derivative form must not difference against a sample taken
+                    // before a gyro outage: forget it while the gyro form runs
+                    self.bdot.reset();
+                    match bdot_from_rates(&self.config.bdot, w, b) {
+                        Ok(m) => dipole = m,
+                        Err(_) => faults.law = true,
                     }
-                    // `Ok(None)`: the first sample of the derivative form, nothing to command
-                    (None, Some(b)) => match self.bdot.update(&self.config.bdot, b, dt) {
-                        Ok(m) => m.unwrap_or_else(Vec3::zeros),
-                        Err(_) => reported(None, faults),
-                    },
-                    _ => Vec3::zeros(),
-                };
-            }
+                }
+                // `Ok(None)`: the first sample of the derivative form, nothing to command
+                (None, Some(b)) => match self.bdot.update(&self.config.bdot, b, dt) {
+                    Ok(Some(m)) => dipole = m,
+                    Ok(None) => {}
+                    Err(_) => faults.law = true,
+                },
+                _ => {}
+            },
             ModeState::SunSafe => {
                 if let Some(w) = omega {
                     torque = sun_safe_torque(
@@ -175,7 +179,13 @@ impl<const N: usize> AttitudeNode<'_, N> {
                 let h_w = h_now.unwrap_or_else(|| self.wheels_body());
                 h_target = Some(crate::linalg::sub_scaled(&h_w, &tau, dt));
             } else if let Some(b) = b_body_nt {
-                dipole = reported(dipole_for_torque(&tau, b).ok(), faults);
+                match dipole_for_torque(&tau, b) {
+                    Ok(m) => dipole = m,
+                    Err(_) => {
+                        faults.law = true;
+                        dipole = Vec3::zeros();
+                    }
+                }
             }
         }
         (dipole, h_target)
