@@ -83,13 +83,8 @@ impl<const N: usize> AttitudeNode<'_, N> {
         } else {
             self.sun_body(readings)
         };
-        // the Sun as the sensors see it, with the albedo
-        let sun_ref = reference.and_then(|r| {
-            let fraction = r.illumination.map_or(1.0, |i| i.fraction);
-            let albedo = self.estimate.as_ref().map_or(0.0, |e| e.albedo);
-            r.sun_teme
-                .map(|s| mekf::sun_reference(&s, fraction, r.albedo_teme.as_ref(), albedo))
-        });
+        // the estimate's albedo before a clock fault below drops the estimate
+        let albedo = self.estimate.as_ref().map_or(0.0, |e| e.albedo);
         // the node's copy of the clock: the REF's UTC, or one period on without a REF (a
         // REF after a gap of the link then follows by one period, no clock fault)
         // (in place: on the MSP430 each copy of an `Option<Epoch>` is a `memcpy`)
@@ -132,13 +127,16 @@ impl<const N: usize> AttitudeNode<'_, N> {
             gyro_tiles: self.gyro_solver.as_ref().map_or(0, |s| s.tiles()),
             dt_s: dt,
         };
-        if let (Some(body), Some((reference_teme, d_reference_d_albedo))) =
-            (&report.sun_body, &sun_ref)
-        {
+        // the Sun as the sensors see it, with the albedo
+        let sun_teme = reference.and_then(|r| r.sun_teme.as_ref().map(|s| (r, s)));
+        if let (Some(body), Some((r, s))) = (&report.sun_body, sun_teme) {
+            let fraction = r.illumination.map_or(1.0, |i| i.fraction);
+            let (reference_teme, d_reference_d_albedo) =
+                mekf::sun_reference(s, fraction, r.albedo_teme.as_ref(), albedo);
             inputs.sun = Some(SunObservation {
                 body: *body,
-                reference_teme: *reference_teme,
-                d_reference_d_albedo: *d_reference_d_albedo,
+                reference_teme,
+                d_reference_d_albedo,
                 variance_rad2: self.sun_variance(readings, body),
             });
         }
