@@ -165,21 +165,21 @@ impl<const N: usize> AttitudeNode<'_, N> {
             }
         }
         // wheels: a torque law integrates into momentum (ḣ = −τ); a slew sets momentum
-        if let Some(tau) = torque {
+        if let Some(tau) = &mut torque {
             if self.have_wheels() {
                 // no more than the wheels deliver: a momentum they cannot follow is never
                 // commanded (the laws integrate the commanded momentum: the read-back only
                 // checks the wheels, `attitude_node::health`). The coils' per-axis scaling keeping
                 // the direction; it refuses a limit that is not positive and finite: none
-                let tau = crate::control::magnetorquer::saturate_dipole(
-                    &tau,
-                    &self.config.wheel_torque_nm,
-                )
-                .map_or(tau, |(t, _)| t);
+                if let Ok((t, _)) =
+                    crate::control::magnetorquer::saturate_dipole(tau, &self.config.wheel_torque_nm)
+                {
+                    *tau = t;
+                }
                 let h_w = h_now.unwrap_or_else(|| self.wheels_body());
-                h_target = Some(crate::linalg::sub_scaled(&h_w, &tau, dt));
+                h_target = Some(crate::linalg::sub_scaled(&h_w, tau, dt));
             } else if let Some(b) = b_body_nt {
-                match dipole_for_torque(&tau, b) {
+                match dipole_for_torque(tau, b) {
                     Ok(m) => dipole = m,
                     Err(_) => {
                         faults.law = true;
