@@ -78,6 +78,9 @@ impl<const N: usize> AttitudeNode<'_, N> {
         let mut dipole = Vec3::zeros();
         let mut torque: Option<Vec3> = None;
         let mut h_target: Option<Vec3> = None;
+        // the Sun of the sun-safe law if it runs this step: in sun-safe (with the rate), and in
+        // tracking without an attitude in the umbra (no Sun: the rate damped)
+        let mut sun_safe_sun: Option<Option<&Vec3>> = None;
         match &self.mode {
             // the command written into `dipole` in place (on the MSP430 each copy of a vector
             // is a `memcpy`); a refusal leaves it zero, reported
@@ -99,18 +102,7 @@ impl<const N: usize> AttitudeNode<'_, N> {
                 },
                 _ => {}
             },
-            ModeState::SunSafe => {
-                if let Some(w) = omega {
-                    torque = sun_safe_torque(
-                        &self.config.sun_safe,
-                        det.sun_body.as_ref(),
-                        &self.config.sun_axis_body,
-                        w,
-                    )
-                    .ok();
-                    faults.law |= torque.is_none();
-                }
-            }
+            ModeState::SunSafe => sun_safe_sun = Some(det.sun_body.as_ref()),
             ModeState::Slew { .. } | ModeState::Tracking { .. } => {}
         }
         // a slew: the REF's reference (its rate, feed-forward) tracked in closed loop, the
@@ -142,11 +134,8 @@ impl<const N: usize> AttitudeNode<'_, N> {
         let mut h_now: Option<Vec3> = None;
         if let ModeState::Tracking { target } = &self.mode {
             // no attitude in the umbra (the filter starts with the Sun): damp the rate, wait
-            if let (None, Some(w), true) = (det.attitude.as_ref(), omega, self.umbra(det)) {
-                torque =
-                    sun_safe_torque(&self.config.sun_safe, None, &self.config.sun_axis_body, w)
-                        .ok();
-                faults.law |= torque.is_none();
+            if let (None, Some(_), true) = (det.attitude.as_ref(), omega, self.umbra(det)) {
+                sun_safe_sun = Some(None);
             }
             if let (Some(q), Some(w)) = (det.attitude.as_ref(), omega) {
                 let h_w = self.wheels_body();
@@ -163,6 +152,12 @@ impl<const N: usize> AttitudeNode<'_, N> {
                 .ok();
                 faults.law |= torque.is_none();
             }
+        }
+        // the sun-safe law (one call for both uses; tracking's is the attitude's case only)
+        if let (Some(sun), Some(w)) = (sun_safe_sun, omega) {
+            torque =
+                sun_safe_torque(&self.config.sun_safe, sun, &self.config.sun_axis_body, w).ok();
+            faults.law |= torque.is_none();
         }
         // wheels: a torque law integrates into momentum (ḣ = −τ); a slew sets momentum
         if let Some(tau) = &mut torque {
