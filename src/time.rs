@@ -1718,7 +1718,7 @@ mod tests {
             i32::MAX - 1,
             i32::MAX,
         ];
-        let mut check = |e: Epoch<Utc>, span: TimeSpan| {
+        let check = |e: Epoch<Utc>, span: TimeSpan| {
             assert_eq!(e.add_nonnegative(span), e.add(span), "{e:?} + {span:?}");
         };
         for day in days {
@@ -1809,7 +1809,7 @@ mod tests {
                 Epoch::<Utc>::from_parts(day, second, nano).unwrap()
             };
             let a = epoch(&mut rng, None);
-            let near = (rng.next() % 2 == 0).then(|| a.day());
+            let near = rng.next().is_multiple_of(2).then(|| a.day());
             let b = epoch(&mut rng, near);
             check(a, b);
             check(b, a);
