@@ -468,7 +468,7 @@ impl<S: TimeScale> Epoch<S> {
         let later = self.day >= earlier.day;
         let d = self.day.wrapping_sub(earlier.day);
         // a wrapped difference, or one beyond ±24 856 days: saturated, as `span_since`
-        let seconds = if later != (d >= 0) || !(-24_856..=24_856).contains(&d) {
+        let seconds = if later != (d >= 0) || d > 24_856 || -24_856 > d {
             if later {
                 i32::MAX
             } else {
