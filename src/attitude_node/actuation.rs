@@ -133,15 +133,17 @@ impl<const N: usize> AttitudeNode<'_, N> {
         // the allocator gives the wheels −W⁺L: ask for the body momentum −h so they hold +h;
         // with no working wheel every wheel is commanded to stop; on any other refusal (a NaN
         // target...) no wheel is commanded: they hold the momentum in force, reported
-        let alloc =
-            match cached_allocation(&mut self.wheel_allocator, &wheels, &crate::linalg::neg(h)) {
-                Ok(a) => Some(a),
-                Err(WheelError::NoWorkingWheel) => None,
-                Err(_) => {
-                    faults.law = true;
-                    return false;
-                }
-            };
+        // by reference: on the MSP430 each copy of the allocation is a `memcpy`
+        let allocation =
+            cached_allocation(&mut self.wheel_allocator, &wheels, &crate::linalg::neg(h));
+        let alloc = match &allocation {
+            Ok(a) => Some(a),
+            Err(WheelError::NoWorkingWheel) => None,
+            Err(_) => {
+                faults.law = true;
+                return false;
+            }
+        };
         let mut saturated = false;
         for (i, (cmd, (tile, wheel))) in self
             .wheel_h
@@ -187,15 +189,17 @@ impl<const N: usize> AttitudeNode<'_, N> {
                 ..*cfg
             };
         }
-        let alloc =
-            match cached_allocation(&mut self.coil_allocator, &coils, &crate::linalg::neg(m)) {
-                Ok(a) => a,
-                Err(e) => {
-                    // the coils stay off (`safe`); a refused dipole is reported
-                    faults.law |= !matches!(e, WheelError::NoWorkingWheel);
-                    return Vec3::zeros();
-                }
-            };
+        // by reference, as in `command_wheels`
+        let allocation =
+            cached_allocation(&mut self.coil_allocator, &coils, &crate::linalg::neg(m));
+        let alloc = match &allocation {
+            Ok(a) => a,
+            Err(e) => {
+                // the coils stay off (`safe`); a refused dipole is reported
+                faults.law |= !matches!(e, WheelError::NoWorkingWheel);
+                return Vec3::zeros();
+            }
+        };
         faults.saturated |= !(alloc.scale >= 1.0);
         let mut produced = Vec3::zeros();
         for (i, (value, coil)) in alloc.wheel.iter().zip(coils.iter()).enumerate() {
