@@ -140,7 +140,8 @@ impl<const N: usize> AttitudeNode<'_, N> {
             if let (Some(q), Some(w)) = (det.attitude.as_ref(), omega) {
                 let h_w = self.wheels_body();
                 h_now = Some(h_w);
-                torque = tracking_torque(
+                // (torque is none until here: a refusal leaves it so, reported)
+                match tracking_torque(
                     &self.config.tracking,
                     &self.config.axes.inertia_body,
                     q,
@@ -148,16 +149,19 @@ impl<const N: usize> AttitudeNode<'_, N> {
                     target,
                     &Vec3::zeros(),
                     &h_w,
-                )
-                .ok();
-                faults.law |= torque.is_none();
+                ) {
+                    Ok(t) => torque = Some(t),
+                    Err(_) => faults.law = true,
+                }
             }
         }
         // the sun-safe law (one call for both uses; tracking's is the attitude's case only)
+        // (torque is none until here in both: a refusal leaves it so, reported)
         if let (Some(sun), Some(w)) = (sun_safe_sun, omega) {
-            torque =
-                sun_safe_torque(&self.config.sun_safe, sun, &self.config.sun_axis_body, w).ok();
-            faults.law |= torque.is_none();
+            match sun_safe_torque(&self.config.sun_safe, sun, &self.config.sun_axis_body, w) {
+                Ok(t) => torque = Some(t),
+                Err(_) => faults.law = true,
+            }
         }
         // wheels: a torque law integrates into momentum (ḣ = −τ); a slew sets momentum
         if let Some(tau) = &mut torque {
