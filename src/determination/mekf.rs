@@ -623,10 +623,10 @@ impl Mekf {
             q3: half.z,
         };
         let q = self.attitude.mul(&dq);
-        let Some(q) = Quaternion::new_normalize(q.q0, q.q1, q.q2, q.q3) else {
-            return false;
-        };
-        self.attitude = q;
+        match Quaternion::new_normalize(q.q0, q.q1, q.q2, q.q3) {
+            Some(q) => self.attitude = q,
+            None => return false,
+        }
         // Φ P: the attitude rows become x − (ω̂Δt) × x − Δt·(gyro-bias rows), column by column
         let w_dt = scale(&w, dt_s);
         let mut rows = [[0.0f32; STATES]; 3];
