@@ -299,42 +299,36 @@ fn solve_masked(
     mask: u32,
 ) -> Result<Vec3, DeterminationError> {
     // On a change of the set, the Gram matrix HᵀH of the contributing rows is accumulated in
-    // the same walk as Hᵀy; the walk's own errors come first.
-    enum Operator {
-        Cached(TileSolver),
-        Rebuild(SymMat3),
-    }
-    let mut operator = match cache {
-        Some(s) if s.tiles == mask => Operator::Cached(*s),
-        _ => Operator::Rebuild(SymMat3::zeros()),
-    };
+    // the same walk as Hᵀy; the walk's own errors come first. The cached operator is used in
+    // place (on the MSP430 each copy of it is a `memcpy`).
+    let cached = matches!(cache, Some(s) if s.tiles == mask);
+    let mut gram = SymMat3::zeros();
     let mut rhs = Vec3::zeros(); // Hᵀy
     for_each_reading(tiles, readings, |tile, reading| {
         rhs += reading.transposed(tile);
-        if let Operator::Rebuild(gram) = &mut operator {
-            reading.add_rows(tile, gram);
+        if !cached {
+            reading.add_rows(tile, &mut gram);
         }
         Ok(())
     })?;
-    let solver = match operator {
-        Operator::Cached(s) => s,
-        Operator::Rebuild(gram) => {
-            *cache = None;
-            // (HᵀH)⁻¹ in closed form, rank 3 required (out of range: a tile's rows overflow)
-            let p = symmetric_pseudoinverse(&gram, GRAM_REL_TOL)
-                .map_err(|_| DeterminationError::Linalg(SvdError::NonFinite))?;
-            if 3 > p.rank {
-                return Err(DeterminationError::NotObservable { rank: p.rank });
-            }
-            let s = TileSolver {
-                inverse_gram: p.pinv,
-                tiles: mask,
-            };
-            *cache = Some(s);
-            s
+    if !cached {
+        *cache = None;
+        // (HᵀH)⁻¹ in closed form, rank 3 required (out of range: a tile's rows overflow)
+        let p = symmetric_pseudoinverse(&gram, GRAM_REL_TOL)
+            .map_err(|_| DeterminationError::Linalg(SvdError::NonFinite))?;
+        if 3 > p.rank {
+            return Err(DeterminationError::NotObservable { rank: p.rank });
         }
-    };
-    Ok(solver.inverse_gram.mul_vec(&rhs))
+        *cache = Some(TileSolver {
+            inverse_gram: p.pinv,
+            tiles: mask,
+        });
+    }
+    match cache {
+        Some(s) => Ok(s.inverse_gram.mul_vec(&rhs)),
+        // not reached: the operator was there or has just been built
+        None => Err(DeterminationError::NotObservable { rank: 0 }),
+    }
 }
 
 /// [`magnetic_field_body`] with the operator kept in `cache` (rebuilt when the set of
