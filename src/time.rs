@@ -451,6 +451,37 @@ impl<S: TimeScale> Epoch<S> {
         whole + frac
     }
 
+    /// [`Epoch::seconds_since_f32`], the same value in fewer bytes of MSP430 code (the attitude
+    /// node's clock check): the span's whole seconds as `clamp(d·86 400 + Δs)` with one
+    /// saturating addition (`(t + Δs) + t`, `t = d·43 200`) instead of [`Epoch::span_since`]'s
+    /// sign-split terms; the same ends.
+    pub(crate) fn seconds_since_f32_small(&self, earlier: &Self) -> f32 {
+        // as `span_since`'s borrow: (self.nano + 1e9) − earlier.nano when it is smaller
+        let mut nano = self.nano.wrapping_sub(earlier.nano);
+        let mut borrow = 0;
+        if earlier.nano > self.nano {
+            nano = nano.wrapping_add(NANOS_PER_SECOND);
+            borrow = 1;
+        }
+        // −86 401 ≤ ds ≤ 86 400
+        let ds = self.second as i32 - earlier.second as i32 - borrow;
+        let later = self.day >= earlier.day;
+        let d = self.day.wrapping_sub(earlier.day);
+        // a wrapped difference, or one beyond ±24 856 days: saturated, as `span_since`
+        let seconds = if later != (d >= 0) || d > 24_856 || -24_856 > d {
+            if later {
+                i32::MAX
+            } else {
+                i32::MIN
+            }
+        } else {
+            // |t| ≤ 1 073 779 200 and |t + ds| fit i32: one saturating addition, exact
+            let t = d * (SECONDS_PER_DAY / 2) as i32;
+            (t + ds).saturating_add(t)
+        };
+        seconds as f32 + nano as f32 * 1e-9
+    }
+
     /// The span from `earlier` to `self` (negative if `earlier` is later). UTC days count 86 400 s.
     /// Saturates at the ends of [`TimeSpan`] (±68 years).
     pub fn span_since(&self, earlier: &Self) -> TimeSpan {
@@ -511,6 +542,41 @@ impl<S: TimeScale> Epoch<S> {
         // |days + extra| ≤ 24 857: the sum cannot overflow, the epoch's day saturates.
         Self {
             day: self.day.saturating_add(days + extra),
+            second,
+            nano,
+            scale: PhantomData,
+        }
+    }
+
+    /// [`Epoch::add`] of a span that is not negative (the attitude node's control period,
+    /// [`TimeSpan::from_seconds_f32`] of a positive number): the same epoch, in fewer bytes
+    /// of MSP430 code (no branch for the negative spans, an unsigned division for a span of a
+    /// day or more). A negative span is taken as its `u32` reading: the caller must not pass
+    /// one.
+    pub(crate) fn add_nonnegative(&self, span: TimeSpan) -> Self {
+        let s = span.seconds as u32;
+        let (mut days, rem) = if SECONDS_PER_DAY > s {
+            (0, s)
+        } else {
+            (s / SECONDS_PER_DAY, s % SECONDS_PER_DAY)
+        };
+        // as `add`: nano < 2e9 and 0 ≤ second ≤ 86 399 + 86 400 + 1 fit u32
+        let mut nano = self.nano + span.nano;
+        let mut second = self.second + rem;
+        if nano >= NANOS_PER_SECOND {
+            nano -= NANOS_PER_SECOND;
+            second += 1;
+        }
+        if second >= 2 * SECONDS_PER_DAY {
+            second -= 2 * SECONDS_PER_DAY;
+            days += 2;
+        } else if second >= SECONDS_PER_DAY {
+            second -= SECONDS_PER_DAY;
+            days += 1;
+        }
+        // days ≤ 24 855 + 2: exact in i32, the epoch's day saturates as `add`'s
+        Self {
+            day: self.day.saturating_add(days as i32),
             second,
             nano,
             scale: PhantomData,
@@ -1622,6 +1688,131 @@ mod tests {
             let nano = (rng.next() % 1_000_000_000) as u32;
             let e = Epoch::<Ut1>::from_parts(day, second, nano).unwrap();
             assert_eq!(gmst_rad(&e).to_bits(), gmst_rad_u64(&e).to_bits(), "{e:?}");
+        }
+    }
+
+    /// [`Epoch::add_nonnegative`] is [`Epoch::add`] for every span that is not negative: random
+    /// epochs (leap seconds included) and spans of every magnitude, and the ends.
+    #[test]
+    fn add_nonnegative_is_add() {
+        let mut rng = Rng(0x5EED_0ADD);
+        let days = [
+            i32::MIN,
+            i32::MIN + 1,
+            -24_857,
+            -1,
+            0,
+            1,
+            24_857,
+            i32::MAX - 3,
+            i32::MAX,
+        ];
+        let seconds = [
+            0,
+            1,
+            86_399,
+            86_400,
+            86_401,
+            172_799,
+            172_800,
+            i32::MAX - 1,
+            i32::MAX,
+        ];
+        let check = |e: Epoch<Utc>, span: TimeSpan| {
+            assert_eq!(e.add_nonnegative(span), e.add(span), "{e:?} + {span:?}");
+        };
+        for day in days {
+            for second in [0, 1, 43_200, 86_399, 86_400] {
+                for nano in [0, 1, 999_999_999] {
+                    let e = Epoch::<Utc>::from_parts(day, second, nano).unwrap();
+                    for s in seconds {
+                        for n in [0, 1, 500_000_000, 999_999_999] {
+                            check(
+                                e,
+                                TimeSpan {
+                                    seconds: s,
+                                    nano: n,
+                                },
+                            );
+                        }
+                    }
+                }
+            }
+        }
+        for _ in 0..1_000_000 {
+            let day = rng.i32();
+            let second = (rng.next() % 86_401) as u32;
+            let nano = (rng.next() % u64::from(NANOS_PER_SECOND)) as u32;
+            let e = Epoch::<Utc>::from_parts(day, second, nano).unwrap();
+            let span = TimeSpan {
+                seconds: rng.i32().checked_abs().unwrap_or(i32::MAX),
+                nano: (rng.next() % u64::from(NANOS_PER_SECOND)) as u32,
+            };
+            check(e, span);
+        }
+    }
+
+    /// [`Epoch::seconds_since_f32_small`] gives [`Epoch::seconds_since_f32`]'s bits: random
+    /// pairs of epochs (leap seconds included) at every distance, and the ends.
+    #[test]
+    fn seconds_since_small_is_seconds_since() {
+        let mut rng = Rng(0x5EED_5117);
+        let days = [
+            i32::MIN,
+            i32::MIN + 1,
+            -24_857,
+            -24_856,
+            -24_855,
+            -1,
+            0,
+            1,
+            24_855,
+            24_856,
+            24_857,
+            i32::MAX - 1,
+            i32::MAX,
+        ];
+        let check = |a: Epoch<Utc>, b: Epoch<Utc>| {
+            assert_eq!(
+                a.seconds_since_f32_small(&b).to_bits(),
+                a.seconds_since_f32(&b).to_bits(),
+                "{a:?} since {b:?}"
+            );
+        };
+        let ends = |day: i32| {
+            [
+                (0, 0),
+                (0, 999_999_999),
+                (86_399, 5),
+                (86_400, 0),
+                (86_400, 999_999_999),
+            ]
+            .map(|(second, nano)| Epoch::<Utc>::from_parts(day, second, nano).unwrap())
+        };
+        for a in days {
+            for b in days {
+                for x in ends(a) {
+                    for y in ends(b) {
+                        check(x, y);
+                    }
+                }
+            }
+        }
+        for _ in 0..1_000_000 {
+            let epoch = |rng: &mut Rng, near: Option<i32>| {
+                let day = match near {
+                    Some(d) => d.wrapping_add((rng.next() % 5) as i32 - 2),
+                    None => rng.i32(),
+                };
+                let second = (rng.next() % 86_401) as u32;
+                let nano = (rng.next() % u64::from(NANOS_PER_SECOND)) as u32;
+                Epoch::<Utc>::from_parts(day, second, nano).unwrap()
+            };
+            let a = epoch(&mut rng, None);
+            let near = rng.next().is_multiple_of(2).then(|| a.day());
+            let b = epoch(&mut rng, near);
+            check(a, b);
+            check(b, a);
         }
     }
 }

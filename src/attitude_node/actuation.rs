@@ -6,7 +6,7 @@
 use super::laws::reported;
 use super::modes::ModeState;
 use super::{AttitudeNode, Faults};
-use crate::acs_loop::{StepReport, MAX_COILS};
+use crate::acs_loop::MAX_COILS;
 use crate::control::magnetorquer::dumping_dipole;
 use crate::control::wheels::{Allocator, Wheel, WheelAllocation, WheelError};
 use crate::hal::TileBus;
@@ -24,7 +24,7 @@ fn cached_allocation<const N: usize>(
         *cache = Some(Allocator::new(actuators)?);
     }
     match cache {
-        Some(a) => a.allocate(actuators, l_body),
+        Some(a) => a.allocate_current(actuators, l_body),
         None => Err(WheelError::StaleAllocator),
     }
 }
@@ -61,39 +61,37 @@ impl<const N: usize> AttitudeNode<'_, N> {
 
     /// Step phase 5c: wheel momentum (the target, or the momentum in force re-sent: it stops
     /// failed tiles' wheels), momentum dumping through the coils outside detumble, coil dipole.
-    /// Returns the dipole commanded and the wheels' total momentum now commanded (body).
+    /// `dipole` holds the law's dipole and receives the dipole commanded, `h_wheels` the
+    /// wheels' total momentum now commanded (body): in place, in the step's report (on the
+    /// MSP430 each copy of a vector is a `memcpy`).
     #[inline(never)]
     pub(super) fn actuate<B: TileBus>(
         &mut self,
         bus: &mut B,
-        det: &StepReport,
-        dipole: Vec3,
-        h_target: Option<Vec3>,
+        b_body_nt: Option<&Vec3>,
+        (dipole, h_wheels): (&mut Vec3, &mut Vec3),
+        h_target: Option<&Vec3>,
         faults: &mut Faults,
-    ) -> (Vec3, Vec3) {
-        let h = h_target.unwrap_or_else(|| self.wheels_body());
+    ) {
+        let h = h_target.copied().unwrap_or_else(|| self.wheels_body());
         faults.saturated |= self.command_wheels(bus, &h, faults);
         // a failed actuator is reported every step until the ground restores it
         faults.actuator |= self.health.any_failed();
         // what the wheels now hold: dumped through the coils and reported
-        let h_wheels = self.wheels_body();
-        let mut dipole = dipole;
+        *h_wheels = self.wheels_body();
         if !matches!(self.mode, ModeState::Detumble)
             && self.config.dumping_gain_per_s > 0.0
             && self.have_wheels()
         {
-            if let Some(b) = det.b_body_nt {
-                let dump = dumping_dipole(
-                    &h_wheels,
-                    &Vec3::zeros(),
-                    self.config.dumping_gain_per_s,
-                    &b,
-                )
-                .ok();
-                dipole += reported(dump, faults);
+            if let Some(b) = b_body_nt {
+                let dump =
+                    dumping_dipole(h_wheels, &Vec3::zeros(), self.config.dumping_gain_per_s, b)
+                        .ok();
+                *dipole += reported(dump, faults);
             }
         }
-        (self.command_coils(bus, &dipole, faults), h_wheels)
+        let m = *dipole;
+        *dipole = self.command_coils(bus, &m, faults);
     }
 
     /// True if any tile has a working wheel.
@@ -118,9 +116,11 @@ impl<const N: usize> AttitudeNode<'_, N> {
             faults.law = true;
             return false;
         }
+        // all zero (one `memset`): an entry beyond the tiles is not working, its axis and
+        // limit never read
         let mut wheels = [Wheel {
-            axis_body: Vec3::z(),
-            limit: 1.0,
+            axis_body: Vec3::zeros(),
+            limit: 0.0,
             working: false,
         }; N];
         for (i, (w, t)) in wheels.iter_mut().zip(self.config.tiles.iter()).enumerate() {
@@ -133,15 +133,17 @@ impl<const N: usize> AttitudeNode<'_, N> {
         // the allocator gives the wheels −W⁺L: ask for the body momentum −h so they hold +h;
         // with no working wheel every wheel is commanded to stop; on any other refusal (a NaN
         // target...) no wheel is commanded: they hold the momentum in force, reported
-        let alloc =
-            match cached_allocation(&mut self.wheel_allocator, &wheels, &crate::linalg::neg(h)) {
-                Ok(a) => Some(a),
-                Err(WheelError::NoWorkingWheel) => None,
-                Err(_) => {
-                    faults.law = true;
-                    return false;
-                }
-            };
+        // by reference: on the MSP430 each copy of the allocation is a `memcpy`
+        let allocation =
+            cached_allocation(&mut self.wheel_allocator, &wheels, &crate::linalg::neg(h));
+        let alloc = match &allocation {
+            Ok(a) => Some(a),
+            Err(WheelError::NoWorkingWheel) => None,
+            Err(_) => {
+                faults.law = true;
+                return false;
+            }
+        };
         let mut saturated = false;
         for (i, (cmd, (tile, wheel))) in self
             .wheel_h
@@ -175,9 +177,10 @@ impl<const N: usize> AttitudeNode<'_, N> {
     /// Allocates a body dipole to the coils (least squares over their axes, saturated keeping
     /// direction) and commands them; returns the dipole commanded.
     fn command_coils<B: TileBus>(&mut self, bus: &mut B, m: &Vec3, faults: &mut Faults) -> Vec3 {
+        // all zero, as the wheels' in `command_wheels`
         let mut coils = [Wheel {
-            axis_body: Vec3::z(),
-            limit: 1.0,
+            axis_body: Vec3::zeros(),
+            limit: 0.0,
             working: false,
         }; MAX_COILS];
         for (i, (c, cfg)) in coils.iter_mut().zip(self.config.coils.iter()).enumerate() {
@@ -186,15 +189,17 @@ impl<const N: usize> AttitudeNode<'_, N> {
                 ..*cfg
             };
         }
-        let alloc =
-            match cached_allocation(&mut self.coil_allocator, &coils, &crate::linalg::neg(m)) {
-                Ok(a) => a,
-                Err(e) => {
-                    // the coils stay off (`safe`); a refused dipole is reported
-                    faults.law |= !matches!(e, WheelError::NoWorkingWheel);
-                    return Vec3::zeros();
-                }
-            };
+        // by reference, as in `command_wheels`
+        let allocation =
+            cached_allocation(&mut self.coil_allocator, &coils, &crate::linalg::neg(m));
+        let alloc = match &allocation {
+            Ok(a) => a,
+            Err(e) => {
+                // the coils stay off (`safe`); a refused dipole is reported
+                faults.law |= !matches!(e, WheelError::NoWorkingWheel);
+                return Vec3::zeros();
+            }
+        };
         faults.saturated |= !(alloc.scale >= 1.0);
         let mut produced = Vec3::zeros();
         for (i, (value, coil)) in alloc.wheel.iter().zip(coils.iter()).enumerate() {

@@ -9,7 +9,7 @@
 use super::sensing::Readings;
 use super::{AttitudeNode, Faults};
 use crate::acs_loop::StepReport;
-use crate::determination::least_squares::{angular_rate_body_cached, magnetic_field_body_cached};
+use crate::determination::least_squares::{self, solve_cached};
 use crate::determination::mekf::{self, StepInputs, SunObservation};
 use crate::determination::sun_sensor::{incidence_inv_cos2, sun_direction_body};
 use crate::env::eclipse::Shadow;
@@ -52,7 +52,9 @@ impl<const N: usize> AttitudeNode<'_, N> {
         faults: &mut Faults,
         report: &mut StepReport,
     ) -> f32 {
-        let mut b_body_nt = self.field_body(readings);
+        // the body field and the Sun straight into the report (on the MSP430 each copy of an
+        // option is a `memcpy`); the filter's inputs borrow them
+        report.b_body_nt = self.field_body(readings);
         // the model's |B|² and the tolerance: the REF's; without a REF the last one's, the
         // tolerance widening with the time since
         if let Some(r) = reference {
@@ -66,39 +68,40 @@ impl<const N: usize> AttitudeNode<'_, N> {
                 FIELD_MAGNITUDE_TOLERANCE + FIELD_MAGNITUDE_DRIFT_PER_S * since_s
             }
         };
-        if let (Some(b), Some(m2)) = (&b_body_nt, self.last_field_nt2) {
+        if let (Some(b), Some(m2)) = (&report.b_body_nt, self.last_field_nt2) {
             if !magnitude_within(b, m2, tolerance) {
-                b_body_nt = None;
+                report.b_body_nt = None;
             }
         }
         let omega = self.rate_body(readings);
-        faults.field = b_body_nt.is_none();
+        faults.field = report.b_body_nt.is_none();
         faults.rate = omega.is_none();
         // without a REF, the last one's shadow: no Sun reading believed if it was the umbra
         let in_umbra = self.last_umbra;
-        let sun_body = if in_umbra {
+        report.sun_body = if in_umbra {
             None
         } else {
             self.sun_body(readings)
         };
-        let b_teme_nt = reference.and_then(|r| r.b_teme_nt);
-        // the Sun as the sensors see it, with the albedo
-        let sun_ref = reference.and_then(|r| {
-            let fraction = r.illumination.map_or(1.0, |i| i.fraction);
-            let albedo = self.estimate.as_ref().map_or(0.0, |e| e.albedo);
-            r.sun_teme
-                .map(|s| mekf::sun_reference(&s, fraction, r.albedo_teme.as_ref(), albedo))
-        });
+        // the estimate's albedo before a clock fault below drops the estimate
+        let albedo = self.estimate.as_ref().map_or(0.0, |e| e.albedo);
         // the node's copy of the clock: the REF's UTC, or one period on without a REF (a
         // REF after a gap of the link then follows by one period, no clock fault)
-        let elapsed = match reference {
-            Some(r) => self.clock.map(|t| r.utc.seconds_since_f32(&t)),
-            None => None,
-        };
-        self.clock = match reference {
-            Some(r) => Some(r.utc),
-            None => self.clock.map(|t| t.add(self.period)),
-        };
+        // (in place: on the MSP430 each copy of an `Option<Epoch>` is a `memcpy`)
+        let mut elapsed = None;
+        match reference {
+            Some(r) => {
+                if let Some(t) = &self.clock {
+                    elapsed = Some(r.utc.seconds_since_f32_small(t));
+                }
+                self.clock = Some(r.utc);
+            }
+            None => {
+                if let Some(t) = &mut self.clock {
+                    *t = t.add_nonnegative(self.period);
+                }
+            }
+        }
         // A step is one control period: a gap of any other size or sign (a clock correction, a
         // reset) must not be integrated into the wheels (a +60 s correction once kicked a
         // tracking satellite to 1.8 °/s). It restarts the filter and the B-dot derivative,
@@ -114,23 +117,35 @@ impl<const N: usize> AttitudeNode<'_, N> {
                 period
             }
         };
-        let sun = match (sun_body, sun_ref) {
-            (Some(body), Some((reference_teme, d_reference_d_albedo))) => Some(SunObservation {
-                body,
-                reference_teme,
-                d_reference_d_albedo,
-                variance_rad2: self.sun_variance(readings, &body),
-            }),
-            _ => None,
-        };
-        let inputs = StepInputs {
+        // the filter's inputs built in place (on the MSP430 each copy of an option is a
+        // `memcpy`)
+        let mut inputs = StepInputs {
             omega_body_radps: omega,
-            sun,
-            field: b_body_nt.zip(b_teme_nt),
+            sun: None,
+            field: None,
             mag_tiles: self.mag_solver.as_ref().map_or(0, |s| s.tiles()),
             gyro_tiles: self.gyro_solver.as_ref().map_or(0, |s| s.tiles()),
             dt_s: dt,
         };
+        // the Sun as the sensors see it, with the albedo
+        let sun_teme = reference.and_then(|r| r.sun_teme.as_ref().map(|s| (r, s)));
+        if let (Some(body), Some((r, s))) = (&report.sun_body, sun_teme) {
+            let fraction = r.illumination.map_or(1.0, |i| i.fraction);
+            let (reference_teme, d_reference_d_albedo) =
+                mekf::sun_reference(s, fraction, r.albedo_teme.as_ref(), albedo);
+            inputs.sun = Some(SunObservation {
+                body: *body,
+                reference_teme,
+                d_reference_d_albedo,
+                variance_rad2: self.sun_variance(readings, body),
+            });
+        }
+        if let (Some(b), Some(m)) = (
+            &report.b_body_nt,
+            reference.and_then(|r| r.b_teme_nt.as_ref()),
+        ) {
+            inputs.field = Some((*b, *m));
+        }
         // the gyros' own rate: a law's command must not depend on the filter's state (a REF
         // lost changes the estimate, not the commands of a mode without attitude); the bias
         // left in the rate (≤ 1e-4 rad/s) moves the tracking law's equilibrium by ζ·b/ω_n ≈
@@ -146,35 +161,55 @@ impl<const N: usize> AttitudeNode<'_, N> {
             &mut report.omega_body_radps,
         );
         faults.device_read |= held;
-        let estimate = self.estimate.as_ref();
-        let attitude = estimate.map(|e| e.attitude);
-        faults.attitude = attitude.is_none();
-        report.b_body_nt = b_body_nt;
-        report.attitude_sigma_rad = estimate.map(|e| e.attitude_sigma_rad());
         report.refused_measurements = outcome.refused;
-        report.sun_body = sun_body;
-        report.measured_attitude = attitude.filter(|_| outcome.started);
-        report.attitude = attitude;
+        // written in place, then copied once (on the MSP430 each copy is a `memcpy`)
+        report.attitude = None;
+        report.attitude_sigma_rad = None;
+        if let Some(e) = &self.estimate {
+            report.attitude = Some(e.attitude);
+            report.attitude_sigma_rad = Some(e.attitude_sigma_rad());
+        }
+        faults.attitude = report.attitude.is_none();
+        report.measured_attitude = if outcome.started {
+            report.attitude
+        } else {
+            None
+        };
         dt
     }
 
-    /// The body field from the magnetometers (least squares, cached operator), nT. Out of line,
-    /// as [`Self::rate_body`] and [`Self::sun_body`]: each converts its readings in its own frame.
+    /// The body field from the magnetometers (`field`, nT) or the body rate from the gyros
+    /// (rad/s): least squares with the cached operator. One copy of the solver's call for
+    /// both (their readings differ in kind only); out of line, as [`Self::sun_body`]: it
+    /// converts its readings in its own frame.
     #[cfg_attr(target_arch = "msp430", inline(never))]
-    fn field_body(&mut self, readings: &Readings<N>) -> Option<Vec3> {
+    fn tile_solve(&mut self, readings: &Readings<N>, field: bool) -> Option<Vec3> {
         let tiles = self.config.tiles.as_slice();
-        let mag = readings.mag_nt();
-        let mag = mag.get(..tiles.len())?;
-        magnetic_field_body_cached(&mut self.mag_solver, tiles, mag).ok()
+        let (mag, gyro);
+        let (cache, r) = if field {
+            mag = readings.mag_nt();
+            (
+                &mut self.mag_solver,
+                least_squares::Readings::Field(mag.get(..tiles.len())?),
+            )
+        } else {
+            gyro = readings.gyro_radps();
+            (
+                &mut self.gyro_solver,
+                least_squares::Readings::Rate(gyro.get(..tiles.len())?),
+            )
+        };
+        solve_cached(cache, tiles, r).ok()
+    }
+
+    /// The body field from the magnetometers (least squares, cached operator), nT.
+    fn field_body(&mut self, readings: &Readings<N>) -> Option<Vec3> {
+        self.tile_solve(readings, true)
     }
 
     /// The body rate from the gyros (least squares, cached operator), rad/s.
-    #[cfg_attr(target_arch = "msp430", inline(never))]
     fn rate_body(&mut self, readings: &Readings<N>) -> Option<Vec3> {
-        let tiles = self.config.tiles.as_slice();
-        let gyro = readings.gyro_radps();
-        let gyro = gyro.get(..tiles.len())?;
-        angular_rate_body_cached(&mut self.gyro_solver, tiles, gyro).ok()
+        self.tile_solve(readings, false)
     }
 
     /// The Sun direction in body axes from the lit tiles' sensors (unit).

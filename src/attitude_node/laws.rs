@@ -78,35 +78,31 @@ impl<const N: usize> AttitudeNode<'_, N> {
         let mut dipole = Vec3::zeros();
         let mut torque: Option<Vec3> = None;
         let mut h_target: Option<Vec3> = None;
+        // the Sun of the sun-safe law if it runs this step: in sun-safe (with the rate), and in
+        // tracking without an attitude in the umbra (no Sun: the rate damped)
+        let mut sun_safe_sun: Option<Option<&Vec3>> = None;
         match &self.mode {
-            ModeState::Detumble => {
-                dipole = match (omega, b_body_nt) {
-                    (Some(w), Some(b)) => {
-                        // the derivative form must not difference against a sample taken
-                        // before a gyro outage: forget it while the gyro form runs
-                        self.bdot.reset();
-                        reported(bdot_from_rates(&self.config.bdot, w, b).ok(), faults)
+            // the command written into `dipole` in place (on the MSP430 each copy of a vector
+            // is a `memcpy`); a refusal leaves it zero, reported
+            ModeState::Detumble => match (omega, b_body_nt) {
+                (Some(w), Some(b)) => {
+                    // the derivative form must not difference against a sample taken
+                    // before a gyro outage: forget it while the gyro form runs
+                    self.bdot.reset();
+                    match bdot_from_rates(&self.config.bdot, w, b) {
+                        Ok(m) => dipole = m,
+                        Err(_) => faults.law = true,
                     }
-                    // `Ok(None)`: the first sample of the derivative form, nothing to command
-                    (None, Some(b)) => match self.bdot.update(&self.config.bdot, b, dt) {
-                        Ok(m) => m.unwrap_or_else(Vec3::zeros),
-                        Err(_) => reported(None, faults),
-                    },
-                    _ => Vec3::zeros(),
-                };
-            }
-            ModeState::SunSafe => {
-                if let Some(w) = omega {
-                    torque = sun_safe_torque(
-                        &self.config.sun_safe,
-                        det.sun_body.as_ref(),
-                        &self.config.sun_axis_body,
-                        w,
-                    )
-                    .ok();
-                    faults.law |= torque.is_none();
                 }
-            }
+                // `Ok(None)`: the first sample of the derivative form, nothing to command
+                (None, Some(b)) => match self.bdot.update(&self.config.bdot, b, dt) {
+                    Ok(Some(m)) => dipole = m,
+                    Ok(None) => {}
+                    Err(_) => faults.law = true,
+                },
+                _ => {}
+            },
+            ModeState::SunSafe => sun_safe_sun = Some(det.sun_body.as_ref()),
             ModeState::Slew { .. } | ModeState::Tracking { .. } => {}
         }
         // a slew: the REF's reference (its rate, feed-forward) tracked in closed loop, the
@@ -138,16 +134,14 @@ impl<const N: usize> AttitudeNode<'_, N> {
         let mut h_now: Option<Vec3> = None;
         if let ModeState::Tracking { target } = &self.mode {
             // no attitude in the umbra (the filter starts with the Sun): damp the rate, wait
-            if let (None, Some(w), true) = (det.attitude.as_ref(), omega, self.umbra(det)) {
-                torque =
-                    sun_safe_torque(&self.config.sun_safe, None, &self.config.sun_axis_body, w)
-                        .ok();
-                faults.law |= torque.is_none();
+            if let (None, Some(_), true) = (det.attitude.as_ref(), omega, self.umbra(det)) {
+                sun_safe_sun = Some(None);
             }
             if let (Some(q), Some(w)) = (det.attitude.as_ref(), omega) {
                 let h_w = self.wheels_body();
                 h_now = Some(h_w);
-                torque = tracking_torque(
+                // (torque is none until here: a refusal leaves it so, reported)
+                match tracking_torque(
                     &self.config.tracking,
                     &self.config.axes.inertia_body,
                     q,
@@ -155,27 +149,42 @@ impl<const N: usize> AttitudeNode<'_, N> {
                     target,
                     &Vec3::zeros(),
                     &h_w,
-                )
-                .ok();
-                faults.law |= torque.is_none();
+                ) {
+                    Ok(t) => torque = Some(t),
+                    Err(_) => faults.law = true,
+                }
+            }
+        }
+        // the sun-safe law (one call for both uses; tracking's is the attitude's case only)
+        // (torque is none until here in both: a refusal leaves it so, reported)
+        if let (Some(sun), Some(w)) = (sun_safe_sun, omega) {
+            match sun_safe_torque(&self.config.sun_safe, sun, &self.config.sun_axis_body, w) {
+                Ok(t) => torque = Some(t),
+                Err(_) => faults.law = true,
             }
         }
         // wheels: a torque law integrates into momentum (ḣ = −τ); a slew sets momentum
-        if let Some(tau) = torque {
+        if let Some(tau) = &mut torque {
             if self.have_wheels() {
                 // no more than the wheels deliver: a momentum they cannot follow is never
                 // commanded (the laws integrate the commanded momentum: the read-back only
                 // checks the wheels, `attitude_node::health`). The coils' per-axis scaling keeping
                 // the direction; it refuses a limit that is not positive and finite: none
-                let tau = crate::control::magnetorquer::saturate_dipole(
-                    &tau,
-                    &self.config.wheel_torque_nm,
-                )
-                .map_or(tau, |(t, _)| t);
+                if let Ok((t, _)) =
+                    crate::control::magnetorquer::saturate_dipole(tau, &self.config.wheel_torque_nm)
+                {
+                    *tau = t;
+                }
                 let h_w = h_now.unwrap_or_else(|| self.wheels_body());
-                h_target = Some(crate::linalg::sub_scaled(&h_w, &tau, dt));
+                h_target = Some(crate::linalg::sub_scaled(&h_w, tau, dt));
             } else if let Some(b) = b_body_nt {
-                dipole = reported(dipole_for_torque(&tau, b).ok(), faults);
+                match dipole_for_torque(tau, b) {
+                    Ok(m) => dipole = m,
+                    Err(_) => {
+                        faults.law = true;
+                        dipole = Vec3::zeros();
+                    }
+                }
             }
         }
         (dipole, h_target)

@@ -423,18 +423,25 @@ impl<'c, const N: usize> AttitudeNode<'c, N> {
         let dt = self.sense(bus, reference, dt_s, &mut faults, report);
         self.change_mode(report);
         let guidance = reference.map(|r| &r.guidance);
-        let (dipole, h_target) = self.laws(report, dt, guidance, &mut faults);
-        let (dipole, h_wheels) = self.actuate(bus, report, dipole, h_target, &mut faults);
+        // the laws' dipole and momentum used in place (not destructured: each copy is a
+        // `memcpy` on the MSP430)
+        let law = self.laws(report, dt, guidance, &mut faults);
+        report.dipole_body_am2 = law.0;
+        self.actuate(
+            bus,
+            report.b_body_nt.as_ref(),
+            (&mut report.dipole_body_am2, &mut report.h_wheels_body),
+            law.1.as_ref(),
+            &mut faults,
+        );
         report.mode = self.mode();
-        report.dipole_body_am2 = dipole;
-        report.h_wheels_body = h_wheels;
         report.faults = faults;
         let status = Status {
             step: self.step,
             boot_count: self.boot_count,
             mode: self.mode().code() as u8,
             attitude: report.attitude,
-            h_wheels_body_nms: h_wheels,
+            h_wheels_body_nms: report.h_wheels_body,
             guidance_id: self.guidance_id,
             faults: faults.bits(),
             utc: self.clock,

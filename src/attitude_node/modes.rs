@@ -98,19 +98,33 @@ pub(super) enum Event {
 /// the mode after `event`, in place. An event that does not apply to the mode leaves it.
 pub(super) fn next_mode(state: &mut ModeState, event: Event) {
     use ModeState as S;
-    *state = match (&*state, event) {
-        (_, Event::RateAbove) => S::Detumble,
-        (S::Detumble, Event::RateBelow) => S::SunSafe,
-        (S::Slew { .. } | S::Tracking { .. }, Event::AttitudeLost) => S::SunSafe,
-        (S::Slew { target, .. }, Event::SlewDone) => S::Tracking { target: *target },
-        (_, Event::SunSafe) => S::SunSafe,
-        (_, Event::Track(target)) => S::Tracking { target },
-        (_, Event::Slew { h_base, target }) => S::Slew {
-            target,
-            follower: SlewFollower::new(h_base),
-        },
-        (_, Event::RateBelow | Event::AttitudeLost | Event::SlewDone) => return,
-    };
+    // each new state written in place (on the MSP430 a state built aside is a `memcpy`)
+    match event {
+        Event::RateAbove => *state = S::Detumble,
+        Event::RateBelow => {
+            if let S::Detumble = state {
+                *state = S::SunSafe;
+            }
+        }
+        Event::AttitudeLost => {
+            if let S::Slew { .. } | S::Tracking { .. } = state {
+                *state = S::SunSafe;
+            }
+        }
+        Event::SlewDone => {
+            if let S::Slew { target, .. } = state {
+                *state = S::Tracking { target: *target };
+            }
+        }
+        Event::SunSafe => *state = S::SunSafe,
+        Event::Track(target) => *state = S::Tracking { target },
+        Event::Slew { h_base, target } => {
+            *state = S::Slew {
+                target,
+                follower: SlewFollower::new(h_base),
+            }
+        }
+    }
 }
 
 #[cfg(test)]

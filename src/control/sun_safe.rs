@@ -67,7 +67,7 @@ pub fn sun_safe_torque(
             linalg::lin2(&cross, gains.kp_nm, &damping, 1.0)
         }
     };
-    if !(tau.x.is_finite() && tau.y.is_finite() && tau.z.is_finite() && gains.kp_nm.is_finite()) {
+    if !(linalg::finite3(&tau) && gains.kp_nm.is_finite()) {
         return Err(TrackingError::NotFinite);
     }
     if !(gains.kp_nm >= 0.0) || !(gains.kd_nms >= 0.0) {

@@ -222,6 +222,19 @@ impl Allocator {
         if !self.is_for(wheels) {
             return Err(WheelError::StaleAllocator);
         }
+        self.allocate_current(wheels, l_body)
+    }
+
+    /// [`Allocator::allocate`] for `wheels` known to have this allocator's working set (the
+    /// attitude node's cache checked it: no second check).
+    pub(crate) fn allocate_current<const N: usize>(
+        &self,
+        wheels: &[Wheel; N],
+        l_body: &Vec3,
+    ) -> Result<WheelAllocation<N>, WheelError> {
+        if !crate::linalg::finite3(l_body) {
+            return Err(WheelError::NotFinite);
+        }
         // y = (W Wᵀ)⁺ L; each wheel h_m = −ẑ_m · y
         let y = self.pinv.mul_vec(l_body);
         let mut wheel = [0.0f32; N];

@@ -73,7 +73,7 @@ pub const GRAM_REL_TOL: f32 = 1.0e-5;
 /// components (rows `x̂_m·B = φ_xm`, `ŷ_m·B = φ_ym`) or the gyros' one (`ẑ_m·ω = ω_zm`). One
 /// (non-generic) copy of the solvers serves both.
 #[derive(Copy, Clone)]
-enum Readings<'a> {
+pub(crate) enum Readings<'a> {
     Field(&'a [Option<Vec2>]),
     Rate(&'a [Option<f32>]),
 }
@@ -274,7 +274,7 @@ fn contributing_32(tiles: &[Tile], readings: Readings) -> u32 {
 /// where the caller's readings are a short array (the flight loop), the compiler sees that
 /// there are at most 32 and drops the one-shot fallback; the rest is one shared copy.
 #[inline(always)]
-fn solve_cached(
+pub(crate) fn solve_cached(
     cache: &mut Option<TileSolver>,
     tiles: &[Tile],
     readings: Readings,
@@ -299,42 +299,36 @@ fn solve_masked(
     mask: u32,
 ) -> Result<Vec3, DeterminationError> {
     // On a change of the set, the Gram matrix HᵀH of the contributing rows is accumulated in
-    // the same walk as Hᵀy; the walk's own errors come first.
-    enum Operator {
-        Cached(TileSolver),
-        Rebuild(SymMat3),
-    }
-    let mut operator = match cache {
-        Some(s) if s.tiles == mask => Operator::Cached(*s),
-        _ => Operator::Rebuild(SymMat3::zeros()),
-    };
+    // the same walk as Hᵀy; the walk's own errors come first. The cached operator is used in
+    // place (on the MSP430 each copy of it is a `memcpy`).
+    let cached = matches!(cache, Some(s) if s.tiles == mask);
+    let mut gram = SymMat3::zeros();
     let mut rhs = Vec3::zeros(); // Hᵀy
     for_each_reading(tiles, readings, |tile, reading| {
         rhs += reading.transposed(tile);
-        if let Operator::Rebuild(gram) = &mut operator {
-            reading.add_rows(tile, gram);
+        if !cached {
+            reading.add_rows(tile, &mut gram);
         }
         Ok(())
     })?;
-    let solver = match operator {
-        Operator::Cached(s) => s,
-        Operator::Rebuild(gram) => {
-            *cache = None;
-            // (HᵀH)⁻¹ in closed form, rank 3 required (out of range: a tile's rows overflow)
-            let p = symmetric_pseudoinverse(&gram, GRAM_REL_TOL)
-                .map_err(|_| DeterminationError::Linalg(SvdError::NonFinite))?;
-            if 3 > p.rank {
-                return Err(DeterminationError::NotObservable { rank: p.rank });
-            }
-            let s = TileSolver {
-                inverse_gram: p.pinv,
-                tiles: mask,
-            };
-            *cache = Some(s);
-            s
+    if !cached {
+        *cache = None;
+        // (HᵀH)⁻¹ in closed form, rank 3 required (out of range: a tile's rows overflow)
+        let p = symmetric_pseudoinverse(&gram, GRAM_REL_TOL)
+            .map_err(|_| DeterminationError::Linalg(SvdError::NonFinite))?;
+        if 3 > p.rank {
+            return Err(DeterminationError::NotObservable { rank: p.rank });
         }
-    };
-    Ok(solver.inverse_gram.mul_vec(&rhs))
+        *cache = Some(TileSolver {
+            inverse_gram: p.pinv,
+            tiles: mask,
+        });
+    }
+    match cache {
+        Some(s) => Ok(s.inverse_gram.mul_vec(&rhs)),
+        // not reached: the operator was there or has just been built
+        None => Err(DeterminationError::NotObservable { rank: 0 }),
+    }
 }
 
 /// [`magnetic_field_body`] with the operator kept in `cache` (rebuilt when the set of

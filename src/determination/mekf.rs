@@ -623,10 +623,10 @@ impl Mekf {
             q3: half.z,
         };
         let q = self.attitude.mul(&dq);
-        let Some(q) = Quaternion::new_normalize(q.q0, q.q1, q.q2, q.q3) else {
-            return false;
-        };
-        self.attitude = q;
+        match Quaternion::new_normalize(q.q0, q.q1, q.q2, q.q3) {
+            Some(q) => self.attitude = q,
+            None => return false,
+        }
         // Φ P: the attitude rows become x − (ω̂Δt) × x − Δt·(gyro-bias rows), column by column
         let w_dt = scale(&w, dt_s);
         let mut rows = [[0.0f32; STATES]; 3];
@@ -684,10 +684,11 @@ impl Mekf {
         let predicted = mat_vec(a.matrix(), &sun.reference_teme);
         let d_albedo = mat_vec(a.matrix(), &sun.d_reference_d_albedo);
         // two scalars in the plane normal to the unit ŷ (see the module docs)
-        let (e1, e2) = tangent_basis(&predicted);
+        // (an array in place: on the MSP430 each copy of a vector is a `memcpy`)
+        let along = tangent_basis(&predicted);
         let outcome = self.update_vector(
             config,
-            &[e1, e2],
+            &along,
             &sun.body,
             &predicted,
             sun.variance_rad2,
@@ -864,7 +865,7 @@ static AXES: [Vec3; 3] = [
 /// `e₁·e₂`, `e₁·p`, `e₂·p` and each component of `e₁ × e₂ − p` within 2.8e-7 over 100 000 unit
 /// vectors, the poles included (`tangent_basis_is_orthonormal`, bound 6e-7).
 #[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
-fn tangent_basis(p: &Vec3) -> (Vec3, Vec3) {
+fn tangent_basis(p: &Vec3) -> [Vec3; 2] {
     // with s = ±1 the sign of p_z: a = −1/(s + p_z), t = s p_x a;
     // e₁ = (1 + s p_x² a, s p_x p_y a, −s p_x), e₂ = (p_x p_y a, s + p_y² a, −p_y)
     let negative = !(p.z >= 0.0);
@@ -873,10 +874,10 @@ fn tangent_basis(p: &Vec3) -> (Vec3, Vec3) {
     let xa = p.x * a;
     let t = if negative { -xa } else { xa };
     let minus_sx = if negative { p.x } else { -p.x };
-    (
+    [
         Vec3::new(1.0 + p.x * t, p.y * t, minus_sx),
         Vec3::new(xa * p.y, s + p.y * (p.y * a), -p.y),
-    )
+    ]
 }
 
 /// `h · v` for the row `h = (h, 0…, c at e)`.
@@ -945,7 +946,7 @@ mod tests {
         }
         let mut worst = 0.0f32;
         for p in &cases {
-            let (e1, e2) = tangent_basis(p);
+            let [e1, e2] = tangent_basis(p);
             let third = cross(&e1, &e2) - p;
             for err in [
                 dot(&e1, &e1) - 1.0,

@@ -30,15 +30,35 @@ fn i2c_kind<E: i2c::Error>(e: &E) -> ErrorKind {
     }
 }
 
-/// Reads `N` big-endian `i16` words starting at `register`.
-fn read_words<I: I2c, const N: usize>(
+/// Reads `words.len()` (at most 4) big-endian `i16` words starting at `register` into `words`
+/// and converts them by `scale` in place, after refusing a saturated one
+/// ([`check_saturation`]); with `status`, the first word is a status word, not converted: 0
+/// (nothing to read) returns `Ok(false)` without checking the others. Out of line on the
+/// MSP430: one copy for the sun sensor's, magnetometer's and gyro's reads.
+#[cfg_attr(target_arch = "msp430", inline(never))]
+fn read_converted<I: I2c>(
     i2c: &mut I,
     address: u8,
     register: u8,
-) -> Result<[i16; N], ErrorKind> {
-    let mut words = [0i16; N];
-    read_words_into(i2c, address, register, &mut words)?;
-    Ok(words)
+    scale: &Scale,
+    words: &mut [i16],
+    status: bool,
+) -> Result<bool, ErrorKind> {
+    read_words_into(i2c, address, register, words)?;
+    let data = if status {
+        match words.split_first_mut() {
+            Some((&mut 0, _)) => return Ok(false),
+            Some((_, rest)) => rest,
+            None => return Err(ErrorKind::Other),
+        }
+    } else {
+        words
+    };
+    check_saturation(data)?;
+    for w in data.iter_mut() {
+        *w = scale.convert(*w)?;
+    }
+    Ok(true)
 }
 
 /// Reads `words.len()` (at most 4) big-endian `i16` words starting at `register` into `words`.
@@ -127,15 +147,6 @@ impl Scale {
         }
         Ok(x as i16)
     }
-
-    /// [`Scale::convert`] of each word.
-    fn convert_all<const N: usize>(&self, words: [i16; N]) -> Result<[i16; N], ErrorKind> {
-        let mut out = [0i16; N];
-        for (o, w) in out.iter_mut().zip(words) {
-            *o = self.convert(w)?;
-        }
-        Ok(out)
-    }
 }
 
 impl Default for Scale {
@@ -183,9 +194,16 @@ impl<I: I2c> ErrorType for I2cMagnetometer<I> {
 
 impl<I: I2c> Magnetometer for I2cMagnetometer<I> {
     fn read_field_raw(&mut self) -> Result<[i16; 2], ErrorKind> {
-        let words = read_words::<I, 2>(&mut self.i2c, self.address, self.data_register)?;
-        check_saturation(&words)?;
-        self.scale.convert_all(words)
+        let mut words = [0i16; 2];
+        read_converted(
+            &mut self.i2c,
+            self.address,
+            self.data_register,
+            &self.scale,
+            &mut words,
+            false,
+        )?;
+        Ok(words)
     }
 }
 
@@ -265,9 +283,17 @@ impl<I: I2c> ErrorType for I2cGyro<I> {
 
 impl<I: I2c> Gyro for I2cGyro<I> {
     fn read_rate_raw(&mut self) -> Result<i16, ErrorKind> {
-        let [w] = read_words::<I, 1>(&mut self.i2c, self.address, self.data_register)?;
-        check_saturation(&[w])?;
-        self.scale.convert(w)
+        let mut words = [0i16; 1];
+        read_converted(
+            &mut self.i2c,
+            self.address,
+            self.data_register,
+            &self.scale,
+            &mut words,
+            false,
+        )?;
+        let [w] = words;
+        Ok(w)
     }
 }
 
@@ -309,12 +335,19 @@ impl<I: I2c> ErrorType for I2cSunSensor<I> {
 
 impl<I: I2c> SunSensor for I2cSunSensor<I> {
     fn read_sun_raw(&mut self) -> Result<Option<[i16; 2]>, ErrorKind> {
-        let [status, a, b] = read_words::<I, 3>(&mut self.i2c, self.address, self.data_register)?;
-        if status == 0 {
+        let mut words = [0i16; 3];
+        if !read_converted(
+            &mut self.i2c,
+            self.address,
+            self.data_register,
+            &self.scale,
+            &mut words,
+            true,
+        )? {
             return Ok(None);
         }
-        check_saturation(&[a, b])?;
-        self.scale.convert_all([a, b]).map(Some)
+        let [_, a, b] = words;
+        Ok(Some([a, b]))
     }
 }
 
@@ -326,22 +359,35 @@ fn drive_bridge<P: SetDutyCycle, D: OutputPin>(
     value: f32,
     limit: f32,
 ) -> Result<(), ErrorKind> {
-    let magnitude = if value >= 0.0 { value } else { -value };
-    if !value.is_finite() || magnitude > limit {
+    let Some(num) = bridge_fraction(value, limit) else {
         pwm.set_duty_cycle_fully_off()
             .map_err(|_| ErrorKind::Other)?;
         return Err(ErrorKind::OutOfRange);
-    }
-    const SCALE: u16 = 10_000;
-    // rounded fraction of full scale, 0..=SCALE (magnitude ≤ limit)
-    let num = (magnitude / limit * f32::from(SCALE) + 0.5) as u16;
+    };
     if value >= 0.0 {
         dir.set_high().map_err(|_| ErrorKind::Other)?;
     } else {
         dir.set_low().map_err(|_| ErrorKind::Other)?;
     }
-    pwm.set_duty_cycle_fraction(core::cmp::min(num, SCALE), SCALE)
+    pwm.set_duty_cycle_fraction(num, BRIDGE_SCALE)
         .map_err(|_| ErrorKind::Other)
+}
+
+/// The denominator of [`bridge_fraction`].
+const BRIDGE_SCALE: u16 = 10_000;
+
+/// [`drive_bridge`]'s rounded fraction of full scale of `value`, in `BRIDGE_SCALE`ths
+/// (0..=`BRIDGE_SCALE`), `None` for a value beyond `limit` or not finite. Out of line on the
+/// MSP430: one copy for the wheels' and the coils' bridges.
+#[cfg_attr(target_arch = "msp430", inline(never))]
+fn bridge_fraction(value: f32, limit: f32) -> Option<u16> {
+    let magnitude = if value >= 0.0 { value } else { -value };
+    if !value.is_finite() || magnitude > limit {
+        return None;
+    }
+    // rounded fraction of full scale, 0..=SCALE (magnitude ≤ limit)
+    let num = (magnitude / limit * f32::from(BRIDGE_SCALE) + 0.5) as u16;
+    Some(core::cmp::min(num, BRIDGE_SCALE))
 }
 
 /// A magnetorquer coil driven by PWM through an H-bridge with a direction pin: the dipole is

@@ -131,6 +131,13 @@ impl<I: I2c> WheelDirection<I> {
     }
 }
 
+/// Writes `bytes` (a register and its value) to the wheel controller at `address`. Out of line
+/// on the MSP430: one copy for the set-point's and the direction's writes.
+#[cfg_attr(target_arch = "msp430", inline(never))]
+fn write_wheel<I: I2c>(i2c: &mut I, address: u8, bytes: &[u8]) -> Result<(), WheelWriteError> {
+    i2c.write(address, bytes).map_err(|_| WheelWriteError)
+}
+
 /// A write to a wheel controller failed (its I²C error's kind is not kept: the wheel driver
 /// reports any failure as [`crate::hal::ErrorKind::Other`]).
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -160,9 +167,11 @@ impl<I: I2c> SetDutyCycle for WheelSetpoint<I> {
     /// Writes `duty` (at most [`WHEEL_FULL_SCALE`]) to the set-point register.
     fn set_duty_cycle(&mut self, duty: u16) -> Result<(), WheelWriteError> {
         let [hi, lo] = core::cmp::min(duty, WHEEL_FULL_SCALE).to_be_bytes();
-        self.i2c
-            .write(self.address, &[WHEEL_SETPOINT_REGISTER, hi, lo])
-            .map_err(|_| WheelWriteError)
+        write_wheel(
+            &mut self.i2c,
+            self.address,
+            &[WHEEL_SETPOINT_REGISTER, hi, lo],
+        )
     }
 }
 
@@ -172,15 +181,11 @@ impl<I: I2c> embedded_hal::digital::ErrorType for WheelDirection<I> {
 
 impl<I: I2c> embedded_hal::digital::OutputPin for WheelDirection<I> {
     fn set_low(&mut self) -> Result<(), WheelWriteError> {
-        self.i2c
-            .write(self.address, &[WHEEL_DIRECTION_REGISTER, 0])
-            .map_err(|_| WheelWriteError)
+        write_wheel(&mut self.i2c, self.address, &[WHEEL_DIRECTION_REGISTER, 0])
     }
 
     fn set_high(&mut self) -> Result<(), WheelWriteError> {
-        self.i2c
-            .write(self.address, &[WHEEL_DIRECTION_REGISTER, 1])
-            .map_err(|_| WheelWriteError)
+        write_wheel(&mut self.i2c, self.address, &[WHEEL_DIRECTION_REGISTER, 1])
     }
 }
 
