@@ -126,6 +126,10 @@ impl<'c, const N: usize, const F: usize> ReferenceNode<'c, N, F> {
                 self.clock = s.utc.map(|u| u.add(self.period));
             }
         }
+        // the guidance first (it does not depend on the models): the REF then takes it once
+        if let Some(now) = self.clock {
+            self.advance_guidance(&now);
+        }
         let mut faults = Faults::default();
         let mut r = Reference {
             step,
@@ -159,7 +163,6 @@ impl<'c, const N: usize, const F: usize> ReferenceNode<'c, N, F> {
                 ),
                 _ => None,
             };
-            r.guidance = self.guidance_at(&now);
             r.faults = faults.bits();
             self.clock = Some(now.add(self.period));
         }

@@ -74,7 +74,8 @@ impl<const N: usize, const F: usize> ReferenceNode<'_, N, F> {
         )?;
         faults.extrapolated = field.is_extrapolated();
         match (r_teme_km, gmst) {
-            (Some(r), Some(g)) => field.teme(r, g).map(Some),
+            // finite by construction: SGP4's position (it refuses one that is not) and GMST
+            (Some(r), Some(g)) => field.teme_of_finite(r, g).map(Some),
             _ => Ok(None),
         }
     }
