@@ -65,11 +65,13 @@ impl<const N: usize, const F: usize> ReferenceNode<'_, N, F> {
             0 => 1,
             id => id,
         };
+        // the rates element by element (from `Guidance::NONE` they were copied from flash)
         self.guidance = Guidance {
             id,
             kind,
             target,
-            ..Guidance::NONE
+            rate_body_radps: Vec3::new(0.0, 0.0, 0.0),
+            h_ff_body_nms: Vec3::new(0.0, 0.0, 0.0),
         };
     }
 
