@@ -396,7 +396,7 @@ fn durations(
         (angles.theta_b, axes.moments.y),
         (angles.psi_c, axes.moments.z),
     ];
-    let mut out = [0.0f32; 3];
+    let mut out = [0.0f32, 0.0, 0.0];
     for (k, ((angle, moment), (t, wheels))) in per_axis
         .iter()
         .zip(out.iter_mut().zip(limits.wheels_per_axis.iter()))

@@ -321,7 +321,7 @@ impl SlewTrajectory {
             return Err(SlewError::InvalidLimits);
         }
         let mut trajectory = Self {
-            rotations: [Rotation::NULL; 3],
+            rotations: [Rotation::NULL, Rotation::NULL, Rotation::NULL],
             pause_s,
             done: 0,
             done_s: 0.0,

@@ -873,6 +873,21 @@ impl<const COEFFS: usize> Igrf<COEFFS> {
         finite("r_teme_km.y", r_teme_km.y)?;
         finite("r_teme_km.z", r_teme_km.z)?;
         finite("gmst_rad", gmst_rad)?;
+        self.teme_of_finite(r_teme_km, gmst_rad)
+    }
+
+    /// [`Igrf::teme`] without its checks, for a position and an angle that are finite by
+    /// construction (the reference node's: SGP4 refuses a position that is not, and
+    /// [`crate::time::gmst_rad`] is an integer angle rounded once): the same result, without
+    /// the checks' code (on the MSP430) and cycles.
+    ///
+    /// Errors: [`IgrfError::BelowSurface`].
+    #[inline(always)]
+    pub(crate) fn teme_of_finite(
+        &self,
+        r_teme_km: &Vec3,
+        gmst_rad: f32,
+    ) -> Result<Vec3, IgrfError> {
         let (sin_g, cos_g) = fmath::sincos(gmst_rad);
         // r_ecef = R3(θ) r_teme, B_teme = R3(−θ) B_ecef ([`frames::teme_to_ecef_matrix`]).
         let r = r_teme_km;
@@ -892,7 +907,7 @@ impl<const COEFFS: usize> Igrf<COEFFS> {
         let r2 = r_km.x * r_km.x + r_km.y * r_km.y + r_km.z * r_km.z;
         if r2.is_infinite() {
             // Beyond 1.8e19 km the field (≤ (R/r)³ × 10⁵ nT) is below the smallest f32.
-            return Ok(Vec3::zeros());
+            return Ok(Vec3::new(0.0, 0.0, 0.0));
         }
         let radius_km = fmath::sqrt(r2);
         if !(radius_km >= MIN_RADIUS_KM) {

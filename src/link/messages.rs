@@ -394,29 +394,39 @@ impl Status {
         if bytes.len() != Self::BYTES {
             return Err(MessageError::Length);
         }
-        let mut r = Reader { bytes, at: 0 };
-        let step = r.u32();
-        let boot_count = r.u16();
-        let mode = r.u8();
+        // read in place, as [`Reference::from_bytes`] (the fields are then not held and
+        // copied field by field)
+        let mut m = Self {
+            step: 0,
+            boot_count: 0,
+            mode: 0,
+            attitude: None,
+            h_wheels_body_nms: Vec3::new(0.0, 0.0, 0.0),
+            guidance_id: 0,
+            faults: 0,
+            utc: None,
+        };
+        m.read(&mut Reader { bytes, at: 0 })?;
+        Ok(m)
+    }
+
+    /// The fields of [`Status::from_bytes`], in place.
+    #[cfg_attr(target_arch = "msp430", inline(never), optimize(size))]
+    fn read(&mut self, r: &mut Reader) -> Result<(), MessageError> {
+        self.step = r.u32();
+        self.boot_count = r.u16();
+        self.mode = r.u8();
         let flags = r.u8();
         let q = r.quaternion();
-        let h = r.vec3(true).unwrap_or_else(Vec3::zeros);
-        let guidance_id = r.u16();
-        let faults = r.u16();
-        let utc = r.epoch(flag(flags, 1))?;
-        if mode > 3 || flags > 3 {
+        self.attitude = flag(flags, 0).then_some(q);
+        r.vec3_into(&mut self.h_wheels_body_nms);
+        self.guidance_id = r.u16();
+        self.faults = r.u16();
+        self.utc = r.epoch(flag(flags, 1))?;
+        if self.mode > 3 || flags > 3 {
             return Err(MessageError::Field);
         }
-        Ok(Self {
-            step,
-            boot_count,
-            mode,
-            attitude: flag(flags, 0).then_some(q),
-            h_wheels_body_nms: h,
-            guidance_id,
-            faults,
-            utc,
-        })
+        Ok(())
     }
 }
 

@@ -65,17 +65,19 @@ impl<const N: usize, const F: usize> ReferenceNode<'_, N, F> {
             0 => 1,
             id => id,
         };
+        // the rates element by element (from `Guidance::NONE` they were copied from flash)
         self.guidance = Guidance {
             id,
             kind,
             target,
-            ..Guidance::NONE
+            rate_body_radps: Vec3::new(0.0, 0.0, 0.0),
+            h_ff_body_nms: Vec3::new(0.0, 0.0, 0.0),
         };
     }
 
-    /// The guidance at `now`: a slew's reference at that time, or, its trajectory done,
+    /// The guidance moved to `now`: a slew's reference at that time, or, its trajectory done,
     /// tracking of its target.
-    pub(super) fn guidance_at(&mut self, now: &Epoch<Utc>) -> Guidance {
+    pub(super) fn advance_guidance(&mut self, now: &Epoch<Utc>) {
         let period = self.config.control_period_s;
         if let Some(p) = &mut self.slew {
             let g = &mut self.guidance;
@@ -86,12 +88,12 @@ impl<const N: usize, const F: usize> ReferenceNode<'_, N, F> {
                 }
                 None => {
                     g.kind = GuidanceKind::Track;
-                    g.rate_body_radps = Vec3::zeros();
-                    g.h_ff_body_nms = Vec3::zeros();
+                    // element by element (`Vec3::zeros()` is a loop and a copy on the MSP430)
+                    g.rate_body_radps = Vec3::new(0.0, 0.0, 0.0);
+                    g.h_ff_body_nms = Vec3::new(0.0, 0.0, 0.0);
                     self.slew = None;
                 }
             }
         }
-        self.guidance
     }
 }

@@ -126,6 +126,10 @@ impl<'c, const N: usize, const F: usize> ReferenceNode<'c, N, F> {
                 self.clock = s.utc.map(|u| u.add(self.period));
             }
         }
+        // the guidance first (it does not depend on the models): the REF then takes it once
+        if let Some(now) = self.clock {
+            self.advance_guidance(&now);
+        }
         let mut faults = Faults::default();
         let mut r = Reference {
             step,
@@ -141,15 +145,12 @@ impl<'c, const N: usize, const F: usize> ReferenceNode<'c, N, F> {
             faults: 0,
         };
         if let Some(now) = self.clock {
-            let m = self.models(&now, &mut faults);
+            // the models straight into the REF
+            self.models(&now, &mut faults, &mut r);
             r.utc = now;
             r.clock_valid = true;
-            r.r_teme_km = m.r_teme_km;
-            r.sun_teme = m.sun_teme;
-            r.illumination = m.illumination;
-            r.b_teme_nt = m.b_teme_nt;
             // the albedo the attitude node's lit Sun sensors see, at the last STATUS's attitude
-            r.albedo_teme = match (&m.r_teme_km, &m.sun_teme, status.and_then(|s| s.attitude)) {
+            r.albedo_teme = match (&r.r_teme_km, &r.sun_teme, status.and_then(|s| s.attitude)) {
                 (Some(pos), Some(sun), Some(q)) => albedo::seen_by_lit_sensors(
                     self.config.tiles.as_slice(),
                     pos,
@@ -159,7 +160,6 @@ impl<'c, const N: usize, const F: usize> ReferenceNode<'c, N, F> {
                 ),
                 _ => None,
             };
-            r.guidance = self.guidance_at(&now);
             r.faults = faults.bits();
             self.clock = Some(now.add(self.period));
         }

@@ -6,51 +6,45 @@
 
 use super::ReferenceNode;
 use crate::acs_loop::Faults;
-use crate::env::eclipse::{cylindrical_illumination, Illumination};
+use crate::env::eclipse::cylindrical_illumination;
 use crate::env::igrf::{Igrf, IgrfError};
 use crate::env::sun::schlyter;
 use crate::linalg::Vec3;
+use crate::link::messages::Reference;
 use crate::time::{gmst_rad, Epoch, Utc};
-
-/// The models' outputs at one UTC.
-pub(super) struct Models {
-    pub(super) r_teme_km: Option<Vec3>,
-    pub(super) sun_teme: Option<Vec3>,
-    pub(super) illumination: Option<Illumination>,
-    pub(super) b_teme_nt: Option<Vec3>,
-}
 
 impl<const N: usize, const F: usize> ReferenceNode<'_, N, F> {
     /// Orbit, Sun, shadow and field models at `now`; their failures in `faults` (orbit, model,
     /// extrapolated).
     #[inline(never)]
-    pub(super) fn models(&self, now: &Epoch<Utc>, faults: &mut Faults) -> Models {
-        let orbit = self
+    pub(super) fn models(&self, now: &Epoch<Utc>, faults: &mut Faults, r: &mut Reference) {
+        // the position and the Sun's direction only (not the velocity, the distance): kept
+        // and moved whole, not through copies
+        let r_teme_km = self
             .orbit
             .as_ref()
-            .and_then(|o| o.propagate(now.span_since(&o.epoch())).ok());
-        faults.orbit = orbit.is_none();
-        let sun = schlyter::sun(now).ok();
+            .and_then(|o| o.propagate(now.span_since(&o.epoch())).ok())
+            .map(|o| o.r_teme_km);
+        faults.orbit = r_teme_km.is_none();
+        let sun_teme = schlyter::sun(now).ok().map(|s| s.direction);
         let gmst = now.to_ut1(None).ok().map(|ut1| gmst_rad(&ut1));
-        let illumination = match (&orbit, &sun) {
-            (Some(o), Some(s)) => cylindrical_illumination(&o.r_teme_km, &s.direction).ok(),
+        let illumination = match (&r_teme_km, &sun_teme) {
+            (Some(r), Some(s)) => cylindrical_illumination(r, s).ok(),
             _ => None,
         };
         // the field model fails on its own (a date outside its tables) or at the point
-        let field = self.field_teme(now, orbit.as_ref().map(|o| &o.r_teme_km), gmst, faults);
+        let field = self.field_teme(now, r_teme_km.as_ref(), gmst, faults);
         let field_model_failed = matches!(
             field,
             Err(IgrfError::DateOutOfRange { .. }
                 | IgrfError::DegreeAboveModel { .. }
                 | IgrfError::CapacityTooSmall { .. })
         );
-        faults.model = sun.is_none() || field_model_failed || gmst.is_none();
-        Models {
-            r_teme_km: orbit.map(|o| o.r_teme_km),
-            sun_teme: sun.map(|s| s.direction),
-            illumination,
-            b_teme_nt: field.ok().flatten(),
-        }
+        faults.model = sun_teme.is_none() || field_model_failed || gmst.is_none();
+        r.r_teme_km = r_teme_km;
+        r.sun_teme = sun_teme;
+        r.illumination = illumination;
+        r.b_teme_nt = field.ok().flatten();
     }
 
     /// The field in TEME at `r_teme_km` (`None` without a position or GMST) from the
@@ -74,7 +68,8 @@ impl<const N: usize, const F: usize> ReferenceNode<'_, N, F> {
         )?;
         faults.extrapolated = field.is_extrapolated();
         match (r_teme_km, gmst) {
-            (Some(r), Some(g)) => field.teme(r, g).map(Some),
+            // finite by construction: SGP4's position (it refuses one that is not) and GMST
+            (Some(r), Some(g)) => field.teme_of_finite(r, g).map(Some),
             _ => Ok(None),
         }
     }

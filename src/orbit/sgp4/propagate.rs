@@ -1,7 +1,7 @@
 //! SGP4 propagation: position and velocity at a time since the element set's epoch (Vallado's
 //! `sgp4`, near-Earth).
 
-use super::{Sgp4, Sgp4Error};
+use super::{finite32, Sgp4, Sgp4Error};
 use crate::fmath;
 use crate::linalg::Vec3;
 use crate::orbit::{split_span, TemeState};
@@ -187,8 +187,14 @@ impl Sgp4 {
                 mvt * uz + rvdot * vz,
             ) * v_scale,
         };
-        if !(state.r_teme_km.iter().all(|x| x.is_finite())
-            && state.v_teme_kmps.iter().all(|x| x.is_finite()))
+        // component by component from the bits (the iterators were two loops on the MSP430)
+        let (r, v) = (&state.r_teme_km, &state.v_teme_kmps);
+        if !(finite32(r.x)
+            && finite32(r.y)
+            && finite32(r.z)
+            && finite32(v.x)
+            && finite32(v.y)
+            && finite32(v.z))
         {
             return Err(Sgp4Error::Diverged { tsince_min: t });
         }
