@@ -216,10 +216,8 @@ impl Allocator {
         wheels: &[Wheel; N],
         l_body: &Vec3,
     ) -> Result<WheelAllocation<N>, WheelError> {
-        if !crate::linalg::finite3(l_body) {
-            return Err(WheelError::NotFinite);
-        }
-        if !self.is_for(wheels) {
+        // a torque not finite is refused first, by allocate_current
+        if crate::linalg::finite3(l_body) && !self.is_for(wheels) {
             return Err(WheelError::StaleAllocator);
         }
         self.allocate_current(wheels, l_body)
