@@ -6,8 +6,9 @@
 //! publish, and hand its telemetry to the ground link (its events, and its housekeeping when
 //! due: [`acs::telemetry::Downlink::reference`], [`flight::downlink`]) unless it took a
 //! telecommand in that period (then with the next REF: the telecommand's period is the node's
-//! longest, a slew's planning, and has no room for more). Its clock is not valid until the ground sets it or a STATUS brings the attitude
-//! node's copy back (after a reset: [`acs::reference_node`]).
+//! longest, a slew's planning, and has no room for more). Its clock is not valid until the
+//! ground sets it or a STATUS brings the attitude node's copy back (after a reset:
+//! [`acs::reference_node`]).
 //!
 //! Two builds (`firmware/Cargo.toml`): with feature `pil` the link and the period are the RAM
 //! mailboxes the processor-in-the-loop host drives ([`node_link`]) and the element set at reset
