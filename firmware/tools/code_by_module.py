@@ -6,7 +6,8 @@ usage: code_by_module.py ELF [N]   (N: rows to print, default 40)
 Every instruction's bytes go to the outermost `acs::` function of its inlining chain (from the
 debug line tables, `llvm-symbolizer --inlining`), outside the loop itself (`acs_loop`) when the
 chain has one; code with no `acs` frame goes to its symbol (`[lib] ...`: the EABI helpers,
-compiler-builtins, libm, the firmware's own functions). Needs the image's debug information
+compiler-builtins, libm), and so does every byte of a function of the firmware crate
+(`acs_firmware::...`), whatever it inlined (its inlining frames depend on the checkout's path). Needs the image's debug information
 (the firmware's release profile keeps it; it is not loaded into flash).
 """
 import collections
@@ -38,6 +39,12 @@ for (_, size, symbol), block in zip(insns, out.split("\n\n")):
     lines = [l for l in block.strip().split("\n") if l]
     names = [lines[j] for j in range(0, len(lines) - 1, 2)]
     acs = [f for f in names if "acs::" in f and "acs_firmware" not in f.split("<")[0]]
+    if (symbol or "").startswith("acs_firmware::"):
+        # a function of the firmware crate keeps every byte, what it inlined too: which of its
+        # inlined frames its debug information keeps varies with the crates' hashes, and so with
+        # the path of the checkout (cargo hashes the path of `acs`, a dependency outside the
+        # firmware's workspace)
+        acs = []
     if acs:
         outside_loop = [f for f in acs if "acs_loop" not in f]
         f = outside_loop[-1] if outside_loop else acs[-1]
