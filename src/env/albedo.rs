@@ -160,7 +160,8 @@ pub fn seen_by_lit_sensors(
 ) -> Option<Vec3> {
     let a = attitude.to_dcm();
     let sun_body = a.to_body(sun);
-    let (mut sum, mut n) = (Vec3::zeros(), 0.0f32);
+    // element by element (`Vec3::zeros()` is a loop and a copy on the MSP430)
+    let (mut sum, mut n) = (Vec3::new(0.0, 0.0, 0.0), 0.0f32);
     for tile in tiles.iter().filter(|t| t.has_working_sun_sensor()) {
         let normal = tile.normal_body_inline();
         if dot(&normal, &sun_body) >= cos_half_fov {
