@@ -128,7 +128,8 @@ pub fn irradiance(
         let k = fmath::min(sin_eta / ratio, 1.0);
         let c = fmath::sqrt(1.0 - k * k);
         let (cos_g, sin_g) = (c * cos_eta + k * sin_eta, k * cos_eta - c * sin_eta);
-        for (cos_p, sin_p) in AZIMUTHS {
+        // by reference: by value the table was copied to the stack at each ring
+        for &(cos_p, sin_p) in &AZIMUTHS {
             // the ground point's normal is cos γ·up + sin γ·(cos ψ e1 + sin ψ e2)
             let cos_zeta = cos_g * s_up + sin_g * (cos_p * s1 + sin_p * s2);
             // d̂ = −cos η up + sin η (cos ψ e1 + sin ψ e2), against the boresight

@@ -17,9 +17,11 @@
 //! Attitudes are `v_body = A · v_ref`, reference TEME of date ([`crate::attitude`]).
 
 use crate::acs_loop::{AcsConfig, AcsError};
+use crate::attitude::Quaternion;
 use crate::env::albedo;
 use crate::env::igrf::coefficient_count;
-use crate::link::messages::{Guidance, Reference, Status};
+use crate::linalg::Vec3;
+use crate::link::messages::{Guidance, GuidanceKind, Reference, Status};
 use crate::orbit::sgp4::Sgp4;
 use crate::telemetry::Housekeeping;
 use crate::tiles::MAX_TILES;
@@ -74,7 +76,19 @@ impl<'c, const N: usize, const F: usize> ReferenceNode<'c, N, F> {
             orbit: orbit.into(),
             clock: None,
             period: TimeSpan::from_seconds_f32(config.control_period_s),
-            guidance: Guidance::NONE,
+            // element by element (`Guidance::NONE` was a 44-byte copy from flash)
+            guidance: Guidance {
+                id: 0,
+                kind: GuidanceKind::None,
+                target: Quaternion {
+                    q0: 1.0,
+                    q1: 0.0,
+                    q2: 0.0,
+                    q3: 0.0,
+                },
+                rate_body_radps: Vec3::new(0.0, 0.0, 0.0),
+                h_ff_body_nms: Vec3::new(0.0, 0.0, 0.0),
+            },
             slew: None,
             accepted_id: 0,
             housekeeping: Housekeeping::new(),
