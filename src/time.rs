@@ -409,6 +409,7 @@ impl<S: TimeScale> Epoch<S> {
 
     /// The fraction of the day elapsed, in f32 (resolution 6e-8 day = 5 ms near the day's end:
     /// fine for slowly varying models such as the Sun; use [`Epoch::span_since`] for orbits).
+    #[cfg_attr(target_arch = "msp430", inline(never))]
     pub fn day_fraction_f32(&self) -> f32 {
         (self.second as f32 + self.nano as f32 * 1e-9) / SECONDS_PER_DAY as f32
     }

@@ -128,7 +128,8 @@ pub fn irradiance(
         let k = fmath::min(sin_eta / ratio, 1.0);
         let c = fmath::sqrt(1.0 - k * k);
         let (cos_g, sin_g) = (c * cos_eta + k * sin_eta, k * cos_eta - c * sin_eta);
-        for (cos_p, sin_p) in AZIMUTHS {
+        // by reference: by value the table was copied to the stack at each ring
+        for &(cos_p, sin_p) in &AZIMUTHS {
             // the ground point's normal is cos γ·up + sin γ·(cos ψ e1 + sin ψ e2)
             let cos_zeta = cos_g * s_up + sin_g * (cos_p * s1 + sin_p * s2);
             // d̂ = −cos η up + sin η (cos ψ e1 + sin ψ e2), against the boresight
@@ -160,7 +161,8 @@ pub fn seen_by_lit_sensors(
 ) -> Option<Vec3> {
     let a = attitude.to_dcm();
     let sun_body = a.to_body(sun);
-    let (mut sum, mut n) = (Vec3::zeros(), 0.0f32);
+    // element by element (`Vec3::zeros()` is a loop and a copy on the MSP430)
+    let (mut sum, mut n) = (Vec3::new(0.0, 0.0, 0.0), 0.0f32);
     for tile in tiles.iter().filter(|t| t.has_working_sun_sensor()) {
         let normal = tile.normal_body_inline();
         if dot(&normal, &sun_body) >= cos_half_fov {

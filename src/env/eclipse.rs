@@ -105,8 +105,15 @@ pub struct Illumination {
     pub shadow: Shadow,
 }
 
+/// All three components finite, tested from their bits (`f32::is_finite` over an iterator
+/// was a loop of float comparisons on the MSP430).
+fn finite3(v: &Vec3) -> bool {
+    let finite = |x: f32| x.to_bits() & 0x7f80_0000 != 0x7f80_0000;
+    finite(v.x) && finite(v.y) && finite(v.z)
+}
+
 fn check_position(r_teme_km: &Vec3) -> Result<f32, EclipseError> {
-    if !r_teme_km.iter().all(|c| c.is_finite()) {
+    if !finite3(r_teme_km) {
         return Err(EclipseError::NonFinitePosition);
     }
     let r = norm(r_teme_km);
@@ -120,7 +127,7 @@ fn check_position(r_teme_km: &Vec3) -> Result<f32, EclipseError> {
 }
 
 fn check_direction(v: &Vec3) -> Result<Vec3, EclipseError> {
-    if !v.iter().all(|c| c.is_finite()) {
+    if !finite3(v) {
         return Err(EclipseError::NonFiniteSun);
     }
     // Components are finite here. Scale by the largest first so that the norm cannot overflow or underflow.

@@ -240,6 +240,7 @@ impl Writer<'_> {
         }
         self.at += b.len();
     }
+    #[cfg_attr(target_arch = "msp430", inline(never))]
     pub(crate) fn u8(&mut self, v: u8) {
         self.bytes(&[v]);
     }

@@ -5,7 +5,6 @@
 //! steps: on the MSP430 that saves `4·F` bytes of RAM for ≈ 40 000 cycles a step).
 
 use super::ReferenceNode;
-use crate::acs_loop::Faults;
 use crate::env::eclipse::cylindrical_illumination;
 use crate::env::igrf::{Igrf, IgrfError};
 use crate::env::sun::schlyter;
@@ -14,10 +13,11 @@ use crate::link::messages::Reference;
 use crate::time::{gmst_rad, Epoch, Utc};
 
 impl<const N: usize, const F: usize> ReferenceNode<'_, N, F> {
-    /// Orbit, Sun, shadow and field models at `now`; their failures in `faults` (orbit, model,
-    /// extrapolated).
+    /// Orbit, Sun, shadow and field models at `now`, into `r`; their failures returned as the
+    /// fault word ([`crate::acs_loop::Faults::bits`]: orbit, model, extrapolated; built here
+    /// from the three flags, not through the twelve of `Faults`).
     #[inline(never)]
-    pub(super) fn models(&self, now: &Epoch<Utc>, faults: &mut Faults, r: &mut Reference) {
+    pub(super) fn models(&self, now: &Epoch<Utc>, r: &mut Reference) -> u16 {
         // the position and the Sun's direction only (not the velocity, the distance): kept
         // and moved whole, not through copies
         let r_teme_km = self
@@ -25,7 +25,6 @@ impl<const N: usize, const F: usize> ReferenceNode<'_, N, F> {
             .as_ref()
             .and_then(|o| o.propagate(now.span_since(&o.epoch())).ok())
             .map(|o| o.r_teme_km);
-        faults.orbit = r_teme_km.is_none();
         let sun_teme = schlyter::sun(now).ok().map(|s| s.direction);
         let gmst = now.to_ut1(None).ok().map(|ut1| gmst_rad(&ut1));
         let illumination = match (&r_teme_km, &sun_teme) {
@@ -33,18 +32,21 @@ impl<const N: usize, const F: usize> ReferenceNode<'_, N, F> {
             _ => None,
         };
         // the field model fails on its own (a date outside its tables) or at the point
-        let field = self.field_teme(now, r_teme_km.as_ref(), gmst, faults);
+        let mut extrapolated = false;
+        let field = self.field_teme(now, r_teme_km.as_ref(), gmst, &mut extrapolated);
         let field_model_failed = matches!(
             field,
             Err(IgrfError::DateOutOfRange { .. }
                 | IgrfError::DegreeAboveModel { .. }
                 | IgrfError::CapacityTooSmall { .. })
         );
-        faults.model = sun_teme.is_none() || field_model_failed || gmst.is_none();
+        let model = sun_teme.is_none() || field_model_failed || gmst.is_none();
+        let orbit = r_teme_km.is_none();
         r.r_teme_km = r_teme_km;
         r.sun_teme = sun_teme;
         r.illumination = illumination;
         r.b_teme_nt = field.ok().flatten();
+        fault_word(orbit, model, extrapolated)
     }
 
     /// The field in TEME at `r_teme_km` (`None` without a position or GMST) from the
@@ -57,7 +59,7 @@ impl<const N: usize, const F: usize> ReferenceNode<'_, N, F> {
         now: &Epoch<Utc>,
         r_teme_km: Option<&Vec3>,
         gmst: Option<f32>,
-        faults: &mut Faults,
+        extrapolated: &mut bool,
     ) -> Result<Option<Vec3>, IgrfError> {
         let mut slot: Option<Igrf<F>> = None;
         let field = Igrf::emplace_epoch(
@@ -66,11 +68,37 @@ impl<const N: usize, const F: usize> ReferenceNode<'_, N, F> {
             now,
             self.config.igrf_degree,
         )?;
-        faults.extrapolated = field.is_extrapolated();
+        *extrapolated = field.is_extrapolated();
         match (r_teme_km, gmst) {
             // finite by construction: SGP4's position (it refuses one that is not) and GMST
             (Some(r), Some(g)) => field.teme_of_finite(r, g).map(Some),
             _ => Ok(None),
+        }
+    }
+}
+
+/// The fault word of [`crate::acs_loop::Faults::bits`] with only the reference node's flags:
+/// bit 2 `orbit`, 3 `model`, 10 `extrapolated`.
+fn fault_word(orbit: bool, model: bool, extrapolated: bool) -> u16 {
+    u16::from(orbit) << 2 | u16::from(model) << 3 | u16::from(extrapolated) << 10
+}
+
+#[cfg(test)]
+mod tests {
+    use super::fault_word;
+    use crate::acs_loop::Faults;
+
+    #[test]
+    fn fault_word_is_that_of_faults() {
+        for k in 0..8u8 {
+            let (orbit, model, extrapolated) = (k & 1 != 0, k & 2 != 0, k & 4 != 0);
+            let faults = Faults {
+                orbit,
+                model,
+                extrapolated,
+                ..Faults::default()
+            };
+            assert_eq!(fault_word(orbit, model, extrapolated), faults.bits());
         }
     }
 }

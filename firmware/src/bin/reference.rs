@@ -69,6 +69,7 @@ fn run() -> ! {
         step: 0,
         downlink: Downlink::new(),
         took: false,
+        reference: NO_REFERENCE,
     };
     loop {
         acs_firmware::fw_period_start();
@@ -106,6 +107,7 @@ fn run() -> ! {
         step: 0,
         downlink: Downlink::new(),
         took: false,
+        reference: NO_REFERENCE,
         uart: periph::link(),
     };
     let mut events = periph::Events::now();
@@ -165,6 +167,8 @@ struct Link {
     /// A telecommand was taken since the last REF: the next REF's telemetry waits for the one
     /// after.
     took: bool,
+    /// The last REF, built in place each period ([`ReferenceNode::reference_into`]).
+    reference: Reference,
     /// The link over USCI_A0 (flight build).
     #[cfg(not(feature = "pil"))]
     uart: periph::Link,
@@ -181,22 +185,18 @@ impl Link {
         if let Some(s) = &self.status {
             self.step = s.step.wrapping_add(1);
         }
-        let reference = node.reference(self.step, self.status.as_ref());
-        send_reference(&reference, self.count.next_count());
-        flight::publish_codes(0, reference.faults);
+        node.reference_into(self.step, self.status.as_ref(), &mut self.reference);
+        send_reference(&self.reference, self.count.next_count());
+        flight::publish_codes(0, self.reference.faults);
         self.step = self.step.wrapping_add(1);
-        self.telemetry(node, &reference);
+        self.telemetry(node);
     }
 
     /// The telemetry after a REF, unless a telecommand was taken since the REF before.
-    fn telemetry(
-        &mut self,
-        node: &mut ReferenceNode<'static, TILES, FIELD_COEFFS>,
-        reference: &Reference,
-    ) {
+    fn telemetry(&mut self, node: &mut ReferenceNode<'static, TILES, FIELD_COEFFS>) {
         if !core::mem::take(&mut self.took) {
             self.downlink
-                .reference(node, reference, &mut self.tm_count, flight::downlink);
+                .reference(node, &self.reference, &mut self.tm_count, flight::downlink);
         }
     }
 
@@ -214,11 +214,11 @@ impl Link {
         if let Some(s) = &self.status {
             self.step = s.step.wrapping_add(1);
         }
-        let reference = node.reference(self.step, self.status.as_ref());
-        send_reference(&mut self.uart, &reference, self.count.next_count());
-        flight::publish_codes(0, reference.faults);
+        node.reference_into(self.step, self.status.as_ref(), &mut self.reference);
+        send_reference(&mut self.uart, &self.reference, self.count.next_count());
+        flight::publish_codes(0, self.reference.faults);
         self.step = self.step.wrapping_add(1);
-        self.telemetry(node, &reference);
+        self.telemetry(node);
     }
 }
 
@@ -259,6 +259,37 @@ fn send_reference(uart: &mut periph::Link, reference: &Reference, count: u16) {
 fn send_reference(reference: &Reference, count: u16) {
     node_link::send(&reference.to_packet(count));
 }
+
+/// The REF before the first ([`Link::reference`]: overwritten whole each period). All its
+/// bytes zero (a zero target, not the identity; a zero illumination, as `None` is not zero):
+/// a clear at reset, not a 126-byte copy from flash.
+const NO_REFERENCE: Reference = Reference {
+    step: 0,
+    utc: acs::time::Epoch::DAY0,
+    clock_valid: false,
+    elements_valid: false,
+    r_teme_km: None,
+    sun_teme: None,
+    illumination: Some(acs::env::eclipse::Illumination {
+        fraction: 0.0,
+        shadow: acs::env::eclipse::Shadow::Sunlit,
+    }),
+    b_teme_nt: None,
+    albedo_teme: None,
+    guidance: acs::link::messages::Guidance {
+        id: 0,
+        kind: acs::link::messages::GuidanceKind::None,
+        target: acs::attitude::Quaternion {
+            q0: 0.0,
+            q1: 0.0,
+            q2: 0.0,
+            q3: 0.0,
+        },
+        rate_body_radps: acs::linalg::Vec3::new(0.0, 0.0, 0.0),
+        h_ff_body_nms: acs::linalg::Vec3::new(0.0, 0.0, 0.0),
+    },
+    faults: 0,
+};
 
 /// The ground's mailbox (see [`flight::Ground`]).
 #[no_mangle]
