@@ -7,7 +7,7 @@ use super::laws::reported;
 use super::modes::ModeState;
 use super::{AttitudeNode, Faults};
 use crate::acs_loop::MAX_COILS;
-use crate::control::magnetorquer::dumping_dipole;
+use crate::control::magnetorquer::dumping_dipole_to_zero;
 use crate::control::wheels::{Allocator, Wheel, WheelAllocation, WheelError};
 use crate::hal::TileBus;
 use crate::linalg::Vec3;
@@ -84,9 +84,7 @@ impl<const N: usize> AttitudeNode<'_, N> {
             && self.have_wheels()
         {
             if let Some(b) = b_body_nt {
-                let dump =
-                    dumping_dipole(h_wheels, &Vec3::zeros(), self.config.dumping_gain_per_s, b)
-                        .ok();
+                let dump = dumping_dipole_to_zero(h_wheels, self.config.dumping_gain_per_s, b).ok();
                 *dipole += reported(dump, faults);
             }
         }
