@@ -567,3 +567,33 @@ fn sun_safe_damping_is_bit_equal() {
         }
     }
 }
+
+/// B-dot's derivative form, `Ḃ·(−k)`, is bit-equal to the law as first written, `(−Ḃ)·k`,
+/// saturated the same way.
+#[test]
+fn bdot_derivative_is_bit_equal() {
+    let mut rng = Rng(0xb_d07);
+    let config = BdotConfig {
+        gain: 3e4,
+        max_dipole_am2: Vec3::new(0.2, 0.2, 0.2),
+    };
+    for i in 0..2000 {
+        let (b0, b1) = (rng.vec(40_000.0), rng.vec(40_000.0));
+        let b1 = if i % 5 == 0 {
+            Vec3::new(b0.x, b1.y, b1.z)
+        } else {
+            b1
+        };
+        let dt = 0.1 + rng.next().abs();
+        let mut state = BdotState::default();
+        assert_eq!(state.update(&config, &b0, dt), Ok(None));
+        let m = state.update(&config, &b1, dt).unwrap().unwrap();
+        let first = -((b1 - b0) * (1e-9 / dt)) * config.gain;
+        let (first, _) = saturate_dipole(&first, &config.max_dipole_am2).unwrap();
+        assert_eq!(
+            m.map(f32::to_bits),
+            first.map(f32::to_bits),
+            "{b0:?} {b1:?}"
+        );
+    }
+}
