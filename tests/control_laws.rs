@@ -6,7 +6,7 @@ use acs::attitude::{Dcm, Quaternion};
 use acs::control::bdot::{bdot_from_rates, BdotConfig, BdotState};
 use acs::control::magnetorquer::{
     coil_currents, dipole_for_torque, dipole_two_coil_xy, dipole_two_coil_xz, dumping_dipole,
-    project_torque, saturate_dipole, torque_of_dipole, MagnetorquerError,
+    dumping_dipole_to_zero, project_torque, saturate_dipole, torque_of_dipole, MagnetorquerError,
 };
 use acs::control::sun_safe::{sun_safe_torque, SunSafeGains};
 use acs::control::tracking::{attitude_error, tracking_torque, TrackingGains};
@@ -169,6 +169,49 @@ fn dumping_torque_opposes_excess_momentum() {
     // the external torque reduces the total momentum: τ·h < 0
     assert!(tau.dot(&h) < 0.0);
     assert!(dumping_dipole(&h, &Vec3::zeros(), -1.0, &b).is_err());
+}
+
+/// The attitude node's dumping to a zero target is bit-equal to `dumping_dipole` with a zero
+/// target, and both to the law as first written, `B × (−k (h − 0)) / |B|²`'s torque
+/// `(−(h − 0))·k` (signed zeros, a non-finite input and a gain that is not positive included).
+#[test]
+fn dumping_to_zero_is_bit_equal() {
+    let mut rng = Rng(0x0dd_ba11);
+    let bits = |r: Result<Vec3, MagnetorquerError>| r.map(|v| v.map(f32::to_bits));
+    let zero = Vec3::zeros();
+    let mut cases = Vec::new();
+    for _ in 0..2000 {
+        cases.push((rng.vec(0.05), rng.next() * 0.02, rng.vec(50_000.0)));
+    }
+    cases.push((
+        Vec3::new(-0.0, 0.0, 0.01),
+        0.01,
+        Vec3::new(1.0e4, -2.0e4, 3.0e4),
+    ));
+    cases.push((
+        Vec3::new(f32::NAN, 0.0, 0.01),
+        0.01,
+        Vec3::new(1.0e4, -2.0e4, 3.0e4),
+    ));
+    cases.push((
+        Vec3::new(0.01, 0.0, 0.01),
+        f32::INFINITY,
+        Vec3::new(1.0e4, 2.0e4, 3.0e4),
+    ));
+    cases.push((
+        Vec3::new(0.01, 0.0, 0.01),
+        0.0,
+        Vec3::new(1.0e4, 2.0e4, 3.0e4),
+    ));
+    cases.push((Vec3::new(0.01, 0.0, 0.01), 0.01, Vec3::zeros()));
+    for (h, k, b) in cases {
+        let new = bits(dumping_dipole_to_zero(&h, k, &b));
+        assert_eq!(new, bits(dumping_dipole(&h, &zero, k, &b)), "{h:?} {k}");
+        if k.is_finite() && k > 0.0 && h.iter().all(|x| x.is_finite()) {
+            let first = dipole_for_torque(&(-(h - zero) * k), &b);
+            assert_eq!(new, bits(first), "{h:?} {k}");
+        }
+    }
 }
 
 /// Rigid body with wheels, RK4 on (q, ω): I ω̇ = τ_ext − ω × (I ω + h) − ḣ, q̇ = ½ q ⊗ (0, ω).
@@ -490,4 +533,67 @@ fn sun_safe_points_the_axis_and_damps_in_eclipse() {
     assert!((t + w * gains.kd_nms).norm() < 1e-9);
     assert!(sun_safe_torque(&gains, Some(&Vec3::new(f32::NAN, 0.0, 1.0)), &axis, &w).is_err());
     assert!(sun_safe_torque(&gains, Some(&Vec3::zeros()), &axis, &w).is_err());
+}
+
+/// The sun-safe law's damping, `ω·(−K_d)`, is bit-equal to the law as first written,
+/// `(−ω)·K_d`: in the eclipse (damping only) and with the Sun (`cross·K_p + damping`).
+#[test]
+fn sun_safe_damping_is_bit_equal() {
+    let mut rng = Rng(0x5afe_5afe);
+    let axis = Vec3::new(0.0, 0.0, 1.0);
+    for i in 0..2000 {
+        let gains = SunSafeGains {
+            kp_nm: rng.next().abs() * 1e-3,
+            kd_nms: rng.next().abs() * 1e-2,
+        };
+        let mut w = rng.vec(0.1);
+        if i % 7 == 0 {
+            w.x = if i % 2 == 0 { 0.0 } else { -0.0 };
+        }
+        let s = rng.vec(1.0);
+        let first_damping = -w * gains.kd_nms;
+        let eclipse = sun_safe_torque(&gains, None, &axis, &w).unwrap();
+        assert_eq!(eclipse.map(f32::to_bits), first_damping.map(f32::to_bits));
+        if let Some(su) = s.try_normalize(0.0) {
+            if axis.dot(&su) >= -0.998 {
+                let first = axis.cross(&su) * gains.kp_nm + first_damping * 1.0;
+                let lit = sun_safe_torque(&gains, Some(&s), &axis, &w).unwrap();
+                assert_eq!(
+                    lit.map(f32::to_bits),
+                    first.map(f32::to_bits),
+                    "{w:?} {s:?}"
+                );
+            }
+        }
+    }
+}
+
+/// B-dot's derivative form, `Ḃ·(−k)`, is bit-equal to the law as first written, `(−Ḃ)·k`,
+/// saturated the same way.
+#[test]
+fn bdot_derivative_is_bit_equal() {
+    let mut rng = Rng(0xb_d07);
+    let config = BdotConfig {
+        gain: 3e4,
+        max_dipole_am2: Vec3::new(0.2, 0.2, 0.2),
+    };
+    for i in 0..2000 {
+        let (b0, b1) = (rng.vec(40_000.0), rng.vec(40_000.0));
+        let b1 = if i % 5 == 0 {
+            Vec3::new(b0.x, b1.y, b1.z)
+        } else {
+            b1
+        };
+        let dt = 0.1 + rng.next().abs();
+        let mut state = BdotState::default();
+        assert_eq!(state.update(&config, &b0, dt), Ok(None));
+        let m = state.update(&config, &b1, dt).unwrap().unwrap();
+        let first = -((b1 - b0) * (1e-9 / dt)) * config.gain;
+        let (first, _) = saturate_dipole(&first, &config.max_dipole_am2).unwrap();
+        assert_eq!(
+            m.map(f32::to_bits),
+            first.map(f32::to_bits),
+            "{b0:?} {b1:?}"
+        );
+    }
 }

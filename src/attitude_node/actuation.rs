@@ -7,24 +7,26 @@ use super::laws::reported;
 use super::modes::ModeState;
 use super::{AttitudeNode, Faults};
 use crate::acs_loop::MAX_COILS;
-use crate::control::magnetorquer::dumping_dipole;
+use crate::control::magnetorquer::dumping_dipole_to_zero;
 use crate::control::wheels::{Allocator, Wheel, WheelAllocation, WheelError};
 use crate::hal::TileBus;
 use crate::linalg::Vec3;
 
-/// Allocates `l_body` with the cached allocator, rebuilding it first if the working set of
-/// `actuators` changed (a failure) or there is none yet.
+/// Allocates the body's `−held` (the actuators then hold `held`: the allocator gives them
+/// `−W⁺L`) with the cached allocator, rebuilding it first if the working set of `actuators`
+/// changed (a failure) or there is none yet. The negation here: one call for the wheels' and
+/// the coils'.
 fn cached_allocation<const N: usize>(
     cache: &mut Option<Allocator>,
     actuators: &[Wheel; N],
-    l_body: &Vec3,
+    held: &Vec3,
 ) -> Result<WheelAllocation<N>, WheelError> {
     if !cache.is_some_and(|a| a.is_for(actuators)) {
         *cache = None;
         *cache = Some(Allocator::new(actuators)?);
     }
     match cache {
-        Some(a) => a.allocate_current(actuators, l_body),
+        Some(a) => a.allocate_current(actuators, &crate::linalg::neg(held)),
         None => Err(WheelError::StaleAllocator),
     }
 }
@@ -84,9 +86,7 @@ impl<const N: usize> AttitudeNode<'_, N> {
             && self.have_wheels()
         {
             if let Some(b) = b_body_nt {
-                let dump =
-                    dumping_dipole(h_wheels, &Vec3::zeros(), self.config.dumping_gain_per_s, b)
-                        .ok();
+                let dump = dumping_dipole_to_zero(h_wheels, self.config.dumping_gain_per_s, b).ok();
                 *dipole += reported(dump, faults);
             }
         }
@@ -134,8 +134,7 @@ impl<const N: usize> AttitudeNode<'_, N> {
         // with no working wheel every wheel is commanded to stop; on any other refusal (a NaN
         // target...) no wheel is commanded: they hold the momentum in force, reported
         // by reference: on the MSP430 each copy of the allocation is a `memcpy`
-        let allocation =
-            cached_allocation(&mut self.wheel_allocator, &wheels, &crate::linalg::neg(h));
+        let allocation = cached_allocation(&mut self.wheel_allocator, &wheels, h);
         let alloc = match &allocation {
             Ok(a) => Some(a),
             Err(WheelError::NoWorkingWheel) => None,
@@ -190,8 +189,7 @@ impl<const N: usize> AttitudeNode<'_, N> {
             };
         }
         // by reference, as in `command_wheels`
-        let allocation =
-            cached_allocation(&mut self.coil_allocator, &coils, &crate::linalg::neg(m));
+        let allocation = cached_allocation(&mut self.coil_allocator, &coils, m);
         let alloc = match &allocation {
             Ok(a) => a,
             Err(e) => {

@@ -77,11 +77,11 @@ impl<const N: usize> AttitudeNode<'_, N> {
         faults.field = report.b_body_nt.is_none();
         faults.rate = omega.is_none();
         // without a REF, the last one's shadow: no Sun reading believed if it was the umbra
-        let in_umbra = self.last_umbra;
-        report.sun_body = if in_umbra {
-            None
+        report.sun_body = None;
+        let sun_variance = if self.last_umbra {
+            0.0
         } else {
-            self.sun_body(readings)
+            self.sun_body(readings, &mut report.sun_body)
         };
         // the estimate's albedo before a clock fault below drops the estimate
         let albedo = self.estimate.as_ref().map_or(0.0, |e| e.albedo);
@@ -137,7 +137,7 @@ impl<const N: usize> AttitudeNode<'_, N> {
                 body: *body,
                 reference_teme,
                 d_reference_d_albedo,
-                variance_rad2: self.sun_variance(readings, body),
+                variance_rad2: sun_variance,
             });
         }
         if let (Some(b), Some(m)) = (
@@ -212,21 +212,22 @@ impl<const N: usize> AttitudeNode<'_, N> {
         self.tile_solve(readings, false)
     }
 
-    /// The Sun direction in body axes from the lit tiles' sensors (unit).
+    /// The Sun direction in body axes from the lit tiles' sensors (unit) into `sun_body` (left
+    /// as it is without one); returns the Sun observation's variance per axis, rad², from the
+    /// lit sensors' incidence ([`mekf::sun_variance_rad2`]), 0 without a direction. One
+    /// conversion of the sensors' angles for both.
     #[cfg_attr(target_arch = "msp430", inline(never))]
-    fn sun_body(&self, readings: &Readings<N>) -> Option<Vec3> {
+    fn sun_body(&self, readings: &Readings<N>, sun_body: &mut Option<Vec3>) -> f32 {
         let tiles = self.config.tiles.as_slice();
         let sun = readings.sun_rad();
-        sun_direction_body(tiles, sun.get(..tiles.len())?).ok()
-    }
-
-    /// The Sun observation's variance per axis, rad², from the lit sensors' incidence
-    /// ([`mekf::sun_variance_rad2`]).
-    #[cfg_attr(target_arch = "msp430", inline(never))]
-    fn sun_variance(&self, readings: &Readings<N>, sun_body: &Vec3) -> f32 {
-        let tiles = self.config.tiles.as_slice();
-        let sun = readings.sun_rad();
-        let (sum, n) = incidence_inv_cos2(tiles, sun.get(..tiles.len()).unwrap_or(&[]), sun_body);
+        let Some(lit) = sun.get(..tiles.len()) else {
+            return 0.0;
+        };
+        let Ok(body) = sun_direction_body(tiles, lit) else {
+            return 0.0;
+        };
+        let body = sun_body.insert(body);
+        let (sum, n) = incidence_inv_cos2(tiles, lit, body);
         mekf::sun_variance_rad2(&self.config.filter, sum, n)
     }
 }

@@ -61,21 +61,23 @@ impl<const N: usize> AttitudeNode<'_, N> {
         }
     }
 
-    /// Step phase 5b: the mode's law. Returns the coil dipole (body, A·m²) and the wheel
-    /// momentum to hold (body, kg·m²/s; `None`: hold the momentum in force). A law that
-    /// refuses its input sets `faults.law` and commands nothing (coils off, wheels held).
+    /// Step phase 5b: the mode's law on the step's report `det`. Writes the coil dipole (body,
+    /// A·m²) into `det.dipole_body_am2` (in place: on the MSP430 each copy of a vector is a
+    /// `memcpy`) and returns the wheel momentum to hold (body, kg·m²/s; `None`: hold the
+    /// momentum in force). A law that refuses its input sets `faults.law` and commands nothing
+    /// (coils off, wheels held).
     #[inline(never)]
     #[cfg_attr(target_arch = "msp430", optimize(size))]
     pub(super) fn laws(
         &mut self,
-        det: &StepReport,
+        det: &mut StepReport,
         dt: f32,
         guidance: Option<&Guidance>,
         faults: &mut Faults,
-    ) -> (Vec3, Option<Vec3>) {
+    ) -> Option<Vec3> {
         // by reference: on the MSP430 each copy of an option is a `memcpy` call
         let (omega, b_body_nt) = (det.omega_body_radps.as_ref(), det.b_body_nt.as_ref());
-        let mut dipole = Vec3::zeros();
+        det.dipole_body_am2 = Vec3::zeros();
         let mut torque: Option<Vec3> = None;
         let mut h_target: Option<Vec3> = None;
         // the Sun of the sun-safe law if it runs this step: in sun-safe (with the rate), and in
@@ -90,13 +92,13 @@ impl<const N: usize> AttitudeNode<'_, N> {
                     // before a gyro outage: forget it while the gyro form runs
                     self.bdot.reset();
                     match bdot_from_rates(&self.config.bdot, w, b) {
-                        Ok(m) => dipole = m,
+                        Ok(m) => det.dipole_body_am2 = m,
                         Err(_) => faults.law = true,
                     }
                 }
                 // `Ok(None)`: the first sample of the derivative form, nothing to command
                 (None, Some(b)) => match self.bdot.update(&self.config.bdot, b, dt) {
-                    Ok(Some(m)) => dipole = m,
+                    Ok(Some(m)) => det.dipole_body_am2 = m,
                     Ok(None) => {}
                     Err(_) => faults.law = true,
                 },
@@ -179,14 +181,14 @@ impl<const N: usize> AttitudeNode<'_, N> {
                 h_target = Some(crate::linalg::sub_scaled(&h_w, tau, dt));
             } else if let Some(b) = b_body_nt {
                 match dipole_for_torque(tau, b) {
-                    Ok(m) => dipole = m,
+                    Ok(m) => det.dipole_body_am2 = m,
                     Err(_) => {
                         faults.law = true;
-                        dipole = Vec3::zeros();
+                        det.dipole_body_am2 = Vec3::zeros();
                     }
                 }
             }
         }
-        (dipole, h_target)
+        h_target
     }
 }

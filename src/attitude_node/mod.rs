@@ -423,15 +423,14 @@ impl<'c, const N: usize> AttitudeNode<'c, N> {
         let dt = self.sense(bus, reference, dt_s, &mut faults, report);
         self.change_mode(report);
         let guidance = reference.map(|r| &r.guidance);
-        // the laws' dipole and momentum used in place (not destructured: each copy is a
-        // `memcpy` on the MSP430)
-        let law = self.laws(report, dt, guidance, &mut faults);
-        report.dipole_body_am2 = law.0;
+        // the laws' dipole written into the report, their momentum used in place (each copy
+        // is a `memcpy` on the MSP430)
+        let h_target = self.laws(report, dt, guidance, &mut faults);
         self.actuate(
             bus,
             report.b_body_nt.as_ref(),
             (&mut report.dipole_body_am2, &mut report.h_wheels_body),
-            law.1.as_ref(),
+            h_target.as_ref(),
             &mut faults,
         );
         report.mode = self.mode();

@@ -76,7 +76,8 @@ impl BdotState {
             return Ok(None);
         };
         let b_dot_t_per_s = linalg::scale(&linalg::sub(b_body_nt, &prev), NT_TO_T / dt_s);
-        let m = linalg::scale(&linalg::neg(&b_dot_t_per_s), config.gain);
+        // `(−Ḃ)·k` is `Ḃ·(−k)` exactly (a product's sign is its factors'; a NaN is refused)
+        let m = linalg::scale(&b_dot_t_per_s, -config.gain);
         saturate_dipole(&m, &config.max_dipole_am2).map(|(m, _)| Some(m))
     }
 }

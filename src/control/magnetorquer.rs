@@ -191,6 +191,25 @@ pub fn dumping_dipole(
     if !(gain_per_s > 0.0) {
         return Err(MagnetorquerError::InvalidParameter);
     }
-    let torque = linalg::scale(&linalg::neg(&linalg::sub(h_wheels, h_target)), gain_per_s);
+    // `(−Δh)·k` is `Δh·(−k)` exactly (a product's sign is its factors')
+    let torque = linalg::scale(&linalg::sub(h_wheels, h_target), -gain_per_s);
+    dipole_for_torque(&torque, b_body_nt)
+}
+
+/// [`dumping_dipole`] to a zero target (`h_target = 0`: all the wheels' momentum dumped),
+/// bit-equal to it: `h − 0` is `h` exactly (`−0 − 0` is `−0`), so the torque is `h·(−k)`
+/// without the subtraction.
+pub fn dumping_dipole_to_zero(
+    h_wheels: &Vec3,
+    gain_per_s: f32,
+    b_body_nt: &Vec3,
+) -> Result<Vec3, MagnetorquerError> {
+    if !gain_per_s.is_finite() || !finite(h_wheels) {
+        return Err(MagnetorquerError::NotFinite);
+    }
+    if !(gain_per_s > 0.0) {
+        return Err(MagnetorquerError::InvalidParameter);
+    }
+    let torque = linalg::scale(h_wheels, -gain_per_s);
     dipole_for_torque(&torque, b_body_nt)
 }

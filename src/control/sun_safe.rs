@@ -44,7 +44,8 @@ pub fn sun_safe_torque(
     let Some(a) = unit(axis_body) else {
         return Err(TrackingError::NotFinite);
     };
-    let damping = linalg::scale(&linalg::neg(omega_body_radps), gains.kd_nms);
+    // `(−ω)·K_d` is `ω·(−K_d)` exactly (a product's sign is its factors')
+    let damping = linalg::scale(omega_body_radps, -gains.kd_nms);
     let tau = match sun_body {
         None => damping,
         Some(s) => {

@@ -117,12 +117,18 @@ pub fn pair_quaternion(
 /// input.
 fn half_way(from: &Vec3, to: &Vec3, axis: &Vec3) -> Option<Quaternion> {
     let d = dot(from, to);
-    if d >= 0.0 {
-        let v = cross(to, from);
-        return Quaternion::new_normalize(1.0 + d, v.x, v.y, v.z);
+    // one call of each for both ways (`(1 + d, to × from)` or `(1 − d, from × to)`)
+    let shorter = d >= 0.0;
+    let (w, v) = if shorter {
+        (1.0 + d, cross(to, from))
+    } else {
+        (1.0 - d, cross(from, to))
+    };
+    let p = Quaternion::new_normalize(w, v.x, v.y, v.z);
+    if shorter {
+        return p;
     }
-    let v = cross(from, to);
-    let p = Quaternion::new_normalize(1.0 - d, v.x, v.y, v.z)?;
+    let p = p?;
     let half_turn = Quaternion::new_normalize(0.0, axis.x, axis.y, axis.z)?;
     let q = p.mul(&half_turn);
     Quaternion::new_normalize(q.q0, q.q1, q.q2, q.q3)
